@@ -1,0 +1,396 @@
+"""Event-located DOP853 flow of the nondimensional contact oscillator (compiled, pure).
+
+Equation (``x = y/y0``, ``τ = ω_n0 t``, ``par = [m2, l, c, p, r]``)::
+
+    x'' = [1 − x^m2 − c x^l x' + p cos(r τ)] / m2    contact mode (x > 0)
+    x'' = [1 + p cos(r τ)] / m2                      flight mode  (x ≤ 0)
+
+State vectors are ``[x, v]`` (n = 2) or ``[x, v, Φ11, Φ12, Φ21, Φ22]`` (n = 6) with the
+variational equation ``Φ' = J Φ``. Each mode is integrated with its own smooth right-hand side;
+crossings of ``x = 0`` are located on the 7th-order dense output (a sign change at the step ends,
+or a dip through zero at an interior extremum of ``x``), the step is re-taken to end exactly on
+the switching instant, and the monodromy is multiplied by the saltation matrix
+``S = I + (f⁺ − f⁻) eₓᵀ / v`` (the identity for contact laws whose force is continuous at
+``x = 0``, i.e. every law with ``l > 0`` or ``h_n = 0``).
+
+Kernels never raise on the caller's behalf: they return integer status codes (``STATUS_*``).
+
+References
+----------
+E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed.,
+Springer (1993), Sec. II.5 (DOP853), II.6 (dense output), II.6 (discontinuities).
+R. I. Leine, H. Nijmeijer, *Dynamics and Bifurcations of Non-Smooth Mechanical Systems*,
+Springer (2004), Ch. 2 (saltation matrix).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import _dop853_coefficients as _co
+
+A = np.ascontiguousarray(_co.A)
+B = np.ascontiguousarray(_co.B)
+C = np.ascontiguousarray(_co.C)
+E3 = np.ascontiguousarray(_co.E3)
+E5 = np.ascontiguousarray(_co.E5)
+D = np.ascontiguousarray(_co.D)
+
+STATUS_OK = 0
+STATUS_MAX_STEPS = 1
+STATUS_STEP_TOO_SMALL = 2
+STATUS_RECORD_FULL = 3
+STATUS_TOO_MANY_EVENTS = 4
+STATUS_NONFINITE = 5
+
+#: Columns of a step record: t_old, h, contact flag, x_old, v_old, then F[0..6] for x and v.
+REC_T, REC_H, REC_MODE, REC_X, REC_V, REC_F = 0, 1, 2, 3, 4, 5
+REC_WIDTH = 5 + 14
+
+_SAFETY = 0.9
+_MIN_FACTOR = 0.2
+_MAX_FACTOR = 10.0
+_ERR_EXP = -1.0 / 8.0
+_H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the controller adapts
+
+
+@njit(cache=True)
+def _pow_ext(x, a):
+    """x^a for x > 0, continued oddly (−|x|^a) below zero; 1 for a = 0."""
+    if x > 0.0:
+        return x**a
+    if a == 0.0:
+        return 1.0
+    return -((-x) ** a)
+
+
+@njit(cache=True)
+def _dpow_ext(x, a):
+    """d/dx of :func:`_pow_ext`: a |x|^(a−1) (0 at x = 0 when a < 1, and for a = 0)."""
+    if a == 0.0:
+        return 0.0
+    ax = abs(x)
+    if ax == 0.0:
+        if a > 1.0:
+            return 0.0
+        if a == 1.0:
+            return 1.0
+        return 0.0
+    return a * ax ** (a - 1.0)
+
+
+@njit(cache=True)
+def acceleration(contact, t, x, v, par):
+    """x'' of the given mode at (τ, x, x') [nondimensional]."""
+    f = 1.0 + par[3] * math.cos(par[4] * t)
+    if contact:
+        f -= _pow_ext(x, par[0]) + par[2] * _pow_ext(x, par[1]) * v
+    return f / par[0]
+
+
+@njit(cache=True)
+def rhs(contact, t, y, par, out):
+    """Right-hand side of the state (n = 2) or state + variational equation (n = 6)."""
+    m2 = par[0]
+    x = y[0]
+    v = y[1]
+    out[0] = v
+    out[1] = acceleration(contact, t, x, v, par)
+    if y.shape[0] == 6:
+        if contact:
+            j21 = -(_dpow_ext(x, m2) + par[2] * _dpow_ext(x, par[1]) * v) / m2
+            j22 = -par[2] * _pow_ext(x, par[1]) / m2
+        else:
+            j21 = 0.0
+            j22 = 0.0
+        out[2] = y[4]
+        out[3] = y[5]
+        out[4] = j21 * y[2] + j22 * y[4]
+        out[5] = j21 * y[3] + j22 * y[5]
+
+
+@njit(cache=True)
+def _rk_step(contact, t, y, f, h, par, rtol, atol, K, tmp, ynew, fnew):
+    """One DOP853 step; fills K[0..12], ``ynew``, ``fnew``; returns the error norm (<1: accept)."""
+    n = y.shape[0]
+    for i in range(n):
+        K[0, i] = f[i]
+    for s in range(1, 12):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += A[s, j] * K[j, i]
+            tmp[i] = y[i] + h * acc
+        rhs(contact, t + C[s] * h, tmp, par, K[s])
+    for i in range(n):
+        acc = 0.0
+        for j in range(12):
+            acc += B[j] * K[j, i]
+        ynew[i] = y[i] + h * acc
+    rhs(contact, t + h, ynew, par, fnew)
+    for i in range(n):
+        K[12, i] = fnew[i]
+    e5 = 0.0
+    e3 = 0.0
+    for i in range(n):
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(13):
+            a5 += E5[j] * K[j, i]
+            a3 += E3[j] * K[j, i]
+        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+
+
+@njit(cache=True)
+def _dense(contact, t, y, ynew, h, par, K, tmp, F):
+    """Fill F[7, 2] with the 7th-order interpolant of x and v over the last step."""
+    n = y.shape[0]
+    for s in range(13, 16):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += A[s, j] * K[j, i]
+            tmp[i] = y[i] + h * acc
+        rhs(contact, t + C[s] * h, tmp, par, K[s])
+    for i in range(2):
+        dy = ynew[i] - y[i]
+        F[0, i] = dy
+        F[1, i] = h * K[0, i] - dy
+        F[2, i] = 2.0 * dy - h * (K[12, i] + K[0, i])
+        for q in range(4):
+            acc = 0.0
+            for j in range(16):
+                acc += D[q, j] * K[j, i]
+            F[3 + q, i] = h * acc
+
+
+@njit(cache=True)
+def dense_value(F, y_old, theta, comp):
+    """Interpolated component ``comp`` (0: x, 1: v) at fraction ``theta`` of a step."""
+    acc = 0.0
+    for q in range(6, -1, -1):
+        acc += F[q, comp]
+        if (6 - q) % 2 == 0:
+            acc *= theta
+        else:
+            acc *= 1.0 - theta
+    return y_old[comp] + acc
+
+
+@njit(cache=True)
+def dense_root(F, y_old, comp, level, a, b):
+    """Root of component − level on [a, b] (a sign change assumed), Illinois method."""
+    fa = dense_value(F, y_old, a, comp) - level
+    fb = dense_value(F, y_old, b, comp) - level
+    if fa == 0.0:
+        return a
+    if fb == 0.0:
+        return b
+    side = 0
+    c = b
+    for _ in range(200):
+        c = (a * fb - b * fa) / (fb - fa)
+        if not (c > min(a, b) and c < max(a, b)):
+            c = 0.5 * (a + b)
+        fc = dense_value(F, y_old, c, comp) - level
+        if fc == 0.0 or abs(b - a) < 4e-16:
+            return c
+        if (fc > 0.0) == (fb > 0.0):
+            b = c
+            fb = fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a = c
+            fa = fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+    return c
+
+
+@njit(cache=True)
+def _crosses(contact, x):
+    """True where x lies on the far side of the switching surface for the current mode."""
+    if contact:
+        return x <= 0.0
+    return x > 0.0
+
+
+@njit(cache=True)
+def _record(rec, irec, t, h, contact, y_old, F):
+    if irec >= rec.shape[0]:
+        return irec + 1
+    rec[irec, REC_T] = t
+    rec[irec, REC_H] = h
+    rec[irec, REC_MODE] = 1.0 if contact else 0.0
+    rec[irec, REC_X] = y_old[0]
+    rec[irec, REC_V] = y_old[1]
+    for q in range(7):
+        rec[irec, REC_F + 2 * q] = F[q, 0]
+        rec[irec, REC_F + 2 * q + 1] = F[q, 1]
+    return irec + 1
+
+
+@njit(cache=True)
+def initial_mode(x, v):
+    """Contact mode for x > 0, or x = 0 moving into the contact."""
+    return x > 0.0 or (x == 0.0 and v > 0.0)
+
+
+@njit(cache=True)
+def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
+    """Integrate ``y`` in place from τ = ``t`` to exactly ``t_end``, switching modes at x = 0.
+
+    Parameters
+    ----------
+    y : float64[2] or float64[6]
+        State (and flattened monodromy Φ, row-major) at ``t``; overwritten with the state at ``t_end``.
+    t, t_end : float
+        Start and end [τ].
+    contact : bool
+        Mode at ``t``.
+    h : float
+        Step-size proposal [τ].
+    par : float64[5]
+        ``[m2, l, c, p, r]``.
+    rtol, atol : float
+        Local error tolerances (atol in units of y0 and y0 ω_n0).
+    rec : float64[:, REC_WIDTH]
+        Step records (dense output per accepted step); pass shape (0, REC_WIDTH) for none.
+    irec : int
+        First free row of ``rec``.
+    max_steps : int
+        Step limit for this call.
+
+    Returns
+    -------
+    contact : bool
+        Mode at the end.
+    h : float
+        Step proposal for a following call.
+    irec : int
+        Next free row of ``rec`` (``> rec.shape[0]`` means records were lost).
+    n_steps : int
+        Accepted steps.
+    t_flight : float
+        Time spent in flight mode [τ].
+    n_events : int
+        Switching instants crossed.
+    status : int
+        ``STATUS_OK`` or an error code.
+    """
+    n = y.shape[0]
+    record = rec.shape[0] > 0
+    K = np.empty((16, n))
+    F = np.zeros((7, 2))
+    tmp = np.empty(n)
+    f = np.empty(n)
+    ynew = np.empty(n)
+    fnew = np.empty(n)
+    rhs(contact, t, y, par, f)
+    n_steps = 0
+    n_events = 0
+    t_flight = 0.0
+    rejected = False
+    status = STATUS_OK
+    span = abs(t_end) + abs(t) + 1.0
+    while t < t_end:
+        if n_steps >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        remaining = t_end - t
+        landing = h >= remaining * (1.0 - 1e-12)
+        h_try = remaining if landing else h
+        if h_try < 1e-15 * span:
+            if landing:
+                t = t_end
+                break
+            status = STATUS_STEP_TOO_SMALL
+            break
+        err = _rk_step(contact, t, y, f, h_try, par, rtol, atol, K, tmp, ynew, fnew)
+        if not (err < 1.0):
+            if not math.isfinite(err):
+                factor = _MIN_FACTOR
+            else:
+                factor = max(_MIN_FACTOR, _SAFETY * err**_ERR_EXP)
+            h = h_try * factor
+            rejected = True
+            continue
+        if err == 0.0:
+            factor = _MAX_FACTOR
+        else:
+            factor = min(_MAX_FACTOR, _SAFETY * err**_ERR_EXP)
+        if rejected:
+            factor = min(1.0, factor)
+        rejected = False
+        h_next = h_try * factor
+
+        # ---- switching-surface check on this step
+        vflip = (y[1] < 0.0) != (ynew[1] < 0.0)
+        cross_end = _crosses(contact, ynew[0])
+        theta_ev = -1.0
+        if record or vflip or cross_end:
+            _dense(contact, t, y, ynew, h_try, par, K, tmp, F)
+            lo = 0.0
+            if vflip:
+                th_v = dense_root(F, y, 1, 0.0, 0.0, 1.0)
+                if _crosses(contact, dense_value(F, y, th_v, 0)):
+                    theta_ev = dense_root(F, y, 0, 0.0, 0.0, th_v)
+                lo = th_v
+            if theta_ev < 0.0 and cross_end:
+                theta_ev = dense_root(F, y, 0, 0.0, lo, 1.0)
+        if theta_ev >= 0.0:
+            # re-take the step so that it ends exactly on the switching instant
+            h_ev = theta_ev * h_try
+            _rk_step(contact, t, y, f, h_ev, par, rtol, atol, K, tmp, ynew, fnew)
+            if record:
+                _dense(contact, t, y, ynew, h_ev, par, K, tmp, F)
+                irec = _record(rec, irec, t, h_ev, contact, y, F)
+            if not contact:
+                t_flight += h_ev
+            t = t + h_ev
+            for i in range(n):
+                y[i] = ynew[i]
+            y[0] = 0.0
+            v = y[1]
+            new_contact = not contact
+            if n == 6 and v != 0.0:
+                jump = (acceleration(new_contact, t, 0.0, v, par) - acceleration(contact, t, 0.0, v, par)) / v
+                y[4] += jump * y[2]
+                y[5] += jump * y[3]
+            contact = new_contact
+            rhs(contact, t, y, par, f)
+            h = min(h_next, _H_AFTER_EVENT)
+            n_events += 1
+            n_steps += 1
+            if n_events > 100 * max_steps // 1000 + 1000:
+                status = STATUS_TOO_MANY_EVENTS
+                break
+            continue
+        if record:
+            irec = _record(rec, irec, t, h_try, contact, y, F)
+        if not contact:
+            t_flight += h_try
+        t = t_end if landing else t + h_try
+        for i in range(n):
+            y[i] = ynew[i]
+            f[i] = fnew[i]
+        # a step shortened to land on t_end says nothing against the longer proposal
+        h = max(h_next, h) if landing else h_next
+        n_steps += 1
+        if not (math.isfinite(y[0]) and math.isfinite(y[1])):
+            status = STATUS_NONFINITE
+            break
+    if record and irec > rec.shape[0] and status == STATUS_OK:
+        status = STATUS_RECORD_FULL
+    return contact, h, irec, n_steps, t_flight, n_events, status

@@ -1,0 +1,286 @@
+"""The contact oscillator of Kostek (2013), Eqs. (2.1)–(2.5), and its derived quantities.
+
+A slider of mass ``M`` rests on a rough planar contact of nominal area ``S``::
+
+    M ÿ = M g − S c_n y^m2 [y > 0] − S h_n y^l ẏ [y > 0] + P_a cos(2π f_e t)      (2.5)
+
+``y`` [m] points downwards and is the contact deflection while ``y > 0``; ``y ≤ 0`` is a gap
+(loss of contact). Eq. (2.3) of the paper prints the damping condition as ``y < 0``; that is a
+typo: damping acts only in contact.
+
+The compiled kernels integrate the nondimensional form obtained with ``x = y / y0`` and
+``τ = ω_n0 t`` (``y0`` the static deflection, ``ω_n0 = 2π f_n0``)::
+
+    x'' = [1 − x^m2 − c x^l x' + p cos(r τ)] / m2      while x > 0
+    x'' = [1 + p cos(r τ)] / m2                        while x ≤ 0
+
+with ``p = P_a / Q``, ``r = f_e / f_n0`` and ``c = 2 m2 ζ``, ``ζ`` the linear damping ratio.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+
+__all__ = ["ContactModel", "ParameterError", "PAPER_DEFAULTS", "check_finite", "check_range"]
+
+#: The paper's parameters (Section 2): SI units.
+PAPER_DEFAULTS = {
+    "M": 0.2106,  # kg
+    "g": 9.81,  # m/s²
+    "S": 0.0009,  # m²
+    "c_n": 4.52e16,  # N/m^(2+m2) (N/m⁴ for m2 = 2)
+    "m2": 2.0,  # 1
+    "h_n": 3.5e11,  # N s/m^(3+l) (N s/m⁴ for l = 1)
+    "l": 1.0,  # 1
+}
+
+#: Units of every model parameter, for messages and result attributes.
+PARAMETER_UNITS = {
+    "M": "kg",
+    "g": "m/s^2",
+    "S": "m^2",
+    "c_n": "N/m^(2+m2)",
+    "m2": "1",
+    "h_n": "N s/m^(3+l)",
+    "l": "1",
+}
+
+# (lower bound, inclusive?) for each parameter; the allowed ranges of the issue.
+_BOUNDS = {
+    "M": (0.0, False),
+    "g": (0.0, False),
+    "S": (0.0, False),
+    "c_n": (0.0, False),
+    "m2": (1.0, True),
+    "h_n": (0.0, True),
+    "l": (0.0, True),
+}
+
+
+class ParameterError(ValueError):
+    """A parameter is outside its allowed range.
+
+    Attributes
+    ----------
+    symbol : str
+        The paper's symbol of the parameter (``"m2"``, ``"f_e"``, ...).
+    value : float
+        The value that was given.
+    allowed : str
+        The allowed range in words, with units (``"must be > 0 Hz"``).
+    """
+
+    def __init__(self, symbol: str, value, allowed: str):
+        self.symbol = symbol
+        self.value = value
+        self.allowed = allowed
+        super().__init__(f"{symbol} = {_fmt(value)}: {allowed}")
+
+
+def _fmt(value) -> str:
+    try:
+        return f"{float(value):g}"
+    except (TypeError, ValueError):
+        return repr(value)
+
+
+def check_finite(symbol: str, value) -> float:
+    """Return ``value`` as a float; raise :class:`ParameterError` for non-numbers, NaN and ±inf."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(symbol, value, "must be a finite number") from None
+    if not math.isfinite(v):
+        raise ParameterError(symbol, value, "must be a finite number")
+    return v
+
+
+def check_range(symbol: str, value, lower: float, inclusive: bool, unit: str = "") -> float:
+    """Check ``value`` is finite and ``> lower`` (``>= lower`` if ``inclusive``)."""
+    v = check_finite(symbol, value)
+    ok = v >= lower if inclusive else v > lower
+    if not ok:
+        op = ">=" if inclusive else ">"
+        suffix = f" {unit}" if unit and unit != "1" else ""
+        raise ParameterError(symbol, value, f"must be {op} {lower:g}{suffix}")
+    return v
+
+
+@dataclass(frozen=True)
+class ContactModel:
+    """Slider on a power-law rough contact (Kostek 2013, Eqs. 2.1–2.5); SI units.
+
+    Parameters
+    ----------
+    M : float
+        Slider mass [kg], > 0.
+    g : float
+        Gravity [m/s²], > 0.
+    S : float
+        Nominal contact area [m²], > 0.
+    c_n : float
+        Contact stiffness coefficient [N/m^(2+m2)], > 0.
+    m2 : float
+        Stiffness exponent [1], ≥ 1 (2 for the paper, 1.5 Hertz-like).
+    h_n : float
+        Contact damping coefficient [N s/m^(3+l)], ≥ 0.
+    l : float
+        Damping exponent [1], ≥ 0.
+
+    Examples
+    --------
+    >>> m = ContactModel()
+    >>> round(m.y0 * 1e6, 4), round(m.f_n0, 1)
+    (0.2254, 1485.0)
+    """
+
+    M: float = PAPER_DEFAULTS["M"]
+    g: float = PAPER_DEFAULTS["g"]
+    S: float = PAPER_DEFAULTS["S"]
+    c_n: float = PAPER_DEFAULTS["c_n"]
+    m2: float = PAPER_DEFAULTS["m2"]
+    h_n: float = PAPER_DEFAULTS["h_n"]
+    l: float = PAPER_DEFAULTS["l"]  # noqa: E741 (the paper's symbol)
+    _checked: bool = field(default=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        for name, (lower, inclusive) in _BOUNDS.items():
+            check_range(name, getattr(self, name), lower, inclusive, PARAMETER_UNITS[name])
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    # ----------------------------------------------------------------- construction
+    @classmethod
+    def from_overrides(cls, overrides: dict[str, float] | None = None) -> "ContactModel":
+        """Paper defaults with some parameters replaced; unknown names raise ParameterError."""
+        overrides = dict(overrides or {})
+        for name in overrides:
+            if name not in PAPER_DEFAULTS:
+                raise ParameterError(
+                    name, overrides[name], f"unknown parameter; known: {', '.join(PAPER_DEFAULTS)}"
+                )
+        return cls(**overrides)
+
+    def replace(self, **changes) -> "ContactModel":
+        """A copy with some parameters changed (validated again)."""
+        return replace(self, **changes)
+
+    def parameters(self) -> dict[str, float]:
+        """The seven model parameters, SI units, by paper symbol."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if not f.name.startswith("_")}
+
+    # ----------------------------------------------------------------- derived quantities
+    @property
+    def Q(self) -> float:
+        """Weight of the slider Q = M g [N] (Eq. 2.1)."""
+        return self.M * self.g
+
+    @property
+    def y0(self) -> float:
+        """Static deflection y0 [m]: S c_n y0^m2 = Q."""
+        return (self.Q / (self.S * self.c_n)) ** (1.0 / self.m2)
+
+    @property
+    def k_lin(self) -> float:
+        """Linearised contact stiffness at y0, k = m2 S c_n y0^(m2−1) = m2 Q / y0 [N/m]."""
+        return self.m2 * self.Q / self.y0
+
+    @property
+    def c_lin(self) -> float:
+        """Linearised contact damping at y0, S h_n y0^l [N s/m]."""
+        return self.S * self.h_n * self.y0**self.l
+
+    @property
+    def omega_n0(self) -> float:
+        """Linear natural angular frequency ω_n0 = sqrt(k/M) [rad/s]."""
+        return math.sqrt(self.k_lin / self.M)
+
+    @property
+    def f_n0(self) -> float:
+        """Linear natural frequency f_n0 [Hz] (1485.0 Hz for the paper's parameters)."""
+        return self.omega_n0 / (2.0 * math.pi)
+
+    @property
+    def zeta(self) -> float:
+        """Linear damping ratio ζ = c / (2 sqrt(k M)) [1] (≈ 0.018 for the paper)."""
+        return self.c_lin / (2.0 * math.sqrt(self.k_lin * self.M))
+
+    @property
+    def damping_coefficient(self) -> float:
+        """Nondimensional damping coefficient c = 2 m2 ζ of the kernel equation [1]."""
+        return 2.0 * self.m2 * self.zeta
+
+    def superharmonic_frequencies(self, m_max: int = 6) -> np.ndarray:
+        """Estimates f_n0/m [Hz] of the 1/m resonances, m = 1..m_max (Eq. 2.6)."""
+        m = np.arange(1, int(m_max) + 1)
+        return self.f_n0 / m
+
+    # ----------------------------------------------------------------- forces
+    def spring_force(self, y):
+        """Spring force F_s(y) = −S c_n y^m2 for y > 0, else 0 [N] (Eq. 2.3); y in m."""
+        y = np.asarray(y, dtype=float)
+        return np.where(y > 0, -self.S * self.c_n * np.abs(y) ** self.m2, 0.0)
+
+    def conservative_force(self, y):
+        """Conservative force F_k = F_s + Q [N] (Eq. 2.4); y in m."""
+        return self.spring_force(y) + self.Q
+
+    # ----------------------------------------------------------------- kernel interface
+    def excitation(self, pa_over_q: float, f_e: float) -> "Excitation":
+        """A validated excitation P_a = ``pa_over_q`` Q at ``f_e`` Hz for this model."""
+        return Excitation(self, pa_over_q, f_e)
+
+
+@dataclass(frozen=True)
+class Excitation:
+    """Harmonic force P_a cos(2π f_e t) applied to a :class:`ContactModel`.
+
+    Parameters
+    ----------
+    model : ContactModel
+    pa_over_q : float
+        Amplitude as a multiple of Q = M g [1], ≥ 0.
+    f_e : float
+        Excitation frequency [Hz], > 0.
+    """
+
+    model: ContactModel
+    pa_over_q: float
+    f_e: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "pa_over_q", check_range("P_a/Q", self.pa_over_q, 0.0, True))
+        object.__setattr__(self, "f_e", check_range("f_e", self.f_e, 0.0, False, "Hz"))
+
+    @classmethod
+    def from_newtons(cls, model: ContactModel, P_a: float, f_e: float) -> "Excitation":
+        """Excitation from an amplitude P_a in newtons."""
+        P_a = check_range("P_a", P_a, 0.0, True, "N")
+        return cls(model, P_a / model.Q, f_e)
+
+    @property
+    def P_a(self) -> float:
+        """Force amplitude [N]."""
+        return self.pa_over_q * self.model.Q
+
+    @property
+    def r(self) -> float:
+        """Frequency ratio f_e / f_n0 [1]."""
+        return self.f_e / self.model.f_n0
+
+    @property
+    def period(self) -> float:
+        """Excitation period 1/f_e [s]."""
+        return 1.0 / self.f_e
+
+    @property
+    def tau_period(self) -> float:
+        """Excitation period in nondimensional time τ = ω_n0 t: 2π / r [1]."""
+        return 2.0 * math.pi / self.r
+
+    def kernel_parameters(self) -> np.ndarray:
+        """Parameter vector ``[m2, l, c, p, r]`` of the nondimensional kernels."""
+        m = self.model
+        return np.array([m.m2, m.l, m.damping_coefficient, self.pa_over_q, self.r], dtype=np.float64)

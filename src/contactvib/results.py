@@ -1,0 +1,192 @@
+"""Result objects with units: time histories, attractors and attractor sets.
+
+Conventions: ``y`` [µm] positive downwards (contact deflection for y > 0, a gap for y < 0),
+``ẏ`` [mm/s], time [ms] or [s] as each field says, frequencies [Hz], forces as multiples of
+Q = M g.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["TimeHistory", "Attractor", "AttractorSet"]
+
+
+@dataclass(frozen=True)
+class TimeHistory:
+    """Samples of a trajectory.
+
+    Attributes
+    ----------
+    t_ms : ndarray
+        Time [ms] from the start of the record (phase 0 of the excitation at t = 0).
+    y_um : ndarray
+        Displacement y [µm] (y > 0 contact deflection, y < 0 gap).
+    ydot_mm_s : ndarray
+        Velocity ẏ [mm/s].
+    in_contact : ndarray of bool
+        True where y > 0.
+    y0_um : float
+        Static deflection [µm], the equilibrium.
+    fe_hz : float
+        Excitation frequency [Hz].
+    pa_over_q : float
+        Excitation amplitude [Q].
+    """
+
+    t_ms: np.ndarray
+    y_um: np.ndarray
+    ydot_mm_s: np.ndarray
+    in_contact: np.ndarray
+    y0_um: float
+    fe_hz: float
+    pa_over_q: float
+
+
+@dataclass(frozen=True)
+class Attractor:
+    """A stable steady state at one (P_a, f_e), periodic or not.
+
+    Attributes
+    ----------
+    period : int or None
+        Minimal period in excitation periods (None: non-periodic).
+    kind : str
+        ``"periodic"`` or ``"non-periodic"``.
+    minima_per_period : int or None
+        Local minima of y(t) over the whole period-k orbit, counted cyclically.
+    app_um, ymin_um, ymax_um : float
+        Peak-to-peak amplitude y_max − y_min and the extrema [µm].
+    loses_contact : bool
+        Whether y < 0 somewhere on the orbit.
+    contact_loss_fraction : float
+        Fraction of the orbit's period spent with y < 0 [1].
+    basin_fraction : float
+        Fraction of the random start box that converged here [1] (0: found only by the
+        physics-derived seeds, below the box sampling's resolution).
+    floquet_multipliers : ndarray of complex
+        Eigenvalues of the period-k monodromy matrix (empty for non-periodic).
+    strobe_y_um, strobe_ydot_mm_s : ndarray
+        Stroboscopic points at phase 0 of the excitation, in orbit order.
+    extrema_t_ms, extrema_y_um, extrema_is_min : ndarray
+        Local extrema over one orbit period (non-periodic: over the recorded span).
+    closure : float
+        Relative closure |P^k(z) − z|∞ / max(1, |z|∞) of the refined orbit (inf if non-periodic).
+    hits : int
+        Number of starts (box and seeds) that reached it.
+    state : ndarray
+        Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0, for reuse.
+    """
+
+    period: int | None
+    kind: str
+    minima_per_period: int | None
+    app_um: float
+    ymin_um: float
+    ymax_um: float
+    loses_contact: bool
+    contact_loss_fraction: float
+    basin_fraction: float
+    floquet_multipliers: np.ndarray
+    strobe_y_um: np.ndarray
+    strobe_ydot_mm_s: np.ndarray
+    extrema_t_ms: np.ndarray
+    extrema_y_um: np.ndarray
+    extrema_is_min: np.ndarray
+    closure: float
+    hits: int
+    state: np.ndarray = field(repr=False)
+
+    @property
+    def floquet_abs_max(self) -> float | None:
+        """Largest |Floquet multiplier| [1] (None if non-periodic)."""
+        if self.floquet_multipliers.size == 0:
+            return None
+        return float(np.max(np.abs(self.floquet_multipliers)))
+
+    def to_dict(self) -> dict:
+        """The JSON contract of ``contactvib attractors --json`` for this attractor."""
+        d = {
+            "period": self.period,
+            "kind": self.kind,
+            "minima_per_period": self.minima_per_period,
+            "app_um": float(self.app_um),
+            "ymin_um": float(self.ymin_um),
+            "ymax_um": float(self.ymax_um),
+            "loses_contact": bool(self.loses_contact),
+            "contact_loss_fraction": float(self.contact_loss_fraction),
+            "basin_fraction": float(self.basin_fraction),
+            "floquet_abs_max": self.floquet_abs_max,
+            "floquet_multipliers": [[float(m.real), float(m.imag)] for m in self.floquet_multipliers],
+            "closure": float(self.closure) if np.isfinite(self.closure) else None,
+            "hits": int(self.hits),
+            "strobe_points": [
+                {"y_um": float(a), "ydot_mm_s": float(b)}
+                for a, b in zip(self.strobe_y_um, self.strobe_ydot_mm_s)
+            ],
+            "extrema": [
+                {"t_ms": float(t), "y_um": float(y), "type": "min" if m else "max"}
+                for t, y, m in zip(self.extrema_t_ms, self.extrema_y_um, self.extrema_is_min)
+            ],
+        }
+        return d
+
+
+@dataclass(frozen=True)
+class AttractorSet:
+    """All attractors found at one operating point, sorted by A_pp, largest first.
+
+    Attributes
+    ----------
+    attractors : list of Attractor
+    fn0_hz, y0_um : float
+        Linear natural frequency [Hz] and static deflection [µm] of the model.
+    pa_over_q, fe_hz : float
+        Excitation amplitude [Q] and frequency [Hz].
+    n_box, n_seeds : int
+        Random starts in the box and physics-derived seeds.
+    n_failed : int
+        Starts that neither converged nor stayed bounded (integration failure).
+    settings : dict
+        Search settings used.
+    """
+
+    attractors: list
+    fn0_hz: float
+    y0_um: float
+    pa_over_q: float
+    fe_hz: float
+    n_box: int
+    n_seeds: int
+    n_failed: int
+    settings: dict
+
+    def __len__(self):
+        return len(self.attractors)
+
+    def __iter__(self):
+        return iter(self.attractors)
+
+    def __getitem__(self, i):
+        return self.attractors[i]
+
+    def to_dict(self) -> dict:
+        """The JSON contract of ``contactvib attractors --json``."""
+        return {
+            "fn0_hz": float(self.fn0_hz),
+            "y0_um": float(self.y0_um),
+            "pa_over_q": float(self.pa_over_q),
+            "fe_hz": float(self.fe_hz),
+            "n_box": int(self.n_box),
+            "n_seeds": int(self.n_seeds),
+            "n_failed": int(self.n_failed),
+            "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
+                      "f": "Hz", "P_a": "Q = M g"},
+            "attractors": [a.to_dict() for a in self.attractors],
+        }
+
+    def to_json(self, **kwargs) -> str:
+        return json.dumps(self.to_dict(), **kwargs)
