@@ -58,7 +58,8 @@ def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | No
     plot_time_history(history, a1)
     plot_phase_portrait(history, a2)
     k = "non-periodic" if attractor.period is None else f"period {attractor.period}"
-    mins = "" if attractor.minima_per_period is None else f", {attractor.minima_per_period} minima per period"
+    n = attractor.minima_per_period
+    mins = "" if n is None else f", {n} {'minimum' if n == 1 else 'minima'} per period"
     head = title or (f"$P_a$ = {history.pa_over_q:g} Q, $f_e$ = {history.fe_hz:g} Hz: {k}{mins}, "
                      f"$A_{{pp}}$ = {attractor.app_um:.4g} µm")
     fig.suptitle(head, fontsize=10)
