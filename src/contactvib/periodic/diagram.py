@@ -1,0 +1,179 @@
+"""Complete bifurcation diagrams: continuation seeded from every attractor, de-duplicated.
+
+At each seed frequency the multi-start search (:func:`contactvib.find_attractors`) gives the
+stable orbits; each periodic one that lies on no branch computed so far is continued in f_e both
+ways (:func:`.continuation.continue_orbit`). A seed lies on a known branch when Newton shooting at
+the seed's f_e, started from the branch interpolated there, lands on the same orbit (sameness rule
+of :func:`contactvib.steady.same_orbit`). Isolas (closed branches unreachable from the others)
+are found this way as long as one of their stable orbits is an attractor at a seed frequency.
+At every period-doubling point the period-2k branch is entered (:func:`.switch_period_doubling`)
+unless a branch already ends there.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import ContactModel, ParameterError, check_range
+from ..steady import OrbitError, refine_orbit, same_orbit, strobe_points
+from .branch import Branch, BranchSet
+from .continuation import ContinuationError, ContinuationSettings, continue_orbit, switch_period_doubling
+
+__all__ = ["continue_attractors", "bifurcation_diagram", "on_branch", "DEFAULT_SEED_FE"]
+
+#: Seed frequencies [Hz] of :func:`bifurcation_diagram`: below, between and above the 1/m peaks.
+DEFAULT_SEED_FE = (60.0, 200.0, 297.0, 420.0, 600.0, 900.0, 1200.0, 1930.0)
+
+
+def on_branch(model: ContactModel, branch: Branch, exc, z, k: int) -> bool:
+    """True when the period-``k`` orbit through ``z`` at ``exc`` lies on ``branch``."""
+    if branch.period != k or len(branch) < 2:
+        return False
+    if np.any(np.abs(branch.pa_over_q - exc.pa_over_q) > 1e-12 * max(1.0, exc.pa_over_q)):
+        return False
+    f = branch.fe_hz - exc.f_e
+    pts_seed = strobe_points(exc, z, k)
+    for i in np.nonzero(f[:-1] * f[1:] <= 0.0)[0]:
+        a = 0.0 if f[i + 1] == f[i] else f[i] / (f[i] - f[i + 1])
+        guess = branch.state[i] + a * (branch.state[i + 1] - branch.state[i])
+        try:
+            zb, _M, _res = refine_orbit(exc, guess, k, max_iter=30)
+        except OrbitError:
+            continue
+        if same_orbit(strobe_points(exc, zb, k), pts_seed):
+            return True
+    return False
+
+
+def _pd_done(sp, branches) -> bool:
+    for b in branches:
+        if b.period != 2 * sp.period:
+            continue
+        for st in b.stops:
+            if "merges" in st.reason and abs(st.fe_hz - sp.fe_hz) <= 1e-3 * sp.fe_hz:
+                return True
+        if abs(b.fe_hz[0] - sp.fe_hz) <= 1e-6 * sp.fe_hz and b.parent is not None:
+            return True
+    return False
+
+
+def _switch_all(model, branches: list, settings, kmax_switch: int, log):
+    queue = list(branches)
+    while queue:
+        b = queue.pop(0)
+        for sp in b.special:
+            if sp.type != "period-doubling" or 2 * sp.period > kmax_switch:
+                continue
+            if _pd_done(sp, branches):
+                continue
+            try:
+                nb = switch_period_doubling(model, sp, settings=settings,
+                                            branch_id=f"{sp.branch}.pd{len(branches)}")
+            except ContinuationError as e:
+                log(f"branch switching at {sp.fe_hz:.6g} Hz failed: {e}")
+                continue
+            branches.append(nb)
+            queue.append(nb)
+        for st in b.stops:  # a period-k branch merging onto an unknown period-k/2 branch
+            if st.merge_state is None:
+                continue
+            exc = model.excitation(st.pa_over_q, st.fe_hz)
+            k = b.period // 2
+            try:
+                z, _M, _r = refine_orbit(exc, st.merge_state, k, max_iter=30)
+            except OrbitError:
+                continue
+            if any(on_branch(model, o, exc, z, k) for o in branches):
+                continue
+            bid = f"{b.branch}.m{len(branches)}"
+            try:
+                nb = continue_orbit(model, exc, z, k, settings=settings, branch_id=bid)
+            except (ContinuationError, ParameterError) as e:
+                log(f"continuation from the merge at {st.fe_hz:.6g} Hz failed: {e}")
+                continue
+            log(f"{bid}: period {k} branch found where {b.branch} merges ({st.fe_hz:.6g} Hz)")
+            branches.append(nb)
+            queue.append(nb)
+
+
+def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
+                        attractor: int | None = None, settings: ContinuationSettings | None = None,
+                        switch: bool = True, kmax_switch: int = 8, known: list | None = None,
+                        prefix: str | None = None, attractors=None, log=None) -> BranchSet:
+    """Continue the attractors found at (``pa_over_q``, ``fe_hz``) in f_e, both ways.
+
+    Parameters
+    ----------
+    attractor : int or None
+        Index into the attractor list (sorted by A_pp, largest first, as ``attractors --json``);
+        None: every periodic attractor.
+    switch : bool
+        Enter the period-2k branch at each period doubling (periods up to ``kmax_switch``).
+    known : list of Branch
+        Branches already computed (seeds on them are skipped); extended in place.
+    attractors : AttractorSet, optional
+        Reuse a search result instead of running :func:`find_attractors`.
+
+    Returns
+    -------
+    BranchSet
+        The new branches (not those in ``known``).
+    """
+    from ..attractors import find_attractors
+
+    settings = settings or ContinuationSettings()
+    exc = model.excitation(pa_over_q, fe_hz)
+    if not (settings.fmin <= exc.f_e <= settings.fmax):
+        raise ParameterError("f_e", fe_hz, f"seed must lie in [fmin, fmax] = [{settings.fmin:g}, "
+                                           f"{settings.fmax:g}] Hz")
+    found = attractors if attractors is not None else find_attractors(model, exc)
+    if attractor is not None:
+        n = int(check_range("attractor", attractor, 0, True))
+        if n != attractor or n >= len(found):
+            raise ParameterError("attractor", attractor,
+                                 f"must be an index 0..{len(found) - 1} of the {len(found)} attractors "
+                                 f"found at {exc.f_e:g} Hz")
+        idx = [n]
+    else:
+        idx = list(range(len(found)))
+    log = log or (lambda msg: None)
+    known = known if known is not None else []
+    prefix = prefix if prefix is not None else f"pa{exc.pa_over_q:g}"
+    new = []
+    for i in idx:
+        a = found[i]
+        if a.period is None:
+            log(f"attractor {i} at {exc.f_e:g} Hz is non-periodic: not continued")
+            continue
+        if any(on_branch(model, b, exc, a.state, a.period) for b in known + new):
+            continue
+        bid = f"{prefix}/b{len(known) + len(new)}"
+        try:
+            b = continue_orbit(model, exc, a.state, a.period, settings=settings, branch_id=bid)
+        except ContinuationError as e:
+            log(f"attractor {i}: {e}")
+            continue
+        new.append(b)
+        log(f"{bid}: period {b.period}, {len(b)} points, {len(b.special)} special points")
+    if switch:
+        n0 = len(new)
+        allb = known + new
+        _switch_all(model, allb, settings, kmax_switch, log)
+        new.extend(allb[len(known) + n0:])
+    known.extend(new)
+    return BranchSet(new)
+
+
+def bifurcation_diagram(model: ContactModel, pa_over_q: float,
+                        seed_fe=DEFAULT_SEED_FE, settings: ContinuationSettings | None = None,
+                        switch: bool = True, kmax_switch: int = 8, log=None) -> BranchSet:
+    """All branches at one amplitude seeded from the attractors at the frequencies ``seed_fe``."""
+    settings = settings or ContinuationSettings()
+    seed_fe = [check_range("seed f_e", f, 0.0, False, "Hz") for f in seed_fe]
+    known: list = []
+    for f in seed_fe:
+        if not (settings.fmin <= f <= settings.fmax):
+            continue
+        continue_attractors(model, pa_over_q, f, None, settings, switch, kmax_switch, known,
+                            prefix=f"pa{pa_over_q:g}", log=log)
+    return BranchSet(known)
