@@ -221,5 +221,8 @@ def main(argv=None) -> int:
     return 2
 
 
+from . import cli_perturbation  # noqa: E402,F401
+from . import cli_continuation  # noqa: E402,F401
+
 if __name__ == "__main__":
     sys.exit(main())

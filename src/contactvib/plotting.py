@@ -10,7 +10,8 @@ import numpy as np
 
 from .results import Attractor, TimeHistory
 
-__all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure"]
+__all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph",
+           "extrema_diagram"]
 
 
 def _ax(ax):
@@ -65,3 +66,119 @@ def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | No
     fig.suptitle(head, fontsize=10)
     fig.tight_layout()
     return fig
+
+
+# ---------------------------------------------------------------- resonance graphs (Figs. 2, 3)
+
+def _family(label: str):
+    """(order m or None, variant) of a resonance label from :func:`contactvib.dataset.resonance_label`."""
+    if label.startswith("main"):
+        return 1, label[4:].strip()
+    if label.startswith("1/"):
+        head, _, rest = label.partition(" ")
+        return int(head[2:]), rest
+    return None, label
+
+
+def _order_color(m):
+    import matplotlib.pyplot as plt
+
+    if m == 1:
+        return "k"
+    cmap = plt.get_cmap("tab10")
+    return cmap((m - 2) % 10)
+
+
+def _level(ds, pa_over_q):
+    import numpy as np
+
+    sel = np.nonzero(np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6)[0]
+    if sel.size == 0:
+        raise ValueError(f"P_a = {pa_over_q:g} Q is not in the dataset")
+    return sel
+
+
+def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, m_max: int = 6,
+                    annotate: bool = True):
+    """A_pp [µm, log] against f_e [Hz] for one P_a level, one line per branch (Fig. 2).
+
+    Colour = resonance order (main black, 1/m coloured); thin grey = non-resonant (quasistatic)
+    motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; dots = non-periodic attractors;
+    plus signs at f_n0/m (Eq. 2.6).
+    """
+    import numpy as np
+
+    ax = _ax(ax)
+    sel = _level(ds, pa_over_q)
+    fe = ds["fe_hz"].values[sel]
+    app = ds["app_um"].values[sel]
+    br = ds["branch_index"].values[sel]
+    kind = ds["kind"].values[sel]
+    labels = ds["resonance"].values[sel]
+    best: dict = {}
+    for b in np.unique(br):
+        pts = np.nonzero(br == b)[0]
+        pts = pts[np.argsort(fe[pts])]
+        lab = str(labels[pts[0]])
+        if kind[pts[0]] != "periodic":
+            ax.plot(fe[pts], app[pts], ".", color="tab:red", ms=1.5, zorder=3)
+            continue
+        m, variant = _family(lab)
+        if m is None:
+            style = dict(color="0.55", lw=0.6, ls=":") if lab != "non-resonant" else dict(color="0.35", lw=0.8)
+        else:
+            style = dict(color=_order_color(m), lw=1.1 if not variant else 0.9,
+                         ls="-" if not variant else "--")
+        # split at grid gaps so that a branch is never drawn across a hole
+        gaps = np.nonzero(np.diff(fe[pts]) > 1.5 * np.min(np.diff(np.unique(fe))) if fe.size > 1 else [])[0]
+        for seg in np.split(pts, gaps + 1):
+            ax.plot(fe[seg], app[seg], **style)
+        if m is not None and not variant:
+            j = pts[np.argmax(app[pts])]
+            if m not in best or app[j] > best[m][1]:
+                best[m] = (fe[j], app[j])
+    if annotate:
+        for m, (f, a) in best.items():
+            ax.annotate("main" if m == 1 else f"1/{m}", (f, a), xytext=(2, 3),
+                        textcoords="offset points", fontsize=7, color=_order_color(m))
+    fn0 = fn0_hz if fn0_hz is not None else float(ds.attrs["fn0_hz"])
+    ax.set_yscale("log")
+    lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
+    marks = [fn0 / m for m in range(1, m_max + 1)]
+    ax.plot(marks, [lo * 1.3] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
+    ax.set_xlabel("$f_e$ [Hz]")
+    ax.set_ylabel("$A_{pp}$ [µm]")
+    ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, frameon=False)
+    return ax
+
+
+def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
+    """Local extrema of y(t) [µm] against f_e [Hz] for one P_a level (Fig. 3).
+
+    Minima grey, maxima black; the y axis is linear within ±``linthresh_um`` and logarithmic
+    beyond (symlog), so the small superharmonic loops and the large main-resonance orbits show
+    together; y < 0 is loss of contact.
+    """
+    import numpy as np
+
+    ax = _ax(ax)
+    sel = _level(ds, pa_over_q)
+    fe = ds["fe_hz"].values[sel]
+    e0 = ds["extrema_start"].values[sel]
+    ne = ds["extrema_count"].values[sel]
+    idx = np.concatenate([np.arange(a, a + n) for a, n in zip(e0, ne)]) if sel.size else np.array([], int)
+    f_rep = np.repeat(fe, ne)
+    y = ds["extremum_y_um"].values[idx]
+    is_min = ds["extremum_is_min"].values[idx].astype(bool)
+    ax.plot(f_rep[is_min], y[is_min], ",", color="0.6", rasterized=True)
+    ax.plot(f_rep[~is_min], y[~is_min], ",", color="k", rasterized=True)
+    ax.plot([], [], "s", color="0.6", ms=4, label="minima")
+    ax.plot([], [], "s", color="k", ms=4, label="maxima")
+    ax.axhline(0.0, color="tab:red", lw=0.5, ls=":")
+    ax.set_yscale("symlog", linthresh=linthresh_um)
+    ax.set_xlabel("$f_e$ [Hz]")
+    ax.set_ylabel("local extrema of y [µm]")
+    ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, frameon=False, markerscale=1)
+    return ax

@@ -1,0 +1,471 @@
+"""Branch tracing along a frequency grid: Newton-corrected natural continuation with jumps (compiled).
+
+A *trace* starts from a refined attractor at grid index ``i0`` and walks the grid in one
+direction, as a laboratory sweep does, carrying the state:
+
+1. predict the orbit point at the next frequency (secant through the last two points of the
+   same segment), correct it by Newton shooting on the period-k map, accept it when it closes,
+   is stable and its period is minimal (:func:`.settle._refine`);
+2. otherwise (past a fold, a period doubling, or into chaos) integrate from the carried state
+   until a new attractor is detected (:func:`.settle.settle`) — a *jump*;
+3. a non-periodic attractor is followed by integrating from the carried state at every step.
+
+Every attractor met is compared with a shared table of the attractors already known at that
+grid index (same period and the orbit point equal to one of the known stroboscopic points to
+``same_tol``, relative; non-periodic: the point inside a known cloud's bounding box). A known
+attractor that has already been traced in this direction ends the trace (the rest would repeat
+work); a new one is described and appended to the table. The table is shared by all traces of
+one P_a level, so up-sweeps, down-sweeps and multi-start seeds never duplicate each other.
+
+Outputs are flat per-row arrays (one row per new attractor point) and links between rows
+(``jump`` = 0: continued by Newton, 1: reached by a transient from the previous point).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .flow import REC_WIDTH, STATUS_OK, advance, initial_mode
+from .orbit import find_extrema, record_orbit, sample_records
+from .settle import SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, _refine, settle
+from .shooting import MAX_STEPS_PER_PERIOD, state_scale, strobe_map
+
+#: Stored extrema per attractor point (periodic orbits need 2 × minima; clouds are truncated).
+EXT_MAX = 256
+#: Stored stroboscopic points per attractor point (period k ≤ kmax; clouds: the last ones).
+STROBE_MAX = 32
+#: Harmonic amplitudes stored per point, at frequencies j·f_e/k, j = 1..HARM_MAX.
+HARM_MAX = 64
+#: Samples per excitation period for the harmonic analysis.
+N_SAMPLES = 256
+#: Periods recorded to describe a non-periodic attractor.
+NP_RECORD = 32
+#: Periods used for the largest Lyapunov exponent of the stroboscopic map.
+NP_LYAPUNOV = 64
+
+ORIGIN_NEWTON = 0
+ORIGIN_JUMP = 1
+ORIGIN_START = 2
+
+STOP_GRID_END = 0
+STOP_KNOWN = 1
+STOP_FAILED = 2
+STOP_TABLE_FULL = 3
+
+KIND_PERIODIC = 0
+KIND_NONPERIODIC = 1
+
+
+@njit(cache=True)
+def lyapunov_strobe(z, par, rtol, n_periods):
+    """Largest Lyapunov exponent of the stroboscopic map [1/excitation period] from ``z``.
+
+    Tangent vector propagated by the monodromy of each period and renormalised (Benettin et al.
+    1980); NaN if the integration fails.
+    """
+    cur = z.copy()
+    nxt = np.empty(2)
+    M = np.empty((2, 2))
+    w0 = 1.0 / math.sqrt(2.0)
+    w1 = w0
+    acc = 0.0
+    for _ in range(n_periods):
+        if strobe_map(cur, 1, par, rtol, rtol, nxt, M) != STATUS_OK:
+            return math.nan
+        a = M[0, 0] * w0 + M[0, 1] * w1
+        b = M[1, 0] * w0 + M[1, 1] * w1
+        nrm = math.sqrt(a * a + b * b)
+        if not (nrm > 0.0 and math.isfinite(nrm)):
+            return math.nan
+        acc += math.log(nrm)
+        w0 = a / nrm
+        w1 = b / nrm
+        cur[0] = nxt[0]
+        cur[1] = nxt[1]
+    return acc / n_periods
+
+
+@njit(cache=True)
+def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next, o_ext_t,
+                   o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom):
+    """Extrema, A_pp, contact loss, strobe points and harmonics of ``n_per`` periods from ``z``.
+
+    Writes row ``row`` of the output arrays; returns a :mod:`.flow` status.
+    """
+    T = 2.0 * math.pi / par[4]
+    cap = 1024 * n_per
+    while True:
+        rec, z_end, t_flight, n_events, st = record_orbit(z, 0.0, n_per, par, rtol, cap)
+        if st == 3:  # STATUS_RECORD_FULL
+            cap *= 4
+            continue
+        break
+    if st != STATUS_OK:
+        return st
+    t_e, x_e, m_e = find_extrema(rec)
+    n_e = t_e.shape[0]
+    xmin = math.inf
+    xmax = -math.inf
+    nmin = 0
+    for j in range(n_e):
+        xmin = min(xmin, x_e[j])
+        xmax = max(xmax, x_e[j])
+        if m_e[j]:
+            nmin += 1
+    if n_e == 0:
+        for j in range(rec.shape[0]):
+            xmin = min(xmin, rec[j, 3])
+            xmax = max(xmax, rec[j, 3])
+    o_xmin[row] = xmin
+    o_xmax[row] = xmax
+    o_flight[row] = t_flight / (n_per * T)
+    o_nmin[row] = nmin
+    n_keep = min(n_e, EXT_MAX)
+    o_next[row] = n_keep
+    for j in range(n_keep):
+        o_ext_t[row, j] = t_e[j]
+        o_ext_x[row, j] = x_e[j]
+        o_ext_min[row, j] = m_e[j]
+    # stroboscopic points (the last STROBE_MAX of them)
+    n_s = min(n_per, STROBE_MAX)
+    ts = np.empty(n_s)
+    for j in range(n_s):
+        ts[j] = (n_per - n_s + j) * T
+    xs, vs, _cs = sample_records(rec, ts)
+    for j in range(n_s):
+        o_strobe[row, j, 0] = xs[j]
+        o_strobe[row, j, 1] = vs[j]
+    o_nstrobe[row] = n_s
+    # harmonics at j f_e / n_per by a direct DFT of uniform samples
+    N = N_SAMPLES * n_per
+    tt = np.empty(N)
+    for q in range(N):
+        tt[q] = q * (n_per * T) / N
+    xq, _v, _c = sample_records(rec, tt)
+    best = -1.0
+    jdom = 0
+    for j in range(1, HARM_MAX + 1):
+        if j > N // 2 - 1:
+            o_harm[row, j - 1] = math.nan
+            continue
+        re = 0.0
+        im = 0.0
+        w = 2.0 * math.pi * j / N
+        for q in range(N):
+            re += xq[q] * math.cos(w * q)
+            im -= xq[q] * math.sin(w * q)
+        amp = 2.0 * math.sqrt(re * re + im * im) / N
+        o_harm[row, j - 1] = amp
+        if j * amp > best:  # velocity amplitude ∝ j |Y_j|
+            best = j * amp
+            jdom = j
+    o_jdom[row] = jdom
+    return STATUS_OK
+
+
+@njit(cache=True)
+def _eig2(M, out_re, out_im, row):
+    tr = M[0, 0] + M[1, 1]
+    det = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
+    disc = 0.25 * tr * tr - det
+    if disc >= 0.0:
+        s = math.sqrt(disc)
+        out_re[row, 0] = 0.5 * tr + s
+        out_re[row, 1] = 0.5 * tr - s
+        out_im[row, 0] = 0.0
+        out_im[row, 1] = 0.0
+    else:
+        s = math.sqrt(-disc)
+        out_re[row, 0] = 0.5 * tr
+        out_re[row, 1] = 0.5 * tr
+        out_im[row, 0] = s
+        out_im[row, 1] = -s
+
+
+@njit(cache=True)
+def find_known(i, z, k, kind, t_n, t_k, t_kind, t_pts, t_box, same_tol):
+    """Slot of the attractor known at grid index ``i`` that ``z`` lies on, or −1."""
+    sc = state_scale(z[0], z[1])
+    for s in range(t_n[i]):
+        if t_kind[i, s] != kind:
+            continue
+        if kind == KIND_PERIODIC:
+            if t_k[i, s] != k:
+                continue
+            for j in range(k):
+                d = max(abs(z[0] - t_pts[i, s, j, 0]), abs(z[1] - t_pts[i, s, j, 1]))
+                if d <= same_tol * max(sc, state_scale(t_pts[i, s, j, 0], t_pts[i, s, j, 1])):
+                    return s
+        else:
+            wx = 0.05 * (t_box[i, s, 1] - t_box[i, s, 0]) + 1e-9
+            wv = 0.05 * (t_box[i, s, 3] - t_box[i, s, 2]) + 1e-9
+            if (t_box[i, s, 0] - wx <= z[0] <= t_box[i, s, 1] + wx
+                    and t_box[i, s, 2] - wv <= z[1] <= t_box[i, s, 3] + wv):
+                return s
+    return -1
+
+
+@njit(cache=True)
+def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, max_periods,
+          detect_tol, rtol_transient, same_tol, row_base,
+          t_n, t_k, t_kind, t_pts, t_box, t_row, t_cov,
+          o_i, o_kind, o_k, o_z, o_mu_re, o_mu_im, o_closure, o_xmin, o_xmax, o_flight, o_nmin,
+          o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, o_lyap,
+          o_origin, l_a, l_b, l_jump):
+    """Trace from the attractor (``z0``, period ``k0``, ``kind0``) at grid index ``i0``.
+
+    ``direction`` is +1 (up in frequency) or −1. Table arrays ``t_*`` (per grid index, per slot)
+    are read and extended in place; ``t_cov[i, s, 0/1]`` marks slots traced downwards/upwards.
+    New rows get global ids ``row_base + n``.
+
+    Returns
+    -------
+    n_rows, n_links, stop_reason, i_stop
+    """
+    n_f = r_grid.shape[0]
+    MAXA = t_k.shape[1]
+    d_slot = 1 if direction > 0 else 0
+    par = par_in.copy()
+    z = z0.copy()
+    k = k0
+    kind = kind0
+    zp = np.empty(2)  # previous accepted orbit point on this segment (for the secant)
+    have_prev = False
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    hist = np.empty((max_periods + 1, 2))
+    n_rows = 0
+    n_links = 0
+    prev_row = -1
+    i = i0
+    origin = ORIGIN_START
+    closure = 0.0
+    M = np.zeros((2, 2))
+    if kind == KIND_PERIODIC:
+        par[4] = r_grid[i]
+        ok, kk, res = _refine(z, k, par, rtol, close_tol, oz, oM)
+        if not ok:
+            return 0, 0, STOP_FAILED, i
+        k = kk
+        z[0] = oz[0]
+        z[1] = oz[1]
+        M[:, :] = oM
+        closure = res
+    while True:
+        par[4] = r_grid[i]
+        # ---- is it known here?
+        s = find_known(i, z, k, kind, t_n, t_k, t_kind, t_pts, t_box, same_tol)
+        if s >= 0:
+            row = t_row[i, s]
+            if prev_row >= 0:
+                l_a[n_links] = prev_row
+                l_b[n_links] = row
+                l_jump[n_links] = 1 if origin == ORIGIN_JUMP else 0
+                n_links += 1
+            if t_cov[i, s, d_slot]:
+                return n_rows, n_links, STOP_KNOWN, i
+            t_cov[i, s, d_slot] = True
+            prev_row = row
+        else:
+            if t_n[i] >= MAXA:
+                return n_rows, n_links, STOP_TABLE_FULL, i
+            r = n_rows
+            o_i[r] = i
+            o_kind[r] = kind
+            o_k[r] = k if kind == KIND_PERIODIC else 0
+            o_z[r, 0] = z[0]
+            o_z[r, 1] = z[1]
+            o_origin[r] = origin
+            n_per = k if kind == KIND_PERIODIC else NP_RECORD
+            st = describe_point(z, n_per, par, rtol, r, o_xmin, o_xmax, o_flight, o_nmin, o_next,
+                                o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom)
+            if st != STATUS_OK:
+                return n_rows, n_links, STOP_FAILED, i
+            s = t_n[i]
+            t_kind[i, s] = kind
+            t_row[i, s] = row_base + r
+            t_cov[i, s, d_slot] = True
+            t_cov[i, s, 1 - d_slot] = False
+            if kind == KIND_PERIODIC:
+                _eig2(M, o_mu_re, o_mu_im, r)
+                o_closure[r] = closure
+                o_lyap[r] = math.nan
+                t_k[i, s] = k
+                for j in range(k):
+                    t_pts[i, s, j, 0] = o_strobe[r, j, 0]
+                    t_pts[i, s, j, 1] = o_strobe[r, j, 1]
+            else:
+                o_mu_re[r, 0] = math.nan
+                o_mu_re[r, 1] = math.nan
+                o_mu_im[r, 0] = math.nan
+                o_mu_im[r, 1] = math.nan
+                o_closure[r] = math.inf
+                o_lyap[r] = lyapunov_strobe(z, par, rtol_transient, NP_LYAPUNOV)
+                t_k[i, s] = 0
+                nb = o_nstrobe[r]
+                t_box[i, s, 0] = math.inf
+                t_box[i, s, 1] = -math.inf
+                t_box[i, s, 2] = math.inf
+                t_box[i, s, 3] = -math.inf
+                for j in range(nb):
+                    t_box[i, s, 0] = min(t_box[i, s, 0], o_strobe[r, j, 0])
+                    t_box[i, s, 1] = max(t_box[i, s, 1], o_strobe[r, j, 0])
+                    t_box[i, s, 2] = min(t_box[i, s, 2], o_strobe[r, j, 1])
+                    t_box[i, s, 3] = max(t_box[i, s, 3], o_strobe[r, j, 1])
+                # carry on from the end of the recorded cloud
+                z[0] = o_strobe[r, nb - 1, 0]
+                z[1] = o_strobe[r, nb - 1, 1]
+            t_n[i] += 1
+            if prev_row >= 0:
+                l_a[n_links] = prev_row
+                l_b[n_links] = row_base + r
+                l_jump[n_links] = 1 if origin == ORIGIN_JUMP else 0
+                n_links += 1
+            prev_row = row_base + r
+            n_rows += 1
+        # ---- next grid point
+        i_next = i + direction
+        if i_next < 0 or i_next >= n_f:
+            return n_rows, n_links, STOP_GRID_END, i
+        par[4] = r_grid[i_next]
+        accepted = False
+        if kind == KIND_PERIODIC:
+            zg = np.empty(2)
+            if have_prev:
+                zg[0] = 2.0 * z[0] - zp[0]
+                zg[1] = 2.0 * z[1] - zp[1]
+            else:
+                zg[0] = z[0]
+                zg[1] = z[1]
+            ok, kk, res = _refine(zg, k, par, rtol, close_tol, oz, oM)
+            if ok and kk == k:
+                zp[0] = z[0]
+                zp[1] = z[1]
+                have_prev = True
+                z[0] = oz[0]
+                z[1] = oz[1]
+                M[:, :] = oM
+                closure = res
+                origin = ORIGIN_NEWTON
+                accepted = True
+        if not accepted:
+            st, kk, _n, res = settle(z, 0.0, par, kmax, 4, max_periods, detect_tol, rtol_transient,
+                                     rtol, close_tol, hist, oz, oM)
+            have_prev = False
+            origin = ORIGIN_JUMP if kind == KIND_PERIODIC else ORIGIN_NEWTON
+            if st == SETTLE_PERIODIC:
+                kind = KIND_PERIODIC
+                k = kk
+                z[0] = oz[0]
+                z[1] = oz[1]
+                M[:, :] = oM
+                closure = res
+                origin = ORIGIN_JUMP
+            elif st == SETTLE_NONPERIODIC:
+                if kind == KIND_PERIODIC:
+                    origin = ORIGIN_JUMP
+                kind = KIND_NONPERIODIC
+                k = 0
+                z[0] = hist[max_periods, 0]
+                z[1] = hist[max_periods, 1]
+            else:
+                return n_rows, n_links, STOP_FAILED, i
+        i = i_next
+
+
+SETTLE_CAPTURED = 3
+
+
+@njit(cache=True)
+def _capture(z, i, t_n, t_k, t_kind, t_pts, capture_tol):
+    """Slot of a known periodic attractor at grid index ``i`` with a strobe point near ``z``."""
+    sc = state_scale(z[0], z[1])
+    for s in range(t_n[i]):
+        if t_kind[i, s] != KIND_PERIODIC:
+            continue
+        for j in range(t_k[i, s]):
+            d = max(abs(z[0] - t_pts[i, s, j, 0]), abs(z[1] - t_pts[i, s, j, 1]))
+            if d <= capture_tol * sc:
+                return s
+    return -1
+
+
+@njit(cache=True)
+def settle_known(z_init, phase0, i, par, kmax, max_periods, detect_tol, rtol_transient, rtol_refine,
+                 close_tol, capture_tol, t_n, t_k, t_kind, t_pts, hist, out_z, out_M):
+    """:func:`.settle.settle` that stops early once the state is captured by a known attractor.
+
+    After each period the stroboscopic point is compared with the known stable periodic orbits at
+    grid index ``i``; within ``capture_tol`` (relative) of one of their points the start is
+    counted for that attractor (``SETTLE_CAPTURED``; the slot is returned as ``k``).
+    """
+    T = 2.0 * math.pi / par[4]
+    y = np.empty(2)
+    y[0] = z_init[0]
+    y[1] = z_init[1]
+    contact = initial_mode(y[0], y[1])
+    h = 0.01
+    contact, h, _i, _ns, _tf, _ne, st = advance(
+        y, phase0 * T, T, contact, h, par, rtol_transient, rtol_transient, np.empty((0, REC_WIDTH)), 0,
+        MAX_STEPS_PER_PERIOD)
+    if st != STATUS_OK:
+        return SETTLE_FAILED, 0, 0
+    hist[0, 0] = y[0]
+    hist[0, 1] = y[1]
+    tol = detect_tol
+    for n in range(1, max_periods + 1):
+        contact, h, _i, _ns, _tf, _ne, st = advance(
+            y, 0.0, T, contact, h, par, rtol_transient, rtol_transient, np.empty((0, REC_WIDTH)), 0,
+            MAX_STEPS_PER_PERIOD)
+        if st != STATUS_OK:
+            return SETTLE_FAILED, 0, n
+        hist[n, 0] = y[0]
+        hist[n, 1] = y[1]
+        s = _capture(y, i, t_n, t_k, t_kind, t_pts, capture_tol)
+        if s >= 0:
+            return SETTLE_CAPTURED, s, n
+        if n < 4:
+            continue
+        sc = state_scale(y[0], y[1])
+        for k in range(1, kmax + 1):
+            if n - 2 * k < 0:
+                break
+            d1 = max(abs(hist[n, 0] - hist[n - k, 0]), abs(hist[n, 1] - hist[n - k, 1])) / sc
+            if d1 < tol:
+                ok, kk, _res = _refine(y, k, par, rtol_refine, close_tol, out_z, out_M)
+                if ok:
+                    return SETTLE_PERIODIC, kk, n
+                tol *= 0.1
+                break
+    return SETTLE_NONPERIODIC, 0, max_periods
+
+
+@njit(cache=True, parallel=True)
+def settle_known_many(Z, phases, i, par, kmax, max_periods, detect_tol, rtol_transient, rtol_refine,
+                      close_tol, capture_tol, t_n, t_k, t_kind, t_pts):
+    """:func:`settle_known` for many starts (numba threads over the starts).
+
+    Returns status, k (period, or the captured slot), z (refined point or last strobe point).
+    """
+    N = Z.shape[0]
+    status = np.empty(N, np.int64)
+    kk = np.zeros(N, np.int64)
+    zs = np.empty((N, 2))
+    for q in prange(N):
+        hist = np.empty((max_periods + 1, 2))
+        oz = np.empty(2)
+        oM = np.zeros((2, 2))
+        s, k, n = settle_known(Z[q], phases[q], i, par, kmax, max_periods, detect_tol, rtol_transient,
+                               rtol_refine, close_tol, capture_tol, t_n, t_k, t_kind, t_pts, hist, oz, oM)
+        status[q] = s
+        kk[q] = k
+        if s == SETTLE_PERIODIC:
+            zs[q, 0] = oz[0]
+            zs[q, 1] = oz[1]
+        else:
+            zs[q, 0] = hist[n, 0]
+            zs[q, 1] = hist[n, 1]
+    return status, kk, zs
