@@ -223,6 +223,7 @@ def main(argv=None) -> int:
 
 from . import cli_perturbation  # noqa: E402,F401
 from . import cli_continuation  # noqa: E402,F401
+from . import cli_resonance  # noqa: E402,F401
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -11,6 +11,8 @@ Dimension ``point`` — one row per attractor at one (P_a, f_e):
     ``closure`` [1], ``lyapunov_per_period`` [1/excitation period; NaN for periodic],
     ``dominant_harmonic`` [multiples of f_e], ``resonance`` (label, see :func:`resonance_label`),
     ``branch_index`` (into the ``branch`` dimension), ``origin`` ("newton" / "jump" / "start"),
+    ``found_by`` ("sweep" / "perturbation seed" / "multi-start": how the trace that first reached
+    the point was started; see :mod:`contactvib.sweep`),
     ``state_y_um`` [µm], ``state_ydot_mm_s`` [mm/s] (orbit point at phase 0),
     ``harmonics_um`` (point, harmonic) [µm] one-sided amplitudes at j·f_e/period, j = 1…,
     ``extrema_start``/``extrema_count`` and ``strobe_start``/``strobe_count`` (ragged indices).
@@ -20,9 +22,9 @@ Dimension ``strobe`` — stroboscopic points (phase 0 of the force): ``strobe_y_
     ``strobe_ydot_mm_s``.
 Dimension ``branch`` — ``branch_id``, ``branch_label``, ``branch_pa_over_q``, ``branch_period``,
     ``branch_minima``, ``branch_fmin_hz``, ``branch_fmax_hz``, ``branch_npoints``,
-    ``branch_app_max_um``.
+    ``branch_app_max_um``, ``branch_reached_by_sweep`` (0: isolated from the sweeps).
 Dimension ``trace`` — one row per sweep/trace run: ``trace_label``, ``trace_pa_over_q``,
-    ``trace_direction``, ``trace_f_start_hz``, ``trace_f_stop_hz``, ``trace_stop``.
+    ``trace_direction``, ``trace_f_start_hz``, ``trace_f_stop_hz``, ``trace_stop``, ``trace_root``.
 Attributes: the model parameters, ``fn0_hz``, ``y0_um``, the sweep settings (JSON) and the grid.
 """
 
@@ -69,7 +71,8 @@ def resonance_label(kind: int, k: int, nu: Fraction, n_min: int, loses_contact: 
                     fn0_hz: float) -> str:
     """Name of the resonance of an attractor with resonance ratio ``nu`` (:func:`dominant_ratio`).
 
-    * non-periodic → ``"non-periodic"``;
+    * non-periodic → ``"non-periodic (1/m)"`` with m the mean number of minima per excitation
+      period over the recorded 32 periods (``nu``), rounded: the resonance whose cascade it ends;
     * ν = m integer, k = 1: m = 1 → ``"main"`` (``"non-resonant"`` when contact is kept and
       f_e < f_n0/2: the quasistatic motion below the resonances), m ≥ 2 → ``"1/m"``;
     * ν = m integer, k > 1 → ``"1/m period-k"`` (``"main period-k"``): after period doubling;
@@ -80,7 +83,10 @@ def resonance_label(kind: int, k: int, nu: Fraction, n_min: int, loses_contact: 
     per period, but its fifth harmonic dominates the acceleration.
     """
     if kind != 0:
-        return "non-periodic"
+        if nu is None:
+            return "non-periodic"
+        m = max(1, int(round(float(nu))))
+        return f"non-periodic ({'main' if m == 1 else f'1/{m}'})"
     if nu.denominator == 1:
         m = nu.numerator
         if k == 1:
@@ -128,8 +134,11 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
     k = rows["k"]
     nmin = np.where(kind == 0, rows["nmin"], -1)
     loses = rows["xmin"] < 0.0
+    from ._kernels.trace import NP_RECORD
+
     nus = [dominant_ratio(int(k[j]), int(nmin[j]), rows["harm"][j], bool(loses[j]), float(fe[j]),
-                          model.f_n0) if kind[j] == 0 else None for j in range(n)]
+                          model.f_n0) if kind[j] == 0
+           else Fraction(int(rows["nmin"][j]), NP_RECORD) for j in range(n)]
     labels = np.array([resonance_label(int(kind[j]), int(k[j]), nus[j], int(nmin[j]), bool(loses[j]),
                                        float(fe[j]), model.f_n0) for j in range(n)], dtype=object)
     # branches: rows continued by Newton (no jump), same kind, period and label
@@ -161,6 +170,11 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
         b_k[b] = k[j]
         b_min[b] = nmin[j]
     b_id = np.array([f"{pa:g}Q-b{b:03d}" for b in range(nb)], dtype=object)
+    from .sweep import TRACE_ROOTS
+
+    found_by = np.array([TRACE_ROOTS[int(c)] for c in rows["found_by"]], dtype=object)
+    b_sweep = np.zeros(nb, np.int8)
+    b_sweep[branch[found_by == "sweep"]] = 1
 
     n_ext = rows["next"]
     ext_start = np.concatenate([[0], np.cumsum(n_ext)[:-1]]).astype(np.int64)
@@ -201,6 +215,8 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
             "resonance": ("point", labels),
             "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
             "origin": ("point", np.array([_ORIGINS[int(o)] for o in rows["origin"]], dtype=object)),
+            "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
+                                                        "sweep / perturbation seed / multi-start"}),
             "state_y_um": ("point", rows["z"][:, 0] * y_um, {"units": "um"}),
             "state_ydot_mm_s": ("point", rows["z"][:, 1] * v_mm_s, {"units": "mm/s"}),
             "harmonics_um": (("point", "harmonic"), harm, {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
@@ -222,12 +238,15 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
             "branch_fmax_hz": ("branch", b_fmax, {"units": "Hz"}),
             "branch_npoints": ("branch", b_np),
             "branch_app_max_um": ("branch", b_app, {"units": "um"}),
+            "branch_reached_by_sweep": ("branch", b_sweep, {"units": "1", "comment": "1 if a laboratory "
+                                        "sweep (up, down, reversing at jumps) reaches the branch"}),
             "trace_label": ("trace", np.array([t[0] for t in tr], dtype=object)),
             "trace_pa_over_q": ("trace", np.full(len(tr), pa), {"units": "Q"}),
             "trace_direction": ("trace", np.array([t[1] for t in tr], np.int64)),
             "trace_f_start_hz": ("trace", np.array([t[2] for t in tr]), {"units": "Hz"}),
             "trace_f_stop_hz": ("trace", np.array([t[3] for t in tr]), {"units": "Hz"}),
             "trace_stop": ("trace", np.array([STOP_REASONS[t[4]] for t in tr], dtype=object)),
+            "trace_root": ("trace", np.array([t[5] for t in tr], dtype=object)),
         },
         attrs={
             "title": "contactvib resonance dataset (Kostek 2013 contact oscillator)",
@@ -307,7 +326,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
         "period", "kind", "minima_per_period", "app_um", "ymin_um", "ymax_um", "loses_contact",
         "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_re", "floquet_im",
         "closure", "lyapunov_per_period", "resonance", "branch_index", "extrema_start", "extrema_count",
-        "strobe_start", "strobe_count", "origin", "dominant_harmonic")}
+        "strobe_start", "strobe_count", "origin", "dominant_harmonic", "found_by")}
     e_t, e_y, e_m = (ds[x].values for x in ("extremum_t_ms", "extremum_y_um", "extremum_is_min"))
     s_y, s_v = ds["strobe_y_um"].values, ds["strobe_ydot_mm_s"].values
     b_id, b_lab = ds["branch_id"].values, ds["branch_label"].values
@@ -342,6 +361,8 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
             "branch": str(b_id[b]),
             "branch_label": str(b_lab[b]),
             "origin": str(v["origin"][p]),
+            "found_by": str(v["found_by"][p]),
+            "reached_by_sweep": bool(ds["branch_reached_by_sweep"].values[b]),
             "strobe_points": [{"y_um": float(s_y[q]), "ydot_mm_s": float(s_v[q])}
                               for q in range(s0, s0 + ns)],
             "extrema": [{"t_ms": float(e_t[q]), "y_um": float(e_y[q]),

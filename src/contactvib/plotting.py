@@ -102,9 +102,10 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
                     annotate: bool = True):
     """A_pp [µm, log] against f_e [Hz] for one P_a level, one line per branch (Fig. 2).
 
-    Colour = resonance order (main black, 1/m coloured); thin grey = non-resonant (quasistatic)
-    motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; dots = non-periodic attractors;
-    plus signs at f_n0/m (Eq. 2.6).
+    Colour = resonance order (main black, 1/m coloured; dashed after period doubling); thin grey
+    = non-resonant (quasistatic) motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; red
+    dots = non-periodic attractors; gold underlay = branches no laboratory sweep reaches
+    (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6).
     """
     import numpy as np
 
@@ -115,7 +116,10 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     br = ds["branch_index"].values[sel]
     kind = ds["kind"].values[sel]
     labels = ds["resonance"].values[sel]
+    reach = (ds["branch_reached_by_sweep"].values if "branch_reached_by_sweep" in ds
+             else np.ones(ds.sizes["branch"], np.int8))
     best: dict = {}
+    isolated_drawn = False
     for b in np.unique(br):
         pts = np.nonzero(br == b)[0]
         pts = pts[np.argsort(fe[pts])]
@@ -133,6 +137,11 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
         gaps = np.nonzero(np.diff(fe[pts]) > 1.5 * np.min(np.diff(np.unique(fe))) if fe.size > 1 else [])[0]
         for seg in np.split(pts, gaps + 1):
             ax.plot(fe[seg], app[seg], **style)
+            if m is not None and not reach[b]:  # a sweep never reaches it (Sec. 3: isolated part)
+                ax.plot(fe[seg], app[seg], color="gold", lw=4.5, alpha=0.55, zorder=0,
+                        solid_capstyle="round",
+                        label=None if isolated_drawn else "isolated: not reached by sweeps")
+                isolated_drawn = True
         if m is not None and not variant:
             j = pts[np.argmax(app[pts])]
             if m not in best or app[j] > best[m][1]:

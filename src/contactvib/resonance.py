@@ -30,7 +30,7 @@ def _worker_init():
     numba.set_num_threads(1)
 
 
-def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None):
+def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None, on_level=None):
     from .dataset import level_dataset, write_atomic
     from .sweep import trace_level
 
@@ -40,7 +40,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None)
     ds = level_dataset(model, level, settings)
     if chunk is not None:
         write_atomic(ds, chunk)
-    return ds
+    return ds, (on_level(model, ds) if on_level is not None else None)
 
 
 def _chunk_matches(path: Path, model: ContactModel, settings: dict) -> bool:
@@ -56,7 +56,7 @@ def _chunk_matches(path: Path, model: ContactModel, settings: dict) -> bool:
 
 def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, out=None,
                       name: str = "resonance", resume: bool = False, workers: int | None = None,
-                      progress: bool = True):
+                      progress: bool = True, on_level=None, level_results: dict | None = None):
     """Sweep every P_a level in ``pa_levels`` [Q] over the settings' frequency grid.
 
     Parameters
@@ -67,6 +67,10 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         Reuse finished chunks of the same model and settings.
     workers : int or None
         Processes (default: ``min(levels, CPU count)``); 1 runs in this process.
+    on_level : callable or None
+        ``on_level(model, level_dataset)`` (picklable) run in the worker right after each level
+        (in this process for resumed levels), e.g. to draw the level's figures while other
+        levels are still sweeping; its return values go into ``level_results[P_a]``.
 
     Returns
     -------
@@ -96,6 +100,8 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
             c = chunk_path(out, pa)
             if c.exists() and _chunk_matches(c, model, sd):
                 done[pa] = xr.load_dataset(c)
+                if on_level is not None and level_results is not None:
+                    level_results[pa] = on_level(model, done[pa])
     todo = [pa for pa in levels if pa not in done]
     n_workers = workers or min(len(todo), os.cpu_count() or 1)
     bar = tqdm(total=len(levels), initial=len(done), unit="level", desc="resonance",
@@ -104,7 +110,9 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         if n_workers <= 1 or len(todo) <= 1:
             for pa in todo:
                 c = str(chunk_path(out, pa)) if out is not None else None
-                done[pa] = _run_level(model.parameters(), pa, sd, c)
+                done[pa], extra = _run_level(model.parameters(), pa, sd, c, on_level)
+                if level_results is not None:
+                    level_results[pa] = extra
                 bar.update(1)
                 bar.set_postfix_str(f"P_a = {pa:g} Q done")
         else:
@@ -115,12 +123,15 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
             with ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx,
                                      initializer=_worker_init) as pool:
                 futs = {pool.submit(_run_level, model.parameters(), pa, sd,
-                                    str(chunk_path(out, pa)) if out is not None else None): pa
+                                    str(chunk_path(out, pa)) if out is not None else None,
+                                    on_level): pa
                         for pa in sorted(todo, key=lambda p: -p)}
                 try:
                     for fut in as_completed(futs):
                         pa = futs[fut]
-                        done[pa] = fut.result()
+                        done[pa], extra = fut.result()
+                        if level_results is not None:
+                            level_results[pa] = extra
                         bar.update(1)
                         bar.set_postfix_str(f"P_a = {pa:g} Q done")
                 except BaseException:

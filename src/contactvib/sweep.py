@@ -10,12 +10,19 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
 2. **Reverse sweeps from every landing point.** Where a sweep jumped onto an attractor, a sweep
    in the opposite direction is started from it, so the branch it landed on is followed back to
    where it ends (e.g. the upper 1/2 branch down to low frequencies).
-3. **Multi-start seeds.** Every ``multistart_df`` Hz a multi-start search (random box scaled by
+3. **Small-amplitude seeds.** At every multi-start frequency (below) the perturbation solution
+   (:mod:`contactvib.perturbation`) is corrected by Newton shooting; a stable orbit no trace has
+   met is traced up and down. This reaches the in-contact parts of superharmonic peaks that are
+   cut off from the sweeps and have tiny basins (the 1/2 near 800 Hz at 0.90 Q: 0.4–4 % of the
+   box).
+4. **Multi-start seeds.** At ``multistart_per_octave`` frequencies per octave (geometric
+   spacing: the resonance structure is self-similar, f_n0/m, and densest at low f_e) a
+   multi-start search (random box scaled by
    y0 and P_a, plus ballistic seeds, :func:`contactvib.attractors.find_attractors`' procedure)
    looks for attractors no sweep has met; each new one is traced up and down. This is how the
    isolated parts of the 1/2 and 1/3 resonances (Kostek 2013, Sec. 3: "cannot be found with a
    sweeping signal") are found.
-4. All traces share one table of known attractors per frequency; a trace that reaches an
+5. All traces share one table of known attractors per frequency; a trace that reaches an
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
 
@@ -31,9 +38,13 @@ import numpy as np
 
 from .model import ContactModel, ParameterError, check_range
 
-__all__ = ["SweepSettings", "frequency_grid", "trace_level"]
+__all__ = ["SweepSettings", "frequency_grid", "multistart_indices", "trace_level"]
 
 _MAXA = 48  # attractors per frequency in the shared table
+
+#: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
+#: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
+TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start")
 
 
 @dataclass(frozen=True)
@@ -48,8 +59,9 @@ class SweepSettings:
         Largest period detected [excitation periods].
     max_periods : int
         Transient limit after a jump [excitation periods].
-    multistart_df_hz : float
-        Spacing of the multi-start frequencies [Hz] (0: no multi-start).
+    multistart_per_octave : float
+        Multi-start frequencies per octave of f_e, geometrically spaced from f_min and snapped to
+        the grid (0: no multi-start).
     multistart_starts : int
         Random box starts per multi-start frequency (ballistic seeds are added).
     seed : int
@@ -65,8 +77,8 @@ class SweepSettings:
     df_hz: float = 1.0
     kmax: int = 8
     max_periods: int = 300
-    multistart_df_hz: float = 20.0
-    multistart_starts: int = 48
+    multistart_per_octave: float = 8.0
+    multistart_starts: int = 24
     seed: int = 0
     rtol: float = 1e-10
     close_tol: float = 1e-9
@@ -85,7 +97,9 @@ class SweepSettings:
         if not (1 <= int(self.kmax) <= 16) or self.kmax != int(self.kmax):
             raise ParameterError("kmax", self.kmax, "must be an integer in 1..16")
         check_range("max_periods", self.max_periods, 4 * self.kmax, True)
-        check_range("multistart_df", self.multistart_df_hz, 0.0, True, "Hz")
+        check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True)
+        if self.multistart_per_octave > 1000:
+            raise ParameterError("multistart_per_octave", self.multistart_per_octave, "must be <= 1000")
         check_range("multistart_starts", self.multistart_starts, 0, True)
         check_range("seed", self.seed, 0, True)
 
@@ -97,6 +111,18 @@ def frequency_grid(settings: SweepSettings) -> np.ndarray:
     """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
     n = int(math.floor((settings.fmax_hz - settings.fmin_hz) / settings.df_hz + 1e-9)) + 1
     return settings.fmin_hz + settings.df_hz * np.arange(n)
+
+
+def multistart_indices(settings: SweepSettings) -> np.ndarray:
+    """Grid indices of the multi-start frequencies: f_min · 2^(j / per_octave), snapped, unique."""
+    f = frequency_grid(settings)
+    if settings.multistart_per_octave <= 0 or settings.multistart_starts <= 0:
+        return np.zeros(0, np.int64)
+    n_oct = math.log2(f[-1] / f[0])
+    fs = f[0] * 2.0 ** (np.arange(int(n_oct * settings.multistart_per_octave) + 1)
+                        / settings.multistart_per_octave)
+    idx = np.clip(np.round((fs - f[0]) / settings.df_hz).astype(np.int64), 0, f.size - 1)
+    return np.unique(idx)
 
 
 class _Level:
@@ -137,8 +163,8 @@ class _Level:
             jdom=np.zeros(cap, np.int64), lyap=np.zeros(cap), origin=np.zeros(cap, np.int64),
         )
 
-    def trace(self, z, k, kind, i0, direction, label):
-        """Run one trace; returns the new rows' (local) indices of jump landings."""
+    def trace(self, z, k, kind, i0, direction, label, root):
+        """Run one trace; returns the new rows' (global) indices of jump landings."""
         st = self.st
         cap = self.f.size + 1
         o = self._alloc(cap)
@@ -153,9 +179,10 @@ class _Level:
             o["i"], o["kind"], o["k"], o["z"], o["mu_re"], o["mu_im"], o["closure"], o["xmin"],
             o["xmax"], o["flight"], o["nmin"], o["next"], o["ext_t"], o["ext_x"], o["ext_min"],
             o["strobe"], o["nstrobe"], o["harm"], o["jdom"], o["lyap"], o["origin"], la, lb, lj)
-        self.stops.append((label, direction, float(self.f[i0]), float(self.f[i_stop]), int(stop)))
+        self.stops.append((label, direction, float(self.f[i0]), float(self.f[i_stop]), int(stop), root))
         if n_rows:
             self.chunks.append({key: v[:n_rows].copy() for key, v in o.items()})
+            self.chunks[-1]["found_by"] = np.full(n_rows, TRACE_ROOTS.index(root), np.int64)
         if n_links:
             self.links.append(np.column_stack([la[:n_links], lb[:n_links], lj[:n_links]]))
         base = self.n_rows
@@ -196,6 +223,27 @@ def _settle_from(level: _Level, i: int, z, phase: float = 0.0):
     return None
 
 
+def _small_amplitude_seed(model, exc, par, st: SweepSettings):
+    """Orbit point from the perturbation solution, corrected by Newton; None if not a stable orbit.
+
+    The series (order 24, Padé-summed, :mod:`contactvib.perturbation`) is the small-amplitude
+    solution continued to this frequency; used only as a Newton start, valid or not.
+    """
+    from .perturbation import perturbation_series
+    from ._kernels.settle import _refine
+
+    try:
+        z = np.asarray(perturbation_series(model, exc, order=24).state, float)
+    except (ValueError, FloatingPointError, ZeroDivisionError):
+        return None
+    if not np.all(np.isfinite(z)):
+        return None
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    ok, k, _res = _refine(z, 1, par, st.rtol, st.close_tol, oz, oM)
+    return oz.copy() if ok and k == 1 else None
+
+
 def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> dict:
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
@@ -204,7 +252,8 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     dict
         ``rows`` (dict of per-row arrays, nondimensional), ``links`` (int array (n, 3): row a,
         row b, jump flag), ``f_hz`` (the grid), ``basin`` (per-row basin fraction, NaN where not
-        measured), ``stops`` (one tuple per trace: label, direction, f_start, f_stop, reason).
+        measured), ``stops`` (one tuple per trace: label, direction, f_start, f_stop, reason, root);
+        ``rows['found_by']`` indexes :data:`TRACE_ROOTS`.
     """
     from .attractors import ballistic_seeds, start_box
     from ._kernels import trace as tk
@@ -213,68 +262,71 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     st = settings
     f = frequency_grid(st)
     lv = _Level(model, pa_over_q, f, st)
-    queue: list[tuple] = []  # (z, k, kind, i0, direction, label)
+    queue: list[tuple] = []  # (z, k, kind, i0, direction, label, root)
 
     for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
         res = _settle_from(lv, i0, (1.0, 0.0))
         if res is not None:
-            queue.append((res[0], res[1], res[2], i0, direction, label))
+            queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
 
     def drain():
         while queue:
-            z, k, kind, i0, direction, label = queue.pop(0)
-            for gid in lv.trace(z, k, kind, i0, direction, label):
+            z, k, kind, i0, direction, label, root = queue.pop(0)
+            for gid in lv.trace(z, k, kind, i0, direction, label, root):
                 zz, kk, kd, ii = lv.row(gid)
-                queue.append((zz, kk, kd, ii, -direction, "reverse"))
+                queue.append((zz, kk, kd, ii, -direction, "reverse", root))
 
     drain()
 
     basin_obs: dict[int, list] = {}
-    if st.multistart_df_hz > 0 and (st.multistart_starts > 0):
-        step = max(1, int(round(st.multistart_df_hz / st.df_hz)))
-        ms_idx = list(range(0, f.size, step))
-        for i in ms_idx:
-            exc = model.excitation(pa_over_q, f[i])
-            Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
-            Zs, phs = ballistic_seeds(exc)
-            Z = np.vstack([Zb, Zs])
-            ph = np.concatenate([phb, phs])
-            par = lv.par.copy()
-            par[4] = lv.r[i]
-            status, kk, zz = tk.settle_known_many(
-                Z, ph, i, par, st.kmax, st.max_periods, st.detect_tol, st.rtol_transient, st.rtol,
-                st.close_tol, st.capture_tol, lv.t_n, lv.t_k, lv.t_kind, lv.t_pts)
-            found = []
-            hits: dict[int, int] = {}
-            for j in range(Z.shape[0]):
-                if status[j] == tk.SETTLE_CAPTURED:
-                    if j < Zb.shape[0]:
-                        gid = int(lv.t_row[i, kk[j]])
-                        hits[gid] = hits.get(gid, 0) + 1
-                    continue
-                if status[j] == SETTLE_PERIODIC:
-                    z, k, kind = zz[j], int(kk[j]), 0
-                elif status[j] == SETTLE_NONPERIODIC:
-                    z, k, kind = zz[j], 0, 1
-                else:
-                    continue
-                found.append((j, z, k, kind))
-                if lv.known_slot(i, z, k, kind) < 0:
-                    queue.append((z, k, kind, i, +1, "multi-start"))
-                    queue.append((z, k, kind, i, -1, "multi-start"))
-                    drain()
-            for j, z, k, kind in found:
-                if j >= Zb.shape[0]:
-                    continue
-                s = lv.known_slot(i, z, k, kind)
-                if s >= 0:
-                    gid = int(lv.t_row[i, s])
+    for i in multistart_indices(st):
+        i = int(i)
+        exc = model.excitation(pa_over_q, f[i])
+        Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
+        Zs, phs = ballistic_seeds(exc)
+        Z = np.vstack([Zb, Zs])
+        ph = np.concatenate([phb, phs])
+        par = lv.par.copy()
+        par[4] = lv.r[i]
+        zs = _small_amplitude_seed(model, exc, par, st)
+        if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
+            queue.append((zs, 1, 0, i, +1, "perturbation seed", "perturbation seed"))
+            queue.append((zs, 1, 0, i, -1, "perturbation seed", "perturbation seed"))
+            drain()
+        status, kk, zz = tk.settle_known_many(
+            Z, ph, i, par, st.kmax, st.max_periods, st.detect_tol, st.rtol_transient, st.rtol,
+            st.close_tol, st.capture_tol, lv.t_n, lv.t_k, lv.t_kind, lv.t_pts)
+        found = []
+        hits: dict[int, int] = {}
+        for j in range(Z.shape[0]):
+            if status[j] == tk.SETTLE_CAPTURED:
+                if j < Zb.shape[0]:
+                    gid = int(lv.t_row[i, kk[j]])
                     hits[gid] = hits.get(gid, 0) + 1
-            basin_obs[i] = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
-            for s in range(lv.t_n[i]):
+                continue
+            if status[j] == SETTLE_PERIODIC:
+                z, k, kind = zz[j], int(kk[j]), 0
+            elif status[j] == SETTLE_NONPERIODIC:
+                z, k, kind = zz[j], 0, 1
+            else:
+                continue
+            found.append((j, z, k, kind))
+            if lv.known_slot(i, z, k, kind) < 0:
+                queue.append((z, k, kind, i, +1, "multi-start", "multi-start"))
+                queue.append((z, k, kind, i, -1, "multi-start", "multi-start"))
+                drain()
+        for j, z, k, kind in found:
+            if j >= Zb.shape[0]:
+                continue
+            s = lv.known_slot(i, z, k, kind)
+            if s >= 0:
                 gid = int(lv.t_row[i, s])
-                if gid not in hits:
-                    basin_obs[i].append((gid, 0.0))
+                hits[gid] = hits.get(gid, 0) + 1
+        basin_obs[i] = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
+        for s in range(lv.t_n[i]):
+            gid = int(lv.t_row[i, s])
+            if gid not in hits:
+                basin_obs[i].append((gid, 0.0))
 
     rows = {key: np.concatenate([c[key] for c in lv.chunks]) if lv.chunks else None
             for key in (lv.chunks[0] if lv.chunks else {})}

@@ -131,11 +131,15 @@ def sample_records(rec, times):
     cs = np.empty(m, np.bool_)
     i = 0
     n_rec = rec.shape[0]
+    F, y = _step_arrays(rec, 0)
+    loaded = 0
     for j in range(m):
         t = times[j]
         while i < n_rec - 1 and rec[i, REC_T] + rec[i, REC_H] < t:
             i += 1
-        F, y = _step_arrays(rec, i)
+        if i != loaded:  # unpack a step's dense-output coefficients once
+            F, y = _step_arrays(rec, i)
+            loaded = i
         th = (t - rec[i, REC_T]) / rec[i, REC_H]
         th = min(max(th, 0.0), 1.0)
         xs[j] = dense_value(F, y, th, 0)

@@ -31,7 +31,7 @@ from numba import njit, prange
 from .flow import REC_WIDTH, STATUS_OK, advance, initial_mode
 from .orbit import find_extrema, record_orbit, sample_records
 from .settle import SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, _refine, settle
-from .shooting import MAX_STEPS_PER_PERIOD, state_scale, strobe_map
+from .shooting import MAX_STEPS_PER_PERIOD, floquet_abs_max, state_scale, strobe_map
 
 #: Stored extrema per attractor point (periodic orbits need 2 × minima; clouds are truncated).
 EXT_MAX = 256
@@ -39,12 +39,15 @@ EXT_MAX = 256
 STROBE_MAX = 32
 #: Harmonic amplitudes stored per point, at frequencies j·f_e/k, j = 1..HARM_MAX.
 HARM_MAX = 64
-#: Samples per excitation period for the harmonic analysis.
-N_SAMPLES = 256
+#: Samples per excitation period for the harmonic analysis (Nyquist: 64 f_e).
+N_SAMPLES = 128
 #: Periods recorded to describe a non-periodic attractor.
 NP_RECORD = 32
 #: Periods used for the largest Lyapunov exponent of the stroboscopic map.
 NP_LYAPUNOV = 64
+#: Transient limit when a non-periodic attractor is followed to the next frequency (the carried
+#: state already lies on the attractor; a periodic window is still detected within it).
+NP_FOLLOW = 100
 
 ORIGIN_NEWTON = 0
 ORIGIN_JUMP = 1
@@ -90,13 +93,14 @@ def lyapunov_strobe(z, par, rtol, n_periods):
 
 @njit(cache=True)
 def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next, o_ext_t,
-                   o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom):
+                   o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, o_end):
     """Extrema, A_pp, contact loss, strobe points and harmonics of ``n_per`` periods from ``z``.
 
-    Writes row ``row`` of the output arrays; returns a :mod:`.flow` status.
+    Writes row ``row`` of the output arrays and the end state ``P^n_per(z)`` into ``o_end``;
+    returns a :mod:`.flow` status.
     """
     T = 2.0 * math.pi / par[4]
-    cap = 1024 * n_per
+    cap = 256 * n_per
     while True:
         rec, z_end, t_flight, n_events, st = record_orbit(z, 0.0, n_per, par, rtol, cap)
         if st == 3:  # STATUS_RECORD_FULL
@@ -105,6 +109,8 @@ def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o
         break
     if st != STATUS_OK:
         return st
+    o_end[0] = z_end[0]
+    o_end[1] = z_end[1]
     t_e, x_e, m_e = find_extrema(rec)
     n_e = t_e.shape[0]
     xmin = math.inf
@@ -145,6 +151,11 @@ def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o
     for q in range(N):
         tt[q] = q * (n_per * T) / N
     xq, _v, _c = sample_records(rec, tt)
+    cos_q = np.empty(N)
+    sin_q = np.empty(N)
+    for q in range(N):
+        cos_q[q] = math.cos(2.0 * math.pi * q / N)
+        sin_q[q] = math.sin(2.0 * math.pi * q / N)
     best = -1.0
     jdom = 0
     for j in range(1, HARM_MAX + 1):
@@ -153,10 +164,13 @@ def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o
             continue
         re = 0.0
         im = 0.0
-        w = 2.0 * math.pi * j / N
+        iq = 0
         for q in range(N):
-            re += xq[q] * math.cos(w * q)
-            im -= xq[q] * math.sin(w * q)
+            re += xq[q] * cos_q[iq]
+            im -= xq[q] * sin_q[iq]
+            iq += j
+            if iq >= N:
+                iq -= N
         amp = 2.0 * math.sqrt(re * re + im * im) / N
         o_harm[row, j - 1] = amp
         if j * amp > best:  # velocity amplitude ∝ j |Y_j|
@@ -208,6 +222,83 @@ def find_known(i, z, k, kind, t_n, t_k, t_kind, t_pts, t_box, same_tol):
     return -1
 
 
+#: Newton steps (relative) below which the corrected point is checked by the description run
+#: instead of another variational integration (the residual after such a step is ~ step²).
+QUICK_STEP = 3e-5
+
+
+@njit(cache=True)
+def continue_orbit(zg, k, par, rtol, close_tol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next,
+                   o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, out_z, out_M):
+    """Newton-correct the predicted period-k orbit point ``zg`` and describe it (row ``row``).
+
+    Each Newton iteration integrates the variational equations over k periods. Once a step is
+    below ``QUICK_STEP`` the corrected point is described (:func:`describe_point`, k periods
+    without variational equations) and that run's end state decides closure, which saves the
+    confirming variational integration; ``out_M`` is then the monodromy at the previous iterate
+    (relative state difference ≤ QUICK_STEP). Accepted only if the orbit closes to
+    ``close_tol``, is stable (|μ| ≤ 1 + 1e-6) and no proper divisor of k closes (minimal period,
+    checked on the described strobe points). Returns (accepted, closure).
+    """
+    z = np.empty(2)
+    z[0] = zg[0]
+    z[1] = zg[1]
+    pz = np.empty(2)
+    zend = np.empty(2)
+    M = np.empty((2, 2))
+    for _it in range(10):
+        if strobe_map(z, k, par, rtol, rtol, pz, M) != STATUS_OK:
+            return False, math.inf
+        g0 = pz[0] - z[0]
+        g1 = pz[1] - z[1]
+        sc = state_scale(z[0], z[1])
+        res = max(abs(g0), abs(g1)) / sc
+        quick = False
+        if res > close_tol:
+            a = M[0, 0] - 1.0
+            b = M[0, 1]
+            c = M[1, 0]
+            d = M[1, 1] - 1.0
+            det = a * d - b * c
+            if det == 0.0 or not math.isfinite(det):
+                return False, res
+            dz0 = -(d * g0 - b * g1) / det
+            dz1 = -(-c * g0 + a * g1) / det
+            step = max(abs(dz0), abs(dz1)) / sc
+            if not math.isfinite(step) or step > 10.0:
+                return False, res
+            if step > 0.5:
+                dz0 *= 0.5 / step
+                dz1 *= 0.5 / step
+            z[0] += dz0
+            z[1] += dz1
+            if step > QUICK_STEP:
+                continue
+            quick = True
+        if floquet_abs_max(M) > 1.0 + 1e-6:
+            return False, res
+        if describe_point(z, k, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next, o_ext_t,
+                          o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, zend) != STATUS_OK:
+            return False, res
+        if quick:
+            sc = state_scale(z[0], z[1])
+            res = max(abs(zend[0] - z[0]), abs(zend[1] - z[1])) / sc
+            if res > close_tol:
+                continue
+        for dd in range(1, k):
+            if k % dd == 0:
+                dist = max(abs(o_strobe[row, dd, 0] - z[0]), abs(o_strobe[row, dd, 1] - z[1]))
+                if dist / sc < 1e-6:
+                    return False, res
+        out_z[0] = z[0]
+        out_z[1] = z[1]
+        for p in range(2):
+            for q in range(2):
+                out_M[p, q] = M[p, q]
+        return True, res
+    return False, math.inf
+
+
 @njit(cache=True)
 def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, max_periods,
           detect_tol, rtol_transient, same_tol, row_base,
@@ -244,6 +335,8 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
     origin = ORIGIN_START
     closure = 0.0
     M = np.zeros((2, 2))
+    zend = np.empty(2)
+    described = False  # row n_rows already holds the description of z
     if kind == KIND_PERIODIC:
         par[4] = r_grid[i]
         ok, kk, res = _refine(z, k, par, rtol, close_tol, oz, oM)
@@ -279,11 +372,13 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             o_z[r, 0] = z[0]
             o_z[r, 1] = z[1]
             o_origin[r] = origin
-            n_per = k if kind == KIND_PERIODIC else NP_RECORD
-            st = describe_point(z, n_per, par, rtol, r, o_xmin, o_xmax, o_flight, o_nmin, o_next,
-                                o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom)
-            if st != STATUS_OK:
-                return n_rows, n_links, STOP_FAILED, i
+            if not described:
+                n_per = k if kind == KIND_PERIODIC else NP_RECORD
+                st = describe_point(z, n_per, par, rtol, r, o_xmin, o_xmax, o_flight, o_nmin,
+                                    o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe,
+                                    o_harm, o_jdom, zend)
+                if st != STATUS_OK:
+                    return n_rows, n_links, STOP_FAILED, i
             s = t_n[i]
             t_kind[i, s] = kind
             t_row[i, s] = row_base + r
@@ -332,6 +427,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             return n_rows, n_links, STOP_GRID_END, i
         par[4] = r_grid[i_next]
         accepted = False
+        described = False
         if kind == KIND_PERIODIC:
             zg = np.empty(2)
             if have_prev:
@@ -340,8 +436,11 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             else:
                 zg[0] = z[0]
                 zg[1] = z[1]
-            ok, kk, res = _refine(zg, k, par, rtol, close_tol, oz, oM)
-            if ok and kk == k:
+            ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax, o_flight,
+                                     o_nmin, o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe,
+                                     o_nstrobe, o_harm, o_jdom, oz, oM)
+            if ok:
+                described = True
                 zp[0] = z[0]
                 zp[1] = z[1]
                 have_prev = True
@@ -352,8 +451,9 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
                 origin = ORIGIN_NEWTON
                 accepted = True
         if not accepted:
-            st, kk, _n, res = settle(z, 0.0, par, kmax, 4, max_periods, detect_tol, rtol_transient,
-                                     rtol, close_tol, hist, oz, oM)
+            n_max = max_periods if kind == KIND_PERIODIC else min(max_periods, NP_FOLLOW)
+            st, kk, n_done, res = settle(z, 0.0, par, kmax, 4, n_max, detect_tol, rtol_transient,
+                                         rtol, close_tol, hist, oz, oM)
             have_prev = False
             origin = ORIGIN_JUMP if kind == KIND_PERIODIC else ORIGIN_NEWTON
             if st == SETTLE_PERIODIC:
@@ -369,8 +469,8 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
                     origin = ORIGIN_JUMP
                 kind = KIND_NONPERIODIC
                 k = 0
-                z[0] = hist[max_periods, 0]
-                z[1] = hist[max_periods, 1]
+                z[0] = hist[n_done, 0]
+                z[1] = hist[n_done, 1]
             else:
                 return n_rows, n_links, STOP_FAILED, i
         i = i_next
