@@ -76,7 +76,7 @@ def _pa_level(text: str) -> float:
     return v
 
 
-@cli.command(context_settings={"allow_extra_args": True})
+@cli.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 @click.option("--pa", default="0.65", show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
 @_sweep_options
@@ -89,7 +89,10 @@ def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     for extra in ctx.args:
         if extra.startswith("-"):
-            raise InputError(f"{extra}: unknown option")
+            try:
+                float(extra)
+            except ValueError:
+                raise InputError(f"{extra}: no such option (see contactvib resonance --help)") from None
     levels = [_pa_level(t) for t in [pa, *ctx.args]]
     model = _model(settings)
     st = _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax)

@@ -10,6 +10,7 @@ Dimension ``point`` — one row per attractor at one (P_a, f_e):
     ``floquet_re``/``floquet_im`` (point, multiplier) [1], ``floquet_abs_max`` [1],
     ``closure`` [1], ``lyapunov_per_period`` [1/excitation period; NaN for periodic],
     ``dominant_harmonic`` [multiples of f_e], ``resonance`` (label, see :func:`resonance_label`),
+    ``attractor_type`` (periodic / chaotic / quasi-periodic / long-period, :func:`attractor_type`),
     ``branch_index`` (into the ``branch`` dimension), ``origin`` ("newton" / "jump" / "start"),
     ``found_by`` ("sweep" / "perturbation seed" / "multi-start": how the trace that first reached
     the point was started; see :mod:`contactvib.sweep`),
@@ -38,8 +39,12 @@ import numpy as np
 
 from .model import ContactModel
 
-__all__ = ["dominant_ratio", "resonance_label", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
+__all__ = ["dominant_ratio", "resonance_label", "attractor_type", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
            "STOP_REASONS"]
+
+#: Largest Lyapunov exponent [1/period] separating the non-periodic types (the 64-period estimate
+#: scatters by about ±0.02 at the paper's attractors).
+LYAPUNOV_ZERO = 0.02
 
 STOP_REASONS = {0: "end of frequency grid", 1: "joined an attractor already traced this way",
                 2: "integration or Newton failure", 3: "attractor table full"}
@@ -65,6 +70,21 @@ def dominant_ratio(k: int, n_min: int, harmonics, loses_contact: bool, fe_hz: fl
         return Fraction(1, 1)
     score = np.where(ok, j * j * np.nan_to_num(h), -1.0)
     return Fraction(int(j[int(np.argmax(score))]), int(k))
+
+
+def attractor_type(kind: int, lyapunov: float) -> str:
+    """"periodic", or for attractors without a period ≤ kmax, by their largest Lyapunov exponent
+    λ of the stroboscopic map: "chaotic" (λ > 0.02), "quasi-periodic" (|λ| ≤ 0.02) or
+    "long-period" (λ < −0.02: a stable orbit of period above kmax, still converging)."""
+    if kind == 0:
+        return "periodic"
+    if not math.isfinite(lyapunov):
+        return "non-periodic"
+    if lyapunov > LYAPUNOV_ZERO:
+        return "chaotic"
+    if lyapunov < -LYAPUNOV_ZERO:
+        return "long-period"
+    return "quasi-periodic"
 
 
 def resonance_label(kind: int, k: int, nu: Fraction, n_min: int, loses_contact: bool, fe_hz: float,
@@ -213,6 +233,9 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
                                                             "long_name": "largest Lyapunov exponent of the stroboscopic map"}),
             "dominant_harmonic": ("point", nu, {"units": "multiples of f_e", "long_name": "resonance ratio nu (dominant_ratio)"}),
             "resonance": ("point", labels),
+            "attractor_type": ("point", np.array([attractor_type(int(kind[j]), float(rows["lyap"][j]))
+                                                  for j in range(n)], dtype=object),
+                               {"comment": "periodic / chaotic / quasi-periodic / long-period (attractor_type)"}),
             "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
             "origin": ("point", np.array([_ORIGINS[int(o)] for o in rows["origin"]], dtype=object)),
             "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
@@ -326,7 +349,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
         "period", "kind", "minima_per_period", "app_um", "ymin_um", "ymax_um", "loses_contact",
         "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_re", "floquet_im",
         "closure", "lyapunov_per_period", "resonance", "branch_index", "extrema_start", "extrema_count",
-        "strobe_start", "strobe_count", "origin", "dominant_harmonic", "found_by")}
+        "strobe_start", "strobe_count", "origin", "dominant_harmonic", "found_by", "attractor_type")}
     e_t, e_y, e_m = (ds[x].values for x in ("extremum_t_ms", "extremum_y_um", "extremum_is_min"))
     s_y, s_v = ds["strobe_y_um"].values, ds["strobe_ydot_mm_s"].values
     b_id, b_lab = ds["branch_id"].values, ds["branch_label"].values
@@ -357,6 +380,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
             "closure": num(v["closure"][p]),
             "lyapunov_per_period": num(v["lyapunov_per_period"][p]),
             "resonance": str(v["resonance"][p]),
+            "attractor_type": str(v["attractor_type"][p]),
             "dominant_harmonic": float(v["dominant_harmonic"][p]),
             "branch": str(b_id[b]),
             "branch_label": str(b_lab[b]),

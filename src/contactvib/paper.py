@@ -376,10 +376,13 @@ def _fmt_iv(iv) -> str:
 
 
 def _level_text(ds, pa: float, m_max: int = 6) -> list:
+    import json
+
+    gap = 1.5 * float(json.loads(ds.attrs["settings"])["df_hz"])
     lines = []
     n, fs = _max_coexistence(ds, pa)
     if n:
-        lines.append(f"at most {n} resonances coexist at one frequency ({_fmt_iv(_intervals(np.array(fs), 1.5))})")
+        lines.append(f"at most {n} resonances coexist at one frequency ({_fmt_iv(_intervals(np.array(fs), gap))})")
     for m in range(1, m_max + 1):
         f = resonance_facts(ds, pa, m)
         name = "main" if m == 1 else f"1/{m}"
@@ -389,13 +392,13 @@ def _level_text(ds, pa: float, m_max: int = 6) -> list:
         bits = [f"peak {f.peak_app_um:.3g} µm at {f.peak_fe_hz:g} Hz (f_n0/{m} = {f.fn0_over_m_hz:.0f} Hz)"
                 if math.isfinite(f.peak_fe_hz) else "no period-1 orbit"]
         if f.coexisting_fe_hz:
-            bits.append(f"bent (two period-1 orbits at {_fmt_iv(_intervals(np.array(f.coexisting_fe_hz), 1.5))})")
+            bits.append(f"bent (two period-1 orbits at {_fmt_iv(_intervals(np.array(f.coexisting_fe_hz), gap))})")
         elif f.bent:
             bits.append("bent (peak below 0.9 f_n0/m)")
         if f.period_doubled:
             bits.append("period " + ", ".join(f"{k} at {a:g}–{b:g} Hz" for k, (a, b) in sorted(f.period_doubled.items())))
         if f.nonperiodic_fe_hz:
-            bits.append(f"non-periodic at {_fmt_iv(_intervals(np.array(f.nonperiodic_fe_hz), 1.5))}")
+            bits.append(f"non-periodic at {_fmt_iv(_intervals(np.array(f.nonperiodic_fe_hz), gap))}")
         if len(f.parts_hz) > 1:
             bits.append(f"{len(f.parts_hz)} parts: {_fmt_iv(f.parts_hz)}")
         if f.isolated_hz:
