@@ -225,5 +225,7 @@ from . import cli_perturbation  # noqa: E402,F401
 from . import cli_continuation  # noqa: E402,F401
 from . import cli_resonance  # noqa: E402,F401
 
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":  # python -m contactvib.cli: use the package's module (commands registered there)
+    from contactvib.cli import main as _main
+
+    sys.exit(_main())

@@ -155,6 +155,10 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
     marks = [fn0 / m for m in range(1, m_max + 1)]
     ax.plot(marks, [lo * 1.3] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
+    ax.plot([], [], color="0.3", lw=1.1, label="period 1 (colour: order m)")
+    ax.plot([], [], color="0.3", lw=0.9, ls="--", label="period-k (doubled, windows)")
+    ax.plot([], [], color="0.55", lw=0.6, ls=":", label="sub-/ultrasubharmonic bouncing")
+    ax.plot([], [], ".", color="tab:red", ms=3, label="non-periodic")
     ax.set_xlabel("$f_e$ [Hz]")
     ax.set_ylabel("$A_{pp}$ [µm]")
     ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
