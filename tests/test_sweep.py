@@ -175,6 +175,59 @@ def test_open_primary_branch_runs_over_the_whole_grid_without_a_jump(ds):
         assert np.all(np.diff(app[low]) < 0)
 
 
+def _branch_points(ds, att):
+    b = [i for i, bid in enumerate(ds["branch_id"].values) if bid == att["branch"]][0]
+    sel = ds["branch_index"].values == b
+    order = np.argsort(ds["fe_hz"].values[sel])
+    return ds["fe_hz"].values[sel][order], ds["app_um"].values[sel][order]
+
+
+def test_sweep_branches_coincide_with_continuation_and_jump_at_the_fold(ds):
+    """Stable continued branches (pseudo-arclength, rtol 1e-12) pass through the sweep's points
+    (A_pp to 1e-5 via a cubic spline through the continuation points, log-log on the
+    open branch), and the up-sweep leaves
+    the lower primary branch within one grid step below its fold (0.65 Q)."""
+    from scipy.interpolate import CubicSpline
+
+    from contactvib.periodic import ContinuationSettings, continue_orbit
+
+    model = ContactModel()
+    y_um, v_mm_s = model.y0 * 1e6, model.y0 * model.omega_n0 * 1e3
+
+    def state(a):
+        p = a["strobe_points"][0]
+        return np.array([p["y_um"] / y_um, p["ydot_mm_s"] / v_mm_s])
+
+    # the open upper primary branch, 1202 Hz down to 300 Hz
+    up = [a for a in attractors_at(ds, 0.65, 1202.0)["attractors"] if a["resonance"] == "main"]
+    assert len(up) == 1
+    b = continue_orbit(model, model.excitation(0.65, 1202.0), state(up[0]), 1, direction="down",
+                       settings=ContinuationSettings(fmin=290.0, fmax=1300.0))
+    assert np.all(b.stable) and np.all(np.diff(b.fe_hz) < 0)  # no fold: open branch
+    spline = CubicSpline(np.log(b.fe_hz[::-1]), np.log(b.app_um[::-1]))  # A_pp ~ power of f_e
+    fe, app = _branch_points(ds, up[0])
+    inside = (fe >= 300.0) & (fe <= 1200.0)
+    assert inside.sum() > 200
+    assert np.max(np.abs(np.exp(spline(np.log(fe[inside]))) / app[inside] - 1.0)) < 1e-5
+    # the lower branch through its fold: the sweep's last point lies within one step of it
+    low = min((a for a in attractors_at(ds, 0.65, 902.0)["attractors"] if a["resonance"] == "main"),
+              key=lambda a: a["app_um"])
+    b = continue_orbit(model, model.excitation(0.65, 902.0), state(low), 1, direction="up",
+                       settings=ContinuationSettings(fmin=800.0, fmax=1100.0, ds0=0.002, ds_max=0.004,
+                                                               max_points=2000))
+    folds = [sp.fe_hz for sp in b.special if sp.type == "fold"]
+    assert len(folds) == 1
+    fe, app = _branch_points(ds, low)
+    assert fe.max() <= folds[0] < fe.max() + 4.0, (fe.max(), folds[0])
+    turn = int(np.argmax(np.diff(b.fe_hz) <= 0)) + 1  # points up to the fold, along the arclength
+    before = np.arange(len(b.fe_hz)) < turn
+    assert np.all(b.stable[before][:-1])
+    spline = CubicSpline(b.fe_hz[before], b.app_um[before])
+    inside = (fe >= b.fe_hz[before].min()) & (fe <= fe.max() - 8.0)
+    assert inside.sum() > 10
+    assert np.max(np.abs(spline(fe[inside]) / app[inside] - 1.0)) < 1e-5
+
+
 def test_chaos_inside_the_1_2_resonance_at_075q():
     """S3.4: two opposing cascades of the 1/2 at 0.75 Q lead to chaos (λ > 0 between them)."""
     model = ContactModel()
