@@ -228,6 +228,19 @@ def test_sweep_branches_coincide_with_continuation_and_jump_at_the_fold(ds):
     assert np.max(np.abs(spline(fe[inside]) / app[inside] - 1.0)) < 1e-5
 
 
+def test_perturbation_series_lies_on_the_small_amplitude_orbits(ds):
+    """Issue 5 overlay: where the series is valid it equals a stored period-1 orbit (1e-3)."""
+    from contactvib.perturbation import perturbation_curve
+
+    model = ContactModel()
+    f = np.arange(30.0, 1998.0, 40.0)
+    fe, app, ok = perturbation_curve(model, 0.65, f)
+    assert 20 <= ok.sum() < len(f)  # valid below and between the resonances, not everywhere
+    for fv, av in zip(fe[ok], app[ok]):
+        stored = [a["app_um"] for a in attractors_at(ds, 0.65, fv)["attractors"] if a["period"] == 1]
+        assert min(abs(s / av - 1.0) for s in stored) < 1e-3, fv
+
+
 def test_chaos_inside_the_1_2_resonance_at_075q():
     """S3.4: two opposing cascades of the 1/2 at 0.75 Q lead to chaos (λ > 0 between them)."""
     model = ContactModel()

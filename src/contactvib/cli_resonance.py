@@ -100,21 +100,14 @@ def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .plotting import extrema_diagram, resonance_graph
+    from .paper import level_figures
     from .resonance import resonance_dataset
 
     out = Path(out)
     ds = resonance_dataset(model, levels, st, out=out, resume=resume, workers=n_workers,
                            progress=not no_progress)
     for p in sorted(set(levels)):
-        for name, draw in (("resonance", resonance_graph), ("extrema", extrema_diagram)):
-            fig, ax = plt.subplots(figsize=(7.0, 4.2))
-            draw(ds, p, ax=ax)
-            fig.tight_layout()
-            fig.savefig(out / f"{name}_pa{p:.2f}.png", dpi=120)
-            plt.close(fig)
+        level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png", model)
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 

@@ -27,7 +27,7 @@ import numpy as np
 from .model import ContactModel
 from .sweep import SweepSettings
 
-__all__ = ["PAPER_LEVELS", "PAPER_TIME_FIGURES", "ResonanceFacts", "resonance_facts",
+__all__ = ["PAPER_LEVELS", "PAPER_TIME_FIGURES", "ResonanceFacts", "resonance_facts", "level_figures",
            "coexisting_resonances", "PaperResult", "reproduce_paper"]
 
 #: The P_a levels of Figs. 2a–h and 3a–h [Q].
@@ -226,25 +226,40 @@ def _max_coexistence(ds, pa_over_q: float):
 
 # ----------------------------------------------------------------------------- figures
 
-def _draw_level(ds, out: Path, pa: float, letter: str):
-    """Resonance graph (Fig. 2) and local-extrema diagram (Fig. 3) of one level; their paths."""
+#: Frequency step [Hz] of the perturbation series overlaid on the resonance graphs.
+PERTURBATION_STEP_HZ = 20.0
+
+
+def level_figures(ds, pa: float, graph_path, extrema_path, model: ContactModel | None = None,
+                  ref: str = ""):
+    """Draw the resonance graph (Fig. 2) and local-extrema diagram (Fig. 3) of one level.
+
+    With ``model`` the perturbation series (order 24) is overlaid on the resonance graph every
+    ``PERTURBATION_STEP_HZ`` where it is valid (its small-amplitude parts). ``ref`` names the
+    paper's panel in the titles (e.g. "2c").
+    """
+    from functools import partial
+
     import matplotlib.pyplot as plt
 
+    from .perturbation import perturbation_curve
     from .plotting import extrema_diagram, resonance_graph
 
-    tag = f"pa{pa:.2f}"
-    paths = (out / f"fig2{letter}_{tag}.png", out / f"fig3{letter}_{tag}.png")
-    for path, draw, what in ((paths[0], resonance_graph, "Resonance graph"),
-                             (paths[1], extrema_diagram, "Local extrema of y(t)")):
+    graph = resonance_graph
+    if model is not None:
+        f = np.arange(float(ds["fe_hz"].min()), float(ds["fe_hz"].max()) + 1e-9, PERTURBATION_STEP_HZ)
+        graph = partial(resonance_graph, perturbation=perturbation_curve(model, pa, f))
+    for path, draw, what, fig_no in ((graph_path, graph, "Resonance graph", "2"),
+                                     (extrema_path, extrema_diagram, "Local extrema of y(t)", "3")):
         fig, ax = plt.subplots(figsize=(7.0, 4.2))
         draw(ds, pa, ax=ax)
         ax.set_xlim(0, float(ds["fe_hz"].max()) * 1.02)
-        ref = f" (cf. Fig. {path.name[3]}{letter})" if letter else ""
-        ax.set_title(f"{what}, $P_a$ = {pa:g} Q{ref}", fontsize=10)
+        cf = f" (cf. Fig. {fig_no}{ref})" if ref else ""
+        ax.set_title(f"{what}, $P_a$ = {pa:g} Q{cf}", fontsize=10)
         fig.tight_layout()
         fig.savefig(path, dpi=120)
         plt.close(fig)
-    return paths
+    return Path(graph_path), Path(extrema_path)
 
 
 class _LevelProducts:
@@ -258,7 +273,10 @@ class _LevelProducts:
 
         matplotlib.use("Agg")
         pa = float(ds["pa_over_q"].values[0])
-        panels = _draw_level(ds, self.out, pa, self.letters.get(round(pa, 6), ""))
+        letter = self.letters.get(round(pa, 6), "")
+        tag = f"pa{pa:.2f}"
+        panels = level_figures(ds, pa, self.out / f"fig2{letter}_{tag}.png",
+                               self.out / f"fig3{letter}_{tag}.png", model, ref=letter)
         st = self.settings
         rows = []
         for tf in self.time_figures:

@@ -60,7 +60,7 @@ import numpy as np
 from .model import ContactModel, Excitation, ParameterError, check_range
 from .results import TimeHistory
 
-__all__ = ["PerturbationResult", "perturbation_series", "linear_response", "steady_counterpart",
+__all__ = ["PerturbationResult", "perturbation_series", "perturbation_curve", "linear_response", "steady_counterpart",
            "convergence_table", "VALID_RTOL", "MAX_ORDER", "SUMMATIONS"]
 
 #: ``valid`` requires an estimated A_pp truncation error at most this fraction of A_pp.
@@ -414,6 +414,17 @@ def perturbation_series(model: ContactModel, excitation: Excitation, order: int 
         error_estimate_um=err, valid=not reasons, reason="; ".join(reasons), harmonics_um=harm,
         phases_rad=phases, term_norms_um=norms, y0_um=y0_um, fn0_hz=model.f_n0,
         summation=summation, coefficients=C, sum_coefficients=c)
+
+
+def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, order: int = 24):
+    """The series' A_pp along frequencies (for the resonance graphs' small-amplitude parts).
+
+    Returns ``(fe_hz, app_um, valid)`` arrays [Hz, µm, bool]; ``valid`` as
+    :attr:`PerturbationResult.valid` (contact kept and converged to 1e-3 of A_pp at ``order``).
+    """
+    fe = np.asarray(fe_hz, float)
+    out = [perturbation_series(model, model.excitation(pa_over_q, float(f)), order=order) for f in fe]
+    return fe, np.array([r.app_um for r in out]), np.array([r.valid for r in out], bool)
 
 
 def linear_response(model: ContactModel, excitation: Excitation) -> tuple[float, float]:

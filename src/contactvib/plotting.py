@@ -99,13 +99,15 @@ def _level(ds, pa_over_q):
 
 
 def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, m_max: int = 6,
-                    annotate: bool = True):
+                    annotate: bool = True, perturbation=None):
     """A_pp [µm, log] against f_e [Hz] for one P_a level, one line per branch (Fig. 2).
 
     Colour = resonance order (main black, 1/m coloured; dashed after period doubling); thin grey
     = non-resonant (quasistatic) motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; red
     dots = non-periodic attractors; gold underlay = branches no laboratory sweep reaches
-    (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6).
+    (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6). ``perturbation``:
+    ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation.perturbation_curve`, drawn as
+    red crosses where the series is valid.
     """
     import numpy as np
 
@@ -155,6 +157,10 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
     marks = [fn0 / m for m in range(1, m_max + 1)]
     ax.plot(marks, [lo * 1.3] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
+    if perturbation is not None:
+        pf, pa_app, ok = (np.asarray(x) for x in perturbation)
+        ax.plot(pf[ok], pa_app[ok], "x", color="tab:red", ms=3.5, mew=0.8,
+                label="perturbation series (where valid)")
     ax.plot([], [], color="0.3", lw=1.1, label="period 1 (colour: order m)")
     ax.plot([], [], color="0.3", lw=0.9, ls="--", label="period-k (doubled, windows)")
     ax.plot([], [], color="0.55", lw=0.6, ls=":", label="sub-/ultrasubharmonic bouncing")
