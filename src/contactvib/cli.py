@@ -6,7 +6,6 @@ Bad input stops before any computation with one line on stderr,
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 

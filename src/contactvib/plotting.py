@@ -90,7 +90,6 @@ def _order_color(m):
 
 
 def _level(ds, pa_over_q):
-    import numpy as np
 
     sel = np.nonzero(np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6)[0]
     if sel.size == 0:
@@ -109,7 +108,6 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation.perturbation_curve`, drawn as
     red crosses where the series is valid.
     """
-    import numpy as np
 
     ax = _ax(ax)
     sel = _level(ds, pa_over_q)
@@ -179,7 +177,6 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     beyond (symlog), so the small superharmonic loops and the large main-resonance orbits show
     together; y < 0 is loss of contact.
     """
-    import numpy as np
 
     ax = _ax(ax)
     sel = _level(ds, pa_over_q)

@@ -257,7 +257,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     """
     from .attractors import ballistic_seeds, start_box
     from ._kernels import trace as tk
-    from ._kernels.settle import SETTLE_NONPERIODIC, SETTLE_PERIODIC
+    from ._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
 
     st = settings
     f = frequency_grid(st)
@@ -299,7 +299,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
         found = []
         hits: dict[int, int] = {}
         for j in range(Z.shape[0]):
-            if status[j] == tk.SETTLE_CAPTURED:
+            if status[j] == SETTLE_CAPTURED:
                 if j < Zb.shape[0]:
                     gid = int(lv.t_row[i, kk[j]])
                     hits[gid] = hits.get(gid, 0) + 1

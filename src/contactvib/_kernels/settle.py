@@ -26,6 +26,7 @@ from .shooting import MAX_STEPS_PER_PERIOD, floquet_abs_max, newton_orbit, state
 SETTLE_PERIODIC = 0
 SETTLE_NONPERIODIC = 1
 SETTLE_FAILED = 2
+SETTLE_CAPTURED = 3
 
 
 
@@ -56,23 +57,23 @@ def _refine(z, k, par, rtol, close_tol, out_z, out_M):
 
 
 @njit(cache=True)
-def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-           rtol_refine, close_tol, hist, out_z, out_M):
+def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
+                rtol_refine, close_tol, cap_pts, cap_id, capture_tol, hist, out_z, out_M):
     """Integrate from ``z_init`` at phase ``phase0`` (fraction of a period) to an attractor.
 
-    Parameters
-    ----------
-    hist : float64[max_periods + 1, 2]
-        Work array; on return rows ``0..n_periods`` hold the stroboscopic points.
+    After each period the stroboscopic point is first compared with the points ``cap_pts``
+    (float64[m, 2], e.g. the strobe points of attractors already known here): within
+    ``capture_tol`` (relative) of one, the run stops early with ``SETTLE_CAPTURED`` and that
+    point's ``cap_id`` as ``k``. Then the period detection of :func:`settle` runs.
 
     Returns
     -------
     status : int
-        ``SETTLE_PERIODIC``, ``SETTLE_NONPERIODIC`` or ``SETTLE_FAILED``.
+        ``SETTLE_PERIODIC``, ``SETTLE_NONPERIODIC``, ``SETTLE_FAILED`` or ``SETTLE_CAPTURED``.
     k : int
-        Minimal period (periodic only).
+        Minimal period (periodic), or the captured ``cap_id``.
     n_periods : int
-        Periods integrated in the transient.
+        Periods integrated in the transient (rows ``0..n_periods`` of ``hist`` are filled).
     residual : float
         Relative closure of the refined orbit.
     """
@@ -98,9 +99,12 @@ def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol
             return SETTLE_FAILED, 0, n, math.inf
         hist[n, 0] = y[0]
         hist[n, 1] = y[1]
+        sc = state_scale(y[0], y[1])
+        for j in range(cap_pts.shape[0]):
+            if max(abs(y[0] - cap_pts[j, 0]), abs(y[1] - cap_pts[j, 1])) <= capture_tol * sc:
+                return SETTLE_CAPTURED, cap_id[j], n, math.inf
         if n < min_periods:
             continue
-        sc = state_scale(y[0], y[1])
         for k in range(1, kmax + 1):
             if n - 2 * k < 0:
                 break
@@ -112,6 +116,26 @@ def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol
                 tol *= 0.1
                 break
     return SETTLE_NONPERIODIC, 0, max_periods, math.inf
+
+
+@njit(cache=True)
+def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
+           rtol_refine, close_tol, hist, out_z, out_M):
+    """Integrate from ``z_init`` at phase ``phase0`` (fraction of a period) to an attractor.
+
+    Parameters
+    ----------
+    hist : float64[max_periods + 1, 2]
+        Work array; on return rows ``0..n_periods`` hold the stroboscopic points.
+
+    Returns
+    -------
+    status, k, n_periods, residual
+        As :func:`settle_core` (never ``SETTLE_CAPTURED``).
+    """
+    return settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
+                       rtol_transient, rtol_refine, close_tol, np.empty((0, 2)),
+                       np.empty(0, np.int64), 0.0, hist, out_z, out_M)
 
 
 @njit(cache=True, parallel=True)

@@ -69,6 +69,36 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
 
 
 @njit(cache=True)
+def newton_step(M, g0, g1, sc):
+    """Newton correction dz of the period-k map's fixed point: (M − I) dz = −g.
+
+    ``M`` is the monodromy, ``g = P^k(z) − z`` and ``sc`` the state scale. Steps larger than 0.5
+    (relative) are damped to 0.5; singular or diverging (> 10) steps fail.
+
+    Returns
+    -------
+    status, dz0, dz1, step
+        ``step`` is the relative size before damping.
+    """
+    a = M[0, 0] - 1.0
+    b = M[0, 1]
+    c = M[1, 0]
+    d = M[1, 1] - 1.0
+    det = a * d - b * c
+    if det == 0.0 or not math.isfinite(det):
+        return STATUS_NEWTON_SINGULAR, 0.0, 0.0, math.inf
+    dz0 = -(d * g0 - b * g1) / det
+    dz1 = -(-c * g0 + a * g1) / det
+    step = max(abs(dz0), abs(dz1)) / sc
+    if not math.isfinite(step) or step > 10.0:
+        return STATUS_NEWTON_DIVERGED, 0.0, 0.0, step
+    if step > 0.5:  # damped step far from the solution
+        dz0 *= 0.5 / step
+        dz1 *= 0.5 / step
+    return STATUS_OK, dz0, dz1, step
+
+
+@njit(cache=True)
 def newton_orbit(z0, k, par, rtol, atol, tol, max_iter, out_z, out_M):
     """Newton shooting for a period-``k`` orbit started at ``z0``.
 
@@ -105,21 +135,9 @@ def newton_orbit(z0, k, par, rtol, atol, tol, max_iter, out_z, out_M):
             return STATUS_OK, residual
         if it == max_iter:
             break
-        a = M[0, 0] - 1.0
-        b = M[0, 1]
-        c = M[1, 0]
-        d = M[1, 1] - 1.0
-        det = a * d - b * c
-        if det == 0.0 or not math.isfinite(det):
-            return STATUS_NEWTON_SINGULAR, residual
-        dz0 = -(d * g0 - b * g1) / det
-        dz1 = -(-c * g0 + a * g1) / det
-        step = max(abs(dz0), abs(dz1)) / sc
-        if not math.isfinite(step) or step > 10.0:
-            return STATUS_NEWTON_DIVERGED, residual
-        if step > 0.5:  # damped step far from the solution
-            dz0 *= 0.5 / step
-            dz1 *= 0.5 / step
+        st, dz0, dz1, _step = newton_step(M, g0, g1, sc)
+        if st != STATUS_OK:
+            return st, residual
         z[0] += dz0
         z[1] += dz1
     return STATUS_NEWTON_MAXITER, residual

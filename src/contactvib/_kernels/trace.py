@@ -28,10 +28,10 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .flow import REC_WIDTH, STATUS_OK, advance, initial_mode
+from .flow import STATUS_OK
 from .orbit import find_extrema, record_orbit, sample_records
-from .settle import SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, _refine, settle
-from .shooting import MAX_STEPS_PER_PERIOD, floquet_abs_max, state_scale, strobe_map
+from .settle import SETTLE_NONPERIODIC, SETTLE_PERIODIC, _refine, settle, settle_core
+from .shooting import floquet_abs_max, newton_step, state_scale, strobe_map
 
 #: Stored extrema per attractor point (periodic orbits need 2 × minima; clouds are truncated).
 EXT_MAX = 256
@@ -255,21 +255,9 @@ def continue_orbit(zg, k, par, rtol, close_tol, row, o_xmin, o_xmax, o_flight, o
         res = max(abs(g0), abs(g1)) / sc
         quick = False
         if res > close_tol:
-            a = M[0, 0] - 1.0
-            b = M[0, 1]
-            c = M[1, 0]
-            d = M[1, 1] - 1.0
-            det = a * d - b * c
-            if det == 0.0 or not math.isfinite(det):
+            st, dz0, dz1, step = newton_step(M, g0, g1, sc)
+            if st != STATUS_OK:
                 return False, res
-            dz0 = -(d * g0 - b * g1) / det
-            dz1 = -(-c * g0 + a * g1) / det
-            step = max(abs(dz0), abs(dz1)) / sc
-            if not math.isfinite(step) or step > 10.0:
-                return False, res
-            if step > 0.5:
-                dz0 *= 0.5 / step
-                dz1 *= 0.5 / step
             z[0] += dz0
             z[1] += dz1
             if step > QUICK_STEP:
@@ -476,80 +464,29 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
         i = i_next
 
 
-SETTLE_CAPTURED = 3
-
-
-@njit(cache=True)
-def _capture(z, i, t_n, t_k, t_kind, t_pts, capture_tol):
-    """Slot of a known periodic attractor at grid index ``i`` with a strobe point near ``z``."""
-    sc = state_scale(z[0], z[1])
-    for s in range(t_n[i]):
-        if t_kind[i, s] != KIND_PERIODIC:
-            continue
-        for j in range(t_k[i, s]):
-            d = max(abs(z[0] - t_pts[i, s, j, 0]), abs(z[1] - t_pts[i, s, j, 1]))
-            if d <= capture_tol * sc:
-                return s
-    return -1
-
-
-@njit(cache=True)
-def settle_known(z_init, phase0, i, par, kmax, max_periods, detect_tol, rtol_transient, rtol_refine,
-                 close_tol, capture_tol, t_n, t_k, t_kind, t_pts, hist, out_z, out_M):
-    """:func:`.settle.settle` that stops early once the state is captured by a known attractor.
-
-    After each period the stroboscopic point is compared with the known stable periodic orbits at
-    grid index ``i``; within ``capture_tol`` (relative) of one of their points the start is
-    counted for that attractor (``SETTLE_CAPTURED``; the slot is returned as ``k``).
-    """
-    T = 2.0 * math.pi / par[4]
-    y = np.empty(2)
-    y[0] = z_init[0]
-    y[1] = z_init[1]
-    contact = initial_mode(y[0], y[1])
-    h = 0.01
-    contact, h, _i, _ns, _tf, _ne, st = advance(
-        y, phase0 * T, T, contact, h, par, rtol_transient, rtol_transient, np.empty((0, REC_WIDTH)), 0,
-        MAX_STEPS_PER_PERIOD)
-    if st != STATUS_OK:
-        return SETTLE_FAILED, 0, 0
-    hist[0, 0] = y[0]
-    hist[0, 1] = y[1]
-    tol = detect_tol
-    for n in range(1, max_periods + 1):
-        contact, h, _i, _ns, _tf, _ne, st = advance(
-            y, 0.0, T, contact, h, par, rtol_transient, rtol_transient, np.empty((0, REC_WIDTH)), 0,
-            MAX_STEPS_PER_PERIOD)
-        if st != STATUS_OK:
-            return SETTLE_FAILED, 0, n
-        hist[n, 0] = y[0]
-        hist[n, 1] = y[1]
-        s = _capture(y, i, t_n, t_k, t_kind, t_pts, capture_tol)
-        if s >= 0:
-            return SETTLE_CAPTURED, s, n
-        if n < 4:
-            continue
-        sc = state_scale(y[0], y[1])
-        for k in range(1, kmax + 1):
-            if n - 2 * k < 0:
-                break
-            d1 = max(abs(hist[n, 0] - hist[n - k, 0]), abs(hist[n, 1] - hist[n - k, 1])) / sc
-            if d1 < tol:
-                ok, kk, _res = _refine(y, k, par, rtol_refine, close_tol, out_z, out_M)
-                if ok:
-                    return SETTLE_PERIODIC, kk, n
-                tol *= 0.1
-                break
-    return SETTLE_NONPERIODIC, 0, max_periods
-
-
 @njit(cache=True, parallel=True)
 def settle_known_many(Z, phases, i, par, kmax, max_periods, detect_tol, rtol_transient, rtol_refine,
                       close_tol, capture_tol, t_n, t_k, t_kind, t_pts):
-    """:func:`settle_known` for many starts (numba threads over the starts).
+    """:func:`.settle.settle_core` for many starts (numba threads over the starts), each stopped
+    early once it comes within ``capture_tol`` of a stable periodic attractor known at grid index
+    ``i`` (``SETTLE_CAPTURED``; the table slot is returned as ``k``).
 
     Returns status, k (period, or the captured slot), z (refined point or last strobe point).
     """
+    m = 0
+    for s in range(t_n[i]):
+        if t_kind[i, s] == KIND_PERIODIC:
+            m += t_k[i, s]
+    cap_pts = np.empty((m, 2))
+    cap_id = np.empty(m, np.int64)
+    m = 0
+    for s in range(t_n[i]):
+        if t_kind[i, s] == KIND_PERIODIC:
+            for j in range(t_k[i, s]):
+                cap_pts[m, 0] = t_pts[i, s, j, 0]
+                cap_pts[m, 1] = t_pts[i, s, j, 1]
+                cap_id[m] = s
+                m += 1
     N = Z.shape[0]
     status = np.empty(N, np.int64)
     kk = np.zeros(N, np.int64)
@@ -558,11 +495,12 @@ def settle_known_many(Z, phases, i, par, kmax, max_periods, detect_tol, rtol_tra
         hist = np.empty((max_periods + 1, 2))
         oz = np.empty(2)
         oM = np.zeros((2, 2))
-        s, k, n = settle_known(Z[q], phases[q], i, par, kmax, max_periods, detect_tol, rtol_transient,
-                               rtol_refine, close_tol, capture_tol, t_n, t_k, t_kind, t_pts, hist, oz, oM)
-        status[q] = s
+        st, k, n, _res = settle_core(Z[q], phases[q], par, kmax, 4, max_periods, detect_tol,
+                                     rtol_transient, rtol_refine, close_tol, cap_pts, cap_id,
+                                     capture_tol, hist, oz, oM)
+        status[q] = st
         kk[q] = k
-        if s == SETTLE_PERIODIC:
+        if st == SETTLE_PERIODIC:
             zs[q, 0] = oz[0]
             zs[q, 1] = oz[1]
         else:
