@@ -76,6 +76,25 @@ def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: 
     return model.excitation(pa_q, fe_v)
 
 
+def _frequency_range(fmin: str, fmax: str) -> tuple[float, float]:
+    """--fmin/--fmax [Hz], checked: 0 < f_min < f_max."""
+    lo = _number("--fmin", "f_min", fmin)
+    hi = _number("--fmax", "f_max", fmax)
+    if lo <= 0:
+        raise InputError(f"--fmin (f_min) = {lo:g}: must be > 0 Hz")
+    if hi <= lo:
+        raise InputError(f"--fmax (f_max) = {hi:g}: must be > --fmin = {lo:g} Hz")
+    return lo, hi
+
+
+def _pa_level(text: str, option: str = "--pa") -> float:
+    """A P_a level [Q] that must be > 0."""
+    v = _number(option, "P_a/Q", text)
+    if v <= 0:
+        raise InputError(f"{option} (P_a/Q) = {v:g}: must be > 0 (multiple of Q = M g)")
+    return v
+
+
 def _int(option: str, text: str, lower: int, upper: int | None = None) -> int:
     v = _number(option, option.lstrip("-"), text)
     if v != int(v) or v < lower or (upper is not None and v > upper):

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import click
 
-from .cli import InputError, _int, _model, _number, cli
+from .cli import InputError, _frequency_range, _int, _model, _number, _pa_level, cli
 
 __all__ = []
 
@@ -20,12 +20,7 @@ def _settings(fmin, fmax, max_points, app_max, rtol):
     from .model import ParameterError
     from .periodic import ContinuationSettings
 
-    lo = _number("--fmin", "f_min", fmin)
-    hi = _number("--fmax", "f_max", fmax)
-    if lo <= 0:
-        raise InputError(f"--fmin (f_min) = {lo:g}: must be > 0 Hz")
-    if hi <= lo:
-        raise InputError(f"--fmax (f_max) = {hi:g}: must be > --fmin = {lo:g} Hz")
+    lo, hi = _frequency_range(fmin, fmax)
     n = _int("--max-points", max_points, 2)
     a = _number("--app-max", "A_pp,max", app_max)
     if a <= 0:
@@ -38,13 +33,6 @@ def _settings(fmin, fmax, max_points, app_max, rtol):
                                     tol=max(100 * r, 1e-11))
     except ParameterError as e:
         raise InputError(f"{e.symbol} = {e.value}: {e.allowed}") from None
-
-
-def _pa(text: str, option: str = "--pa") -> float:
-    v = _number(option, "P_a/Q", text)
-    if v <= 0:
-        raise InputError(f"{option} (P_a/Q) = {v:g}: must be > 0 (multiple of Q = M g)")
-    return v
 
 
 def _continuation_options(f):
@@ -116,7 +104,7 @@ def continue_(pa, from_fe, attractor, settings, no_switch, fmin, fmax, max_point
               out, as_json):
     """Continue branches of periodic orbits in f_e from the attractors at one frequency."""
     model = _model(settings)
-    p = _pa(pa)
+    p = _pa_level(pa)
     fe = _number("--from-fe", "f_e", from_fe)
     if fe <= 0:
         raise InputError(f"--from-fe (f_e) = {fe:g}: must be > 0 Hz")
@@ -159,7 +147,7 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, fmin, fmax, max_points, 
                  as_json):
     """All branches, seeded from every attractor at several frequencies, for each P_a."""
     model = _model(settings)
-    levels = [_pa(t) for t in [pa, *ctx.args]]
+    levels = [_pa_level(t) for t in [pa, *ctx.args]]
     s = _settings(fmin, fmax, max_points, app_max, rtol)
     from .periodic.diagram import DEFAULT_SEED_FE
 
@@ -204,8 +192,8 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     """Two-parameter continuation of the folds and period doublings of the 1/m resonance."""
     model = _model(settings)
     m = _int("--order", order, 1, 8)
-    lo = _pa(pa_min, "--pa-min")
-    hi = _pa(pa_max, "--pa-max")
+    lo = _pa_level(pa_min, "--pa-min")
+    hi = _pa_level(pa_max, "--pa-max")
     if hi <= lo:
         raise InputError(f"--pa-max (P_a/Q) = {hi:g}: must be > --pa-min = {lo:g}")
     n = _int("--levels", levels, 2, 50)

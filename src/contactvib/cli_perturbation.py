@@ -7,7 +7,8 @@ from pathlib import Path
 
 import click
 
-from .cli import InputError, _excitation, _int, _model, _number, _operating_point_options, cli
+from .cli import (InputError, _excitation, _frequency_range, _int, _model, _number,
+                  _operating_point_options, cli)
 
 _CONV_ORDERS_MAX = 80
 
@@ -122,12 +123,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     if pa_q < 0:
         raise InputError(f"--pa (P_a/Q) = {pa_q:g}: must be >= 0 (multiple of Q = M g)")
     H = _int("--harmonics", harmonics, 1, 1024)
-    f1 = _number("--fmin", "f_min", fmin)
-    f2 = _number("--fmax", "f_max", fmax)
-    if f1 <= 0:
-        raise InputError(f"--fmin (f_min) = {f1:g}: must be > 0 Hz")
-    if f2 <= f1:
-        raise InputError(f"--fmax (f_max) = {f2:g}: must be > --fmin = {f1:g} Hz")
+    f1, f2 = _frequency_range(fmin, fmax)
     etol = _number("--energy-tol", "energy_tol", energy_tol)
     if etol <= 0:
         raise InputError(f"--energy-tol (energy_tol) = {etol:g}: must be > 0")

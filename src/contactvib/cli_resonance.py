@@ -11,7 +11,7 @@ from pathlib import Path
 
 import click
 
-from .cli import InputError, _int, _model, _number, cli
+from .cli import InputError, _frequency_range, _int, _model, _number, _pa_level, cli
 
 __all__: list = []
 
@@ -43,13 +43,8 @@ def _sweep_settings(fmin, fmax, df, per_octave, starts, seed, kmax):
     from .model import ParameterError
     from .sweep import SweepSettings
 
-    lo = _number("--fmin", "f_min", fmin)
-    hi = _number("--fmax", "f_max", fmax)
+    lo, hi = _frequency_range(fmin, fmax)
     step = _number("--df", "df", df)
-    if lo <= 0:
-        raise InputError(f"--fmin (f_min) = {lo:g}: must be > 0 Hz")
-    if hi <= lo:
-        raise InputError(f"--fmax (f_max) = {hi:g}: must be > --fmin = {lo:g} Hz")
     if step <= 0:
         raise InputError(f"--df (df) = {step:g}: must be > 0 Hz")
     po = _number("--multistart-per-octave", "multistart_per_octave", per_octave)
@@ -67,13 +62,6 @@ def _sweep_settings(fmin, fmax, df, per_octave, starts, seed, kmax):
 
 def _workers(text):
     return None if text is None else _int("--workers", text, 1, 256)
-
-
-def _pa_level(text: str) -> float:
-    v = _number("--pa", "P_a/Q", text)
-    if v <= 0:
-        raise InputError(f"--pa (P_a/Q) = {v:g}: must be > 0 (multiple of Q = M g)")
-    return v
 
 
 @cli.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
