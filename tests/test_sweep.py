@@ -55,6 +55,7 @@ def test_paper_writes_one_dataset_chunks_figures_and_index(paper):
             assert p.is_file() and p.stat().st_size > 10_000, p
     assert sorted(int(p.name[3]) for p in out.glob("fig[4-9]_*.png")) == [4, 5, 6, 7, 8, 9]
     index = (out / "index.md").read_text()
+    assert "four resonances can be excited at one frequency" in index  # statements shipped
     for sid in [f"S3.{i}" for i in range(1, 10)] + [f"S4.{i}" for i in range(1, 8)]:
         assert sid in index, sid
     for name in __import__("re").findall(r"!\[\]\(([^)]+)\)", index):
@@ -477,3 +478,16 @@ def test_full_paper_run(tmp_path):
     test_1_2_branch_is_divided_with_parts_no_sweep_reaches(d)
     test_stages_follow_the_papers_sequence(d)
     assert resonance_facts(d, 0.75, 2).nonperiodic_fe_hz
+
+
+def test_continuation_overlay_on_the_resonance_graph(paper, tmp_path, capsys):
+    """`continue --dataset` draws the continued branches over the sweep's resonance graph."""
+    nc = str(paper.out / "paper.nc")
+    assert main(["continue", "--pa", "0.66", "--from-fe", "1930", "--dataset", nc,
+                 "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--pa (P_a/Q) = 0.66: not in --dataset" in err
+    assert not (tmp_path / "x").exists()
+    assert main(["continue", "--pa", "0.65", "--from-fe", "1930", "--attractor", "0",
+                 "--fmin", "1700", "--fmax", "2000", "--dataset", nc, "--out", str(tmp_path / "b")]) == 0
+    assert (tmp_path / "b" / "overlay_pa0.65_fe1930.png").stat().st_size > 20_000

@@ -50,10 +50,37 @@ def _continuation_options(f):
                      help="Override a model parameter by its paper symbol (M, g, S, c_n, m2, h_n, l).")(f)
     f = click.option("--no-switch", is_flag=True,
                      help="Do not switch onto period-2k branches at period doublings.")(f)
+    f = click.option("--dataset", default=None, type=click.Path(), metavar="FILE",
+                     help="Resonance dataset (paper.nc, resonance.nc): also draw the branches over "
+                          "its resonance graph (overlay_<tag>.png).")(f)
     return f
 
 
-def _write(bset, out: Path, tag: str, title: str, model):
+def _open_dataset(path, levels):
+    """The resonance dataset for the overlay, checked before any computation (or None)."""
+    if path is None:
+        return None
+    import xarray as xr
+
+    if not Path(path).is_file():
+        raise InputError(f"--dataset = {path}: no such file")
+    try:
+        ds = xr.load_dataset(path)
+    except Exception as e:  # not NetCDF, damaged
+        raise InputError(f"--dataset = {path}: not a readable NetCDF dataset ({type(e).__name__})") from None
+    if "branch_label" not in ds:
+        raise InputError(f"--dataset = {path}: not a contactvib resonance dataset")
+    import numpy as np
+
+    stored = np.unique(ds["pa_over_q"].values)
+    for p in levels:
+        if np.min(np.abs(stored - p)) > 1e-6:
+            raise InputError(f"--pa (P_a/Q) = {p:g}: not in --dataset; stored levels: "
+                             + ", ".join(f"{v:g}" for v in stored))
+    return ds
+
+
+def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -76,6 +103,17 @@ def _write(bset, out: Path, tag: str, title: str, model):
     fig_path = out / f"branches_{tag}.png"
     fig.savefig(fig_path, dpi=130)
     plt.close(fig)
+    if ds is not None:  # continuation (stable solid, unstable dashed) over the sweep's attractors
+        from .plotting import resonance_graph
+
+        fig, ax = plt.subplots(figsize=(8.0, 5.0))
+        resonance_graph(ds, pa, ax=ax, annotate=False)
+        for line in ax.lines:
+            line.set_alpha(0.45)
+        plot_branches(bset, ax, title=f"{title}, over the sweep's attractors (faint)")
+        fig.tight_layout()
+        fig.savefig(out / f"overlay_{tag}.png", dpi=130)
+        plt.close(fig)
     return paths, fig_path
 
 
@@ -100,11 +138,12 @@ def _summary(bset):
 @click.option("--out", default="branch", show_default=True, type=click.Path(file_okay=False),
               help="Output folder (NetCDF branch files, special points, figure).")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-def continue_(pa, from_fe, attractor, settings, no_switch, fmin, fmax, max_points, app_max, rtol,
-              out, as_json):
+def continue_(pa, from_fe, attractor, settings, no_switch, dataset, fmin, fmax, max_points, app_max,
+              rtol, out, as_json):
     """Continue branches of periodic orbits in f_e from the attractors at one frequency."""
     model = _model(settings)
     p = _pa_level(pa)
+    ds = _open_dataset(dataset, [p])
     fe = _number("--from-fe", "f_e", from_fe)
     if fe <= 0:
         raise InputError(f"--from-fe (f_e) = {fe:g}: must be > 0 Hz")
@@ -123,7 +162,7 @@ def continue_(pa, from_fe, attractor, settings, no_switch, fmin, fmax, max_point
     bset = continue_attractors(model, p, fe, n, s, switch=not no_switch, attractors=found, log=msgs.append)
     tag = f"pa{p:g}_fe{fe:g}"
     paths, fig = _write(bset, Path(out), tag,
-                        f"$P_a$ = {p:g} Q, branches from the attractors at {fe:g} Hz", model)
+                        f"$P_a$ = {p:g} Q, branches from the attractors at {fe:g} Hz", model, ds, p)
     if as_json:
         click.echo(bset.to_json())
         return
@@ -143,11 +182,12 @@ def continue_(pa, from_fe, attractor, settings, no_switch, fmin, fmax, max_point
               help="Output folder.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
 @click.pass_context
-def bifurcations(ctx, pa, seed_fe, settings, no_switch, fmin, fmax, max_points, app_max, rtol, out,
-                 as_json):
+def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max_points, app_max,
+                 rtol, out, as_json):
     """All branches, seeded from every attractor at several frequencies, for each P_a."""
     model = _model(settings)
     levels = [_pa_level(t) for t in [pa, *ctx.args]]
+    ds = _open_dataset(dataset, levels)
     s = _settings(fmin, fmax, max_points, app_max, rtol)
     from .periodic.diagram import DEFAULT_SEED_FE
 
@@ -166,7 +206,7 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, fmin, fmax, max_points, 
     allb = BranchSet([])
     for p in levels:
         bset = bifurcation_diagram(model, p, seeds, s, switch=not no_switch)
-        _write(bset, Path(out), f"pa{p:g}", f"$P_a$ = {p:g} Q: all branches", model)
+        _write(bset, Path(out), f"pa{p:g}", f"$P_a$ = {p:g} Q: all branches", model, ds, p)
         allb.branches.extend(bset.branches)
         if not as_json:
             click.echo(f"P_a = {p:g} Q: {len(bset)} branches, {len(bset.special_points)} special points")
