@@ -302,3 +302,24 @@ def test_fold_curve_passes_through_one_parameter_folds():
     f_curve = np.interp(0.70, c.pa_over_q[o], c.fe_hz[o])
     assert abs(f_curve - f70.fe_hz) / f70.fe_hz < 1e-6  # linear interpolation between curve points
     assert f70.fe_hz < f65.fe_hz - 20  # the fold moves down in f_e as P_a grows (softening)
+
+
+def test_isola_closes_after_one_loop():
+    """The period-3 'ultrasubharmonic 2/3' orbit at 1500 Hz, 0.65 Q lies on a closed branch
+    (900–1960 Hz): the continuation goes round it once, back to its seed, and stops there."""
+    from contactvib.periodic.continuation import ISOLA_STOP
+
+    exc = MODEL.excitation(0.65, 1500.0)
+    found = find_attractors(MODEL, exc, n_starts=64)
+    seed = min((a for a in found if a.period == 3), key=lambda a: a.app_um)
+    b = continue_orbit(MODEL, exc, seed.state, 3, settings=ContinuationSettings(fmin=30, fmax=2000))
+    assert [s.reason for s in b.stops] == [ISOLA_STOP]
+    assert 850 < b.fe_hz.min() < 950 and 1900 < b.fe_hz.max() < 2000
+    assert len(b) < 500
+    folds = [sp.fe_hz for sp in b.special if sp.type == "fold"]
+    assert len(folds) == 2  # an isola has two folds
+    # back at the start: the last point is within one continuation step of the first
+    step_f = np.abs(np.diff(b.fe_hz)).max()
+    step_z = np.abs(np.diff(b.state, axis=0)).max()
+    assert abs(b.fe_hz[-1] - b.fe_hz[0]) <= 1.5 * step_f
+    assert np.max(np.abs(b.state[-1] - b.state[0])) <= 1.5 * step_z

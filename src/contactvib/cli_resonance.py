@@ -125,6 +125,8 @@ def query(dataset, pa, fe, as_json):
     with ds:
         if "branch_label" not in ds:
             raise InputError(f"DATASET = {dataset}: not a contactvib resonance dataset")
+        if "format" not in ds.attrs:
+            raise InputError(f"DATASET = {dataset}: written by an older contactvib: recompute it")
         try:
             res = attractors_at(ds, p, f)
         except LookupError as e:

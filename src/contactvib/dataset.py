@@ -42,6 +42,10 @@ from .model import ContactModel
 __all__ = ["dominant_ratio", "resonance_label", "attractor_type", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
            "STOP_REASONS"]
 
+#: Layout version written into every dataset (``format`` attribute); chunks and datasets of
+#: another version are recomputed (resume) or refused (query).
+FORMAT = "contactvib-resonance-1"
+
 #: Largest Lyapunov exponent [1/period] separating the non-periodic types (the 64-period estimate
 #: scatters by about ±0.02 at the paper's attractors).
 LYAPUNOV_ZERO = 0.02
@@ -273,6 +277,7 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
         },
         attrs={
             "title": "contactvib resonance dataset (Kostek 2013 contact oscillator)",
+            "format": FORMAT,
             "model": json.dumps(model.parameters()),
             "fn0_hz": model.f_n0,
             "y0_um": model.y0 * 1e6,
@@ -328,6 +333,9 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
     P_a must match a stored level within 1e-6, f_e the nearest grid frequency within half a
     grid step. Raises ``LookupError`` with a one-line message otherwise.
     """
+    if ds.attrs.get("format") != FORMAT:
+        raise LookupError(f"dataset format {ds.attrs.get('format')!r} is not {FORMAT!r} "
+                          "(written by another contactvib version): recompute it")
     levels = np.unique(ds["pa_over_q"].values)
     j = int(np.argmin(np.abs(levels - pa_over_q)))
     if abs(levels[j] - pa_over_q) > 1e-6:

@@ -46,9 +46,12 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
 def _chunk_matches(path: Path, model: ContactModel, settings: dict) -> bool:
     import xarray as xr
 
+    from .dataset import FORMAT
+
     try:
         with xr.open_dataset(path) as ds:
-            return (json.loads(ds.attrs["settings"]) == settings
+            return (ds.attrs.get("format") == FORMAT
+                    and json.loads(ds.attrs["settings"]) == settings
                     and json.loads(ds.attrs["model"]) == model.parameters())
     except Exception:  # unreadable or foreign file: recompute it
         return False

@@ -112,6 +112,10 @@ class ContinuationSettings:
         check_range("locate_tol", self.locate_tol, 0.0, False)
 
 
+#: Stop reason of a branch that closed on itself (an isola, or a loop through both directions).
+ISOLA_STOP = "closed branch (isola): back at its first point"
+
+
 def _weights(u: np.ndarray) -> np.ndarray:
     s = max(1.0, abs(u[0]), abs(u[1]))
     return np.array([1.0 / s, 1.0 / s, 1.0 / max(abs(u[2]), 1e-3)])
@@ -315,6 +319,13 @@ class _Engine:
                 stop = f"{name} range reached ({'lower' if bound == self.qmin else 'upper'} bound)"
                 break
             points.append(b)
+            # --- a closed branch (isola) comes back to its first point: stop after one loop
+            if len(points) > 8:
+                wb = _weights(u)
+                d0 = float(np.linalg.norm((u - points[0]["u"]) * wb))
+                if d0 < 1.5 * ds and float(np.linalg.norm((a["u"] - points[0]["u"]) * wb)) >= d0:
+                    stop = ISOLA_STOP
+                    break
             app = (b["xmax"] - b["xmin"]) * self.y_um
             if app > s.app_max_um:
                 stop = f"amplitude bound reached (A_pp = {app:.4g} um > {s.app_max_um:g} um)"
@@ -424,6 +435,8 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     parts = []
     for sgn in dirs:
         parts.append(eng.run(u, J, M, np.array([0.0, 0.0, float(sgn)]), merge_check=k % 2 == 0))
+        if parts[-1][2].reason == ISOLA_STOP:  # the loop is complete: no second direction
+            break
     if len(parts) == 2:
         (pd_, sd, stop_d), (pu, su, stop_u) = parts
         points = pd_[::-1] + pu[1:]
