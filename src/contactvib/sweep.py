@@ -160,7 +160,7 @@ class _Level:
             ext_t=np.zeros((cap, tk.EXT_MAX)), ext_x=np.zeros((cap, tk.EXT_MAX)),
             ext_min=np.zeros((cap, tk.EXT_MAX), np.bool_), strobe=np.zeros((cap, tk.STROBE_MAX, 2)),
             nstrobe=np.zeros(cap, np.int64), harm=np.zeros((cap, tk.HARM_MAX)),
-            jdom=np.zeros(cap, np.int64), lyap=np.zeros(cap), origin=np.zeros(cap, np.int64),
+            lyap=np.zeros(cap), origin=np.zeros(cap, np.int64),
         )
 
     def trace(self, z, k, kind, i0, direction, label, root):
@@ -178,7 +178,7 @@ class _Level:
             self.t_n, self.t_k, self.t_kind, self.t_pts, self.t_box, self.t_row, self.t_cov,
             o["i"], o["kind"], o["k"], o["z"], o["mu_re"], o["mu_im"], o["closure"], o["xmin"],
             o["xmax"], o["flight"], o["nmin"], o["next"], o["ext_t"], o["ext_x"], o["ext_min"],
-            o["strobe"], o["nstrobe"], o["harm"], o["jdom"], o["lyap"], o["origin"], la, lb, lj)
+            o["strobe"], o["nstrobe"], o["harm"], o["lyap"], o["origin"], la, lb, lj)
         self.stops.append((label, direction, float(self.f[i0]), float(self.f[i_stop]), int(stop), root))
         if n_rows:
             self.chunks.append({key: v[:n_rows].copy() for key, v in o.items()})

@@ -93,7 +93,7 @@ def lyapunov_strobe(z, par, rtol, n_periods):
 
 @njit(cache=True)
 def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next, o_ext_t,
-                   o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, o_end):
+                   o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_end):
     """Extrema, A_pp, contact loss, strobe points and harmonics of ``n_per`` periods from ``z``.
 
     Writes row ``row`` of the output arrays and the end state ``P^n_per(z)`` into ``o_end``;
@@ -156,8 +156,6 @@ def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o
     for q in range(N):
         cos_q[q] = math.cos(2.0 * math.pi * q / N)
         sin_q[q] = math.sin(2.0 * math.pi * q / N)
-    best = -1.0
-    jdom = 0
     for j in range(1, HARM_MAX + 1):
         if j > N // 2 - 1:
             o_harm[row, j - 1] = math.nan
@@ -173,10 +171,6 @@ def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o
                 iq -= N
         amp = 2.0 * math.sqrt(re * re + im * im) / N
         o_harm[row, j - 1] = amp
-        if j * amp > best:  # velocity amplitude ∝ j |Y_j|
-            best = j * amp
-            jdom = j
-    o_jdom[row] = jdom
     return STATUS_OK
 
 
@@ -229,7 +223,7 @@ QUICK_STEP = 3e-5
 
 @njit(cache=True)
 def continue_orbit(zg, k, par, rtol, close_tol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next,
-                   o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, out_z, out_M):
+                   o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, out_z, out_M):
     """Newton-correct the predicted period-k orbit point ``zg`` and describe it (row ``row``).
 
     Each Newton iteration integrates the variational equations over k periods. Once a step is
@@ -266,7 +260,7 @@ def continue_orbit(zg, k, par, rtol, close_tol, row, o_xmin, o_xmax, o_flight, o
         if floquet_abs_max(M) > 1.0 + 1e-6:
             return False, res
         if describe_point(z, k, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next, o_ext_t,
-                          o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, zend) != STATUS_OK:
+                          o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, zend) != STATUS_OK:
             return False, res
         if quick:
             sc = state_scale(z[0], z[1])
@@ -292,7 +286,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
           detect_tol, rtol_transient, same_tol, row_base,
           t_n, t_k, t_kind, t_pts, t_box, t_row, t_cov,
           o_i, o_kind, o_k, o_z, o_mu_re, o_mu_im, o_closure, o_xmin, o_xmax, o_flight, o_nmin,
-          o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_jdom, o_lyap,
+          o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, o_lyap,
           o_origin, l_a, l_b, l_jump):
     """Trace from the attractor (``z0``, period ``k0``, ``kind0``) at grid index ``i0``.
 
@@ -364,7 +358,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
                 n_per = k if kind == KIND_PERIODIC else NP_RECORD
                 st = describe_point(z, n_per, par, rtol, r, o_xmin, o_xmax, o_flight, o_nmin,
                                     o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe, o_nstrobe,
-                                    o_harm, o_jdom, zend)
+                                    o_harm, zend)
                 if st != STATUS_OK:
                     return n_rows, n_links, STOP_FAILED, i
             s = t_n[i]
@@ -426,7 +420,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
                 zg[1] = z[1]
             ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax, o_flight,
                                      o_nmin, o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe,
-                                     o_nstrobe, o_harm, o_jdom, oz, oM)
+                                     o_nstrobe, o_harm, oz, oM)
             if ok:
                 described = True
                 zp[0] = z[0]
