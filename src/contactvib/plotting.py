@@ -173,7 +173,8 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
 def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     """Local extrema of y(t) [µm] against f_e [Hz] for one P_a level (Fig. 3).
 
-    Minima grey, maxima black; the y axis is linear within ±``linthresh_um`` and logarithmic
+    Minima grey, maxima black, the extrema of sub-/ultrasubharmonic bouncing orbits light blue;
+    the y axis is linear within ±``linthresh_um`` and logarithmic
     beyond (symlog), so the small superharmonic loops and the large main-resonance orbits show
     together; y < 0 is loss of contact.
     """
@@ -185,12 +186,16 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     ne = ds["extrema_count"].values[sel]
     idx = np.concatenate([np.arange(a, a + n) for a, n in zip(e0, ne)]) if sel.size else np.array([], int)
     f_rep = np.repeat(fe, ne)
+    bouncing = np.repeat([str(x).startswith(("subharmonic", "ultrasubharmonic"))
+                          for x in ds["resonance"].values[sel]], ne)
     y = ds["extremum_y_um"].values[idx]
     is_min = ds["extremum_is_min"].values[idx].astype(bool)
-    ax.plot(f_rep[is_min], y[is_min], ",", color="0.6", rasterized=True)
-    ax.plot(f_rep[~is_min], y[~is_min], ",", color="k", rasterized=True)
-    ax.plot([], [], "s", color="0.6", ms=4, label="minima")
+    ax.plot(f_rep[bouncing], y[bouncing], ",", color="#9ecae1", rasterized=True)
+    ax.plot(f_rep[is_min & ~bouncing], y[is_min & ~bouncing], ",", color="0.55", rasterized=True)
+    ax.plot(f_rep[~is_min & ~bouncing], y[~is_min & ~bouncing], ",", color="k", rasterized=True)
+    ax.plot([], [], "s", color="0.55", ms=4, label="minima")
     ax.plot([], [], "s", color="k", ms=4, label="maxima")
+    ax.plot([], [], "s", color="#9ecae1", ms=4, label="bouncing orbits (not in the paper)")
     ax.axhline(0.0, color="tab:red", lw=0.5, ls=":")
     ax.set_yscale("symlog", linthresh=linthresh_um)
     ax.set_xlabel("$f_e$ [Hz]")
