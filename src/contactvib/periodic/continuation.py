@@ -243,6 +243,7 @@ class _Engine:
         elif np.dot(tau, t_dir * w) < 0:
             tau = -tau
         t_u = tau / w  # unscaled direction, re-normalised in the scaled metric at each step
+        t_start = t_u.copy()
         p0["tq"] = float(t_u[2])
         ds = first_ds if first_ds is not None else s.ds0
         prev_d = None
@@ -320,10 +321,13 @@ class _Engine:
                 break
             points.append(b)
             # --- a closed branch (isola) comes back to its first point: stop after one loop
+            #     (close to it, and passing it in the direction the branch left it)
             if len(points) > 8:
                 wb = _weights(u)
                 d0 = float(np.linalg.norm((u - points[0]["u"]) * wb))
-                if d0 < 1.5 * ds and float(np.linalg.norm((a["u"] - points[0]["u"]) * wb)) >= d0:
+                same_way = float(np.dot(_unit(tau_new / w * wb), _unit(t_start * wb))) > 0.9
+                if (d0 < 1.5 * ds and same_way
+                        and float(np.linalg.norm((a["u"] - points[0]["u"]) * wb)) >= d0):
                     stop = ISOLA_STOP
                     break
             app = (b["xmax"] - b["xmin"]) * self.y_um
@@ -335,7 +339,9 @@ class _Engine:
                 ds = min(ds * 2.0, s.ds_max)
             elif its <= 3:
                 ds = min(ds * 1.5, s.ds_max)
-            elif its >= 6:
+            elif its <= 5:  # keep growing slowly: a step cut far down must not stay there
+                ds = min(ds * 1.2, s.ds_max)
+            else:
                 ds = max(ds / 1.5, s.ds_min)
         last = points[-1]
         return points, [sp for _i, sp in specials], Stop(last["fe"], last["pa"], stop, self.branch_id,
