@@ -76,6 +76,9 @@ class ContinuationSettings:
         Largest angle [rad] between successive tangents (scaled) before the step is halved.
     locate_tol : float
         Pseudo-arclength tolerance of the location of special points.
+    max_failures : int
+        Rejected steps per direction before the branch stops (a branch that keeps failing, e.g.
+        a high-period orbit inside a chaotic band, would otherwise crawl on with tiny steps).
     """
 
     fmin: float = 30.0
@@ -92,6 +95,7 @@ class ContinuationSettings:
     max_iter: int = 8
     max_turn: float = 0.35
     locate_tol: float = 1e-11
+    max_failures: int = 200
 
     def __post_init__(self):
         check_range("fmin", self.fmin, 0.0, False, "Hz")
@@ -110,6 +114,7 @@ class ContinuationSettings:
         check_range("max_iter", self.max_iter, 1, True)
         check_range("max_turn", self.max_turn, 0.0, False, "rad")
         check_range("locate_tol", self.locate_tol, 0.0, False)
+        check_range("max_failures", self.max_failures, 1, True)
 
 
 #: Stop reason of a branch that closed on itself (an isola, or a loop through both directions).
@@ -270,6 +275,9 @@ class _Engine:
             if not ok:
                 n_fail += 1
                 ds *= 0.5
+                if n_fail > s.max_failures:
+                    stop = f"step too small: {n_fail} rejected steps (Newton or tangent failures)"
+                    break
                 if ds < s.ds_min:
                     why = _STATUS_TEXT.get(st, "tangent turned too fast" if st == -1 else f"status {st}")
                     stop = f"step too small: Newton failure ({why})"
