@@ -46,9 +46,19 @@ def on_branch(model: ContactModel, branch: Branch, exc, z, k: int) -> bool:
 
 
 def _pd_done(sp, branches) -> bool:
+    """True when a known period-2k branch already starts or ends at this period doubling.
+
+    At a period doubling the period-2k branch touches the period-k orbit (same f_e and A_pp), so
+    a branch with a point within 1 % of (f_e, A_pp) of the doubling has been found (from either
+    end of its cascade, or switched onto from a copy of the period-k branch).
+    """
     for b in branches:
         if b.period != 2 * sp.period:
             continue
+        near = (np.abs(b.fe_hz - sp.fe_hz) / sp.fe_hz
+                + np.abs(b.app_um - sp.app_um) / max(sp.app_um, 1e-12))
+        if near.size and float(near.min()) < 0.01:
+            return True
         for st in b.stops:
             if "merges" in st.reason and abs(st.fe_hz - sp.fe_hz) <= 1e-3 * sp.fe_hz:
                 return True
