@@ -15,19 +15,28 @@ Procedure
 3. Orbits are de-duplicated by the sameness rule (same period, stroboscopic sets equal to 1e-6
    relative in some cyclic order); non-periodic attractors by the overlap of their
    stroboscopic clouds.
-4. The basin fraction of an attractor is the share of the *box* starts that reached it.
+4. Two waves: the first ``FIRST_WAVE`` box starts and the seeds run to the end (step 2); the
+   other box starts are stopped as soon as a stroboscopic point comes within ``capture_tol``
+   (relative) of a strobe point of a stable periodic orbit found by the first wave, and are
+   counted for that orbit without another Newton refinement. Starts that are not captured run
+   to the end as in step 2, so attractors the first wave missed are still found.
+5. The basin fraction of an attractor is the share of the *box* starts that reached it.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._kernels.settle import SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, settle_many
+from ._kernels.settle import (SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC,
+                             settle_capture_many)
 from .model import ContactModel, Excitation, ParameterError, check_range
 from .results import AttractorSet
 from .steady import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
 
 __all__ = ["find_attractors", "start_box", "ballistic_seeds"]
+
+#: Box starts of the first wave, which run to the end and supply the capture points.
+FIRST_WAVE = 64
 
 
 def start_box(excitation: Excitation, n: int, seed: int = 0):
@@ -66,7 +75,7 @@ def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
 def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
                     seed: int = 0, kmax: int = 8, max_periods: int = 400,
                     seeds: bool = True, detect_tol: float = 1e-4,
-                    rtol_transient: float = 1e-8) -> AttractorSet:
+                    rtol_transient: float = 1e-8, capture_tol: float = 3e-3) -> AttractorSet:
     """All attractors reached from the start box and the ballistic seeds.
 
     Parameters
@@ -87,6 +96,9 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         Relative stroboscopic distance that triggers a Newton refinement.
     rtol_transient : float
         Integrator tolerance during transients (refinement always uses 1e-12).
+    capture_tol : float
+        Relative distance to a known orbit's strobe point at which a second-wave start is
+        counted for that orbit (0: every start runs to the end).
 
     Returns
     -------
@@ -99,44 +111,61 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     max_periods = int(check_range("max_periods", max_periods, 4 * kmax, True))
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
     rtol_transient = check_range("rtol_transient", rtol_transient, 0.0, False)
+    capture_tol = check_range("capture_tol", capture_tol, 0.0, True)
+    if capture_tol > 0.1:
+        raise ParameterError("capture_tol", capture_tol, "must be <= 0.1")
 
     Zb, phb = start_box(excitation, n_starts, seed)
     if seeds:
         Zs, phs = ballistic_seeds(excitation)
     else:
         Zs, phs = np.empty((0, 2)), np.empty(0)
-    Z = np.vstack([Zb, Zs])
-    ph = np.concatenate([phb, phs])
+    par = excitation.kernel_parameters()
     n_tail = 64
-    status, period, _nper, residual, z_star, monodromy, tail = settle_many(
-        Z, ph, excitation.kernel_parameters(), kmax, 4, max_periods, detect_tol,
-        rtol_transient, RTOL_REFINE, CLOSE_TOL, n_tail)
+    n_first = min(n_starts, FIRST_WAVE)
+    groups: list[dict] = []  # each: period, strobe, z, M, res, hits, box, tail
+    n_failed = 0
 
-    groups: list[dict] = []  # each: period, strobe, z, M, residual, hits, box_hits, tail
-    for i in range(Z.shape[0]):
-        in_box = i < n_starts
-        if status[i] == SETTLE_PERIODIC:
-            k = int(period[i])
-            pts = strobe_points(excitation, z_star[i], k)
-            for g in groups:
-                if g["period"] == k and same_orbit(g["strobe"], pts):
-                    break
+    def run(Z, ph, in_box, cap_pts, cap_id):
+        nonlocal n_failed
+        status, period, _nper, residual, z_star, monodromy, tail = settle_capture_many(
+            Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient, RTOL_REFINE,
+            CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
+        for i in range(Z.shape[0]):
+            if status[i] == SETTLE_CAPTURED:
+                g = groups[int(period[i])]
+            elif status[i] == SETTLE_PERIODIC:
+                k = int(period[i])
+                pts = strobe_points(excitation, z_star[i], k)
+                for g in groups:
+                    if g["period"] == k and same_orbit(g["strobe"], pts):
+                        break
+                else:
+                    g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
+                         "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
+                    groups.append(g)
+            elif status[i] == SETTLE_NONPERIODIC:
+                for g in groups:
+                    if g["period"] is None and _same_cloud(g["tail"], tail[i]):
+                        break
+                else:
+                    g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
+                         "M": None, "res": np.inf, "hits": 0, "box": 0}
+                    groups.append(g)
             else:
-                g = {"period": k, "strobe": pts, "z": z_star[i].copy(), "M": monodromy[i].copy(),
-                     "res": float(residual[i]), "hits": 0, "box": 0}
-                groups.append(g)
-        elif status[i] == SETTLE_NONPERIODIC:
-            for g in groups:
-                if g["period"] is None and _same_cloud(g["tail"], tail[i]):
-                    break
-            else:
-                g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(), "M": None,
-                     "res": np.inf, "hits": 0, "box": 0}
-                groups.append(g)
-        else:
-            continue
-        g["hits"] += 1
-        g["box"] += int(in_box)
+                n_failed += 1
+                continue
+            g["hits"] += 1
+            g["box"] += int(in_box[i])
+
+    no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
+    run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),
+        np.arange(n_first + Zs.shape[0]) < n_first, no_pts, no_id)
+    if n_starts > n_first:
+        periodic = [(j, g) for j, g in enumerate(groups) if g["period"] is not None]
+        cap_pts = np.vstack([g["strobe"] for _j, g in periodic]) if periodic else no_pts
+        cap_id = np.array([j for j, g in periodic for _p in range(g["period"])], np.int64)
+        run(Zb[n_first:], phb[n_first:], np.ones(n_starts - n_first, bool), cap_pts, cap_id)
 
     attractors = [
         describe_orbit(model, excitation, g["z"], g["period"], g["M"], g["res"],
@@ -152,8 +181,9 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         fe_hz=excitation.f_e,
         n_box=n_starts,
         n_seeds=Zs.shape[0],
-        n_failed=int(np.count_nonzero(status == SETTLE_FAILED)),
+        n_failed=n_failed,
         settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
                   "seeds": seeds, "detect_tol": detect_tol, "rtol_transient": rtol_transient,
+                  "capture_tol": capture_tol, "first_wave": n_first,
                   "rtol_refine": RTOL_REFINE, "close_tol": CLOSE_TOL},
     )

@@ -60,6 +60,10 @@ _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the cont
 @njit(cache=True)
 def _pow_ext(x, a):
     """x^a for x > 0, continued oddly (−|x|^a) below zero; 1 for a = 0."""
+    if a == 1.0:  # integer exponents of the common laws, without a pow call
+        return x
+    if a == 2.0:
+        return x * abs(x)
     if x > 0.0:
         return x**a
     if a == 0.0:
@@ -72,6 +76,10 @@ def _dpow_ext(x, a):
     """d/dx of :func:`_pow_ext`: a |x|^(a−1) (0 at x = 0 when a < 1, and for a = 0)."""
     if a == 0.0:
         return 0.0
+    if a == 1.0:
+        return 1.0
+    if a == 2.0:
+        return 2.0 * abs(x)
     ax = abs(x)
     if ax == 0.0:
         if a > 1.0:
@@ -92,20 +100,25 @@ def acceleration(contact, t, x, v, par):
 
 
 @njit(cache=True)
+def jacobian_row(contact, x, v, par):
+    """(∂x''/∂x, ∂x''/∂x') of the given mode at (x, x') [nondimensional]."""
+    if not contact:
+        return 0.0, 0.0
+    m2 = par[0]
+    j21 = -(_dpow_ext(x, m2) + par[2] * _dpow_ext(x, par[1]) * v) / m2
+    j22 = -par[2] * _pow_ext(x, par[1]) / m2
+    return j21, j22
+
+
+@njit(cache=True)
 def rhs(contact, t, y, par, out):
     """Right-hand side of the state (n = 2) or state + variational equation (n = 6)."""
-    m2 = par[0]
     x = y[0]
     v = y[1]
     out[0] = v
     out[1] = acceleration(contact, t, x, v, par)
     if y.shape[0] == 6:
-        if contact:
-            j21 = -(_dpow_ext(x, m2) + par[2] * _dpow_ext(x, par[1]) * v) / m2
-            j22 = -par[2] * _pow_ext(x, par[1]) / m2
-        else:
-            j21 = 0.0
-            j22 = 0.0
+        j21, j22 = jacobian_row(contact, x, v, par)
         out[2] = y[4]
         out[3] = y[5]
         out[4] = j21 * y[2] + j22 * y[4]
@@ -113,18 +126,53 @@ def rhs(contact, t, y, par, out):
 
 
 @njit(cache=True)
-def _rk_step(contact, t, y, f, h, par, rtol, atol, K, tmp, ynew, fnew):
+def _stages(contact, t, y, h, par, K, s_first, s_last, n):
+    """K[s] = f(t + C[s] h, y + h Σ_{j<s} A[s, j] K[j]) for s = s_first..s_last − 1.
+
+    Works on scalars (a call per stage with array views costs more than the stage itself);
+    ``n`` = 2 integrates the state, 6 the state and the variational equation.
+    """
+    for s in range(s_first, s_last):
+        ax = 0.0
+        av = 0.0
+        for j in range(s):
+            a = A[s, j]
+            ax += a * K[j, 0]
+            av += a * K[j, 1]
+        x = y[0] + h * ax
+        v = y[1] + h * av
+        ts = t + C[s] * h
+        K[s, 0] = v
+        K[s, 1] = acceleration(contact, ts, x, v, par)
+        if n == 6:
+            p0 = 0.0
+            p1 = 0.0
+            p2 = 0.0
+            p3 = 0.0
+            for j in range(s):
+                a = A[s, j]
+                p0 += a * K[j, 2]
+                p1 += a * K[j, 3]
+                p2 += a * K[j, 4]
+                p3 += a * K[j, 5]
+            f11 = y[2] + h * p0
+            f12 = y[3] + h * p1
+            f21 = y[4] + h * p2
+            f22 = y[5] + h * p3
+            j21, j22 = jacobian_row(contact, x, v, par)
+            K[s, 2] = f21
+            K[s, 3] = f22
+            K[s, 4] = j21 * f11 + j22 * f21
+            K[s, 5] = j21 * f12 + j22 * f22
+
+
+@njit(cache=True)
+def _rk_step(contact, t, y, f, h, par, rtol, atol, K, ynew, fnew):
     """One DOP853 step; fills K[0..12], ``ynew``, ``fnew``; returns the error norm (<1: accept)."""
     n = y.shape[0]
     for i in range(n):
         K[0, i] = f[i]
-    for s in range(1, 12):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += A[s, j] * K[j, i]
-            tmp[i] = y[i] + h * acc
-        rhs(contact, t + C[s] * h, tmp, par, K[s])
+    _stages(contact, t, y, h, par, K, 1, 12, n)
     for i in range(n):
         acc = 0.0
         for j in range(12):
@@ -150,16 +198,9 @@ def _rk_step(contact, t, y, f, h, par, rtol, atol, K, tmp, ynew, fnew):
 
 
 @njit(cache=True)
-def _dense(contact, t, y, ynew, h, par, K, tmp, F):
+def _dense(contact, t, y, ynew, h, par, K, F):
     """Fill F[7, 2] with the 7th-order interpolant of x and v over the last step."""
-    n = y.shape[0]
-    for s in range(13, 16):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += A[s, j] * K[j, i]
-            tmp[i] = y[i] + h * acc
-        rhs(contact, t + C[s] * h, tmp, par, K[s])
+    _stages(contact, t, y, h, par, K, 13, 16, 2)  # the interpolant needs x and v only
     for i in range(2):
         dy = ynew[i] - y[i]
         F[0, i] = dy
@@ -293,7 +334,6 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
     record = rec.shape[0] > 0
     K = np.empty((16, n))
     F = np.zeros((7, 2))
-    tmp = np.empty(n)
     f = np.empty(n)
     ynew = np.empty(n)
     fnew = np.empty(n)
@@ -317,7 +357,7 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
                 break
             status = STATUS_STEP_TOO_SMALL
             break
-        err = _rk_step(contact, t, y, f, h_try, par, rtol, atol, K, tmp, ynew, fnew)
+        err = _rk_step(contact, t, y, f, h_try, par, rtol, atol, K, ynew, fnew)
         if not (err < 1.0):
             if not math.isfinite(err):
                 factor = _MIN_FACTOR
@@ -340,7 +380,7 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
         cross_end = _crosses(contact, ynew[0])
         theta_ev = -1.0
         if record or vflip or cross_end:
-            _dense(contact, t, y, ynew, h_try, par, K, tmp, F)
+            _dense(contact, t, y, ynew, h_try, par, K, F)
             lo = 0.0
             if vflip:
                 th_v = dense_root(F, y, 1, 0.0, 0.0, 1.0)
@@ -352,9 +392,9 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
         if theta_ev >= 0.0:
             # re-take the step so that it ends exactly on the switching instant
             h_ev = theta_ev * h_try
-            _rk_step(contact, t, y, f, h_ev, par, rtol, atol, K, tmp, ynew, fnew)
+            _rk_step(contact, t, y, f, h_ev, par, rtol, atol, K, ynew, fnew)
             if record:
-                _dense(contact, t, y, ynew, h_ev, par, K, tmp, F)
+                _dense(contact, t, y, ynew, h_ev, par, K, F)
                 irec = _record(rec, irec, t, h_ev, contact, y, F)
             if not contact:
                 t_flight += h_ev

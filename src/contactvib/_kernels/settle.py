@@ -138,10 +138,33 @@ def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol
                        np.empty(0, np.int64), 0.0, hist, out_z, out_M)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def settle_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
                 rtol_refine, close_tol, n_tail):
     """:func:`settle` for many starts at once, in parallel over the starts (numba threads).
+
+    Returns
+    -------
+    status, period, n_periods : int64[N]
+    residual : float64[N]
+    z_star : float64[N, 2]
+        Refined orbit point (periodic) or last stroboscopic point.
+    monodromy : float64[N, 2, 2]
+    tail : float64[N, n_tail, 2]
+        The last ``n_tail`` stroboscopic points of the transient (for non-periodic attractors).
+    """
+    return settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol,
+                               rtol_transient, rtol_refine, close_tol, n_tail, np.empty((0, 2)),
+                               np.empty(0, np.int64), 0.0)
+
+
+@njit(cache=True, parallel=True)
+def settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
+                        rtol_refine, close_tol, n_tail, cap_pts, cap_id, capture_tol):
+    """:func:`settle_core` for many starts at once, in parallel over the starts (numba threads).
+
+    A start whose stroboscopic point comes within ``capture_tol`` (relative) of one of
+    ``cap_pts`` stops there with ``SETTLE_CAPTURED`` and that point's ``cap_id`` as its period.
 
     Returns
     -------
@@ -165,8 +188,9 @@ def settle_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol
         hist = np.empty((max_periods + 1, 2))
         oz = np.empty(2)
         oM = np.zeros((2, 2))
-        s, k, n, res = settle(Z[i], phases[i], par, kmax, min_periods, max_periods, detect_tol,
-                              rtol_transient, rtol_refine, close_tol, hist, oz, oM)
+        s, k, n, res = settle_core(Z[i], phases[i], par, kmax, min_periods, max_periods,
+                                   detect_tol, rtol_transient, rtol_refine, close_tol, cap_pts,
+                                   cap_id, capture_tol, hist, oz, oM)
         status[i] = s
         period[i] = k
         n_periods[i] = n

@@ -31,7 +31,7 @@ from numba import njit, prange
 from .flow import STATUS_OK
 from .orbit import find_extrema, record_orbit, sample_records
 from .settle import SETTLE_NONPERIODIC, SETTLE_PERIODIC, _refine, settle, settle_core
-from .shooting import floquet_abs_max, newton_step, state_scale, strobe_map
+from .shooting import floquet_abs_max, newton_orbit, newton_step, state_scale, strobe_map
 
 #: Stored extrema per attractor point (periodic orbits need 2 × minima; clouds are truncated).
 EXT_MAX = 256
@@ -281,6 +281,59 @@ def continue_orbit(zg, k, par, rtol, close_tol, row, o_xmin, o_xmax, o_flight, o
     return False, math.inf
 
 
+#: Sub-steps of a grid step tried before a lost orbit is declared a jump: down to 1/2**BRIDGE_DEPTH.
+BRIDGE_DEPTH = 5
+
+
+@njit(cache=True)
+def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol, out_zg):
+    """Predictor at ``r_to`` for a period-k orbit known at ``r_from`` (and at ``r_prev`` if
+    ``have_prev``), from Newton-corrected sub-steps in r (halved on failure, down to
+    1/2**BRIDGE_DEPTH of the grid step), each stable orbit extrapolated linearly to the next.
+
+    Used when the one-step continuation fails: the branch may only bend fast between two grid
+    points. Returns True and writes ``out_zg`` when the sub-steps reach ``r_to``; False when the
+    orbit is lost between (a fold, a period doubling, an end of the branch).
+    """
+    span = r_to - r_from
+    h = 0.5 * span
+    h_min = abs(span) / 2.0**BRIDGE_DEPTH
+    zc = z.copy()
+    zq = zp.copy()
+    rc = r_from
+    rq = r_prev
+    have = have_prev
+    zg = np.empty(2)
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    par_s = par.copy()
+    while True:
+        r_new = rc + h
+        if (r_new - r_to) * span >= -1e-12 * abs(span):
+            r_new = r_to
+        w = (r_new - rc) / (rc - rq) if have else 0.0
+        zg[0] = zc[0] + w * (zc[0] - zq[0])
+        zg[1] = zc[1] + w * (zc[1] - zq[1])
+        if r_new == r_to:
+            out_zg[0] = zg[0]
+            out_zg[1] = zg[1]
+            return True
+        par_s[4] = r_new
+        st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, 8, oz, oM)
+        if st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + 1e-6:
+            zq[0] = zc[0]
+            zq[1] = zc[1]
+            rq = rc
+            zc[0] = oz[0]
+            zc[1] = oz[1]
+            rc = r_new
+            have = True
+        else:
+            h *= 0.5
+            if abs(h) < h_min * (1.0 - 1e-9):
+                return False
+
+
 @njit(cache=True)
 def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, max_periods,
           detect_tol, rtol_transient, same_tol, row_base,
@@ -421,6 +474,13 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax, o_flight,
                                      o_nmin, o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe,
                                      o_nstrobe, o_harm, oz, oM)
+            if not ok:
+                r_prev = r_grid[i - direction] if have_prev else 0.0
+                if bridge_orbit(z, r_grid[i], zp, r_prev, have_prev, r_grid[i_next], k, par,
+                                rtol, close_tol, zg):
+                    ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
+                                             o_flight, o_nmin, o_next, o_ext_t, o_ext_x,
+                                             o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
             if ok:
                 described = True
                 zp[0] = z[0]
