@@ -141,18 +141,8 @@ def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol
 @njit(cache=True)
 def settle_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
                 rtol_refine, close_tol, n_tail):
-    """:func:`settle` for many starts at once, in parallel over the starts (numba threads).
-
-    Returns
-    -------
-    status, period, n_periods : int64[N]
-    residual : float64[N]
-    z_star : float64[N, 2]
-        Refined orbit point (periodic) or last stroboscopic point.
-    monodromy : float64[N, 2, 2]
-    tail : float64[N, n_tail, 2]
-        The last ``n_tail`` stroboscopic points of the transient (for non-periodic attractors).
-    """
+    """:func:`settle` for many starts at once (numba threads): :func:`settle_capture_many`
+    with nothing to capture; the same outputs."""
     return settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol,
                                rtol_transient, rtol_refine, close_tol, n_tail, np.empty((0, 2)),
                                np.empty(0, np.int64), 0.0)

@@ -5,7 +5,9 @@ direction, as a laboratory sweep does, carrying the state:
 
 1. predict the orbit point at the next frequency (secant through the last two points of the
    same segment), correct it by Newton shooting on the period-k map, accept it when it closes,
-   is stable and its period is minimal (:func:`.settle._refine`);
+   is stable and its period is minimal (:func:`.settle._refine`); if that fails, bridge the
+   grid step by Newton-corrected sub-steps (halved down to 1/32 of it, :func:`bridge_orbit`) —
+   a branch that bends fast between two grid points is kept, one that ends there is not;
 2. otherwise (past a fold, a period doubling, or into chaos) integrate from the carried state
    until a new attractor is detected (:func:`.settle.settle`) — a *jump*;
 3. a non-periodic attractor is followed by integrating from the carried state at every step.
