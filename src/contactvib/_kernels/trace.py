@@ -476,6 +476,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax, o_flight,
                                      o_nmin, o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe,
                                      o_nstrobe, o_harm, oz, oM)
+            z_from = z.copy()  # the phase point the accepted orbit was continued from
             if not ok:
                 r_prev = r_grid[i - direction] if have_prev else 0.0
                 if bridge_orbit(z, r_grid[i], zp, r_prev, have_prev, r_grid[i_next], k, par,
@@ -483,10 +484,25 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
                     ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
                                              o_flight, o_nmin, o_next, o_ext_t, o_ext_x,
                                              o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
+            # Newton's reach differs from phase to phase of a period-k orbit (a strobe point
+            # close to an impact is a poor start): bridge from the other strobe points too
+            for j in range(k if not ok else 0):
+                zj = t_pts[i, s, j]
+                if zj[0] == z[0] and zj[1] == z[1]:
+                    continue
+                if bridge_orbit(zj, r_grid[i], zj, 0.0, False, r_grid[i_next], k, par, rtol,
+                                close_tol, zg):
+                    ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
+                                             o_flight, o_nmin, o_next, o_ext_t, o_ext_x,
+                                             o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
+                    if ok:
+                        z_from[0] = zj[0]
+                        z_from[1] = zj[1]
+                        break
             if ok:
                 described = True
-                zp[0] = z[0]
-                zp[1] = z[1]
+                zp[0] = z_from[0]
+                zp[1] = z_from[1]
                 have_prev = True
                 z[0] = oz[0]
                 z[1] = oz[1]
