@@ -284,6 +284,67 @@ def test_cli_continue_json_contract(tmp_path, capsys):
         assert ds["fe"].min() == pytest.approx(1500.0) and ds["fe"].max() == pytest.approx(2000.0)
 
 
+@pytest.fixture(scope="module")
+def attractors_360():
+    return find_attractors(MODEL, MODEL.excitation(0.65, 360.0))
+
+
+def test_continuation_in_pa_meets_the_attractors_and_the_fe_period_doubling(attractors_360):
+    """Continuation in P_a at 360 Hz: the 1/4 branch carries the attractors the search finds at
+    0.30 and 0.80 Q (long time integration), and the 1/2 branch's period doubling at P_a* is a
+    period doubling of the f_e continuation at P_a* exactly at 360 Hz (1e-6 Hz)."""
+    exc = MODEL.excitation(0.65, 360.0)
+    a4 = [a for a in attractors_360 if a.period == 1 and a.minima_per_period == 4][0]
+    b4 = continue_orbit(MODEL, exc, a4.state, 1, parameter="P_a",
+                        settings=ContinuationSettings(pa_min=0.05, pa_max=0.9))
+    assert b4.pa_over_q.min() == pytest.approx(0.05) and b4.pa_over_q.max() == pytest.approx(0.9)
+    assert np.all(b4.stable) and np.all(b4.fe_hz == 360.0)
+    for pa, minima in ((0.30, 1), (0.80, 4)):
+        e = MODEL.excitation(pa, 360.0)
+        found = [a for a in find_attractors(MODEL, e, n_starts=128) if a.period == 1]
+        on = [a for a in found if on_branch(MODEL, b4, e, a.state, 1, parameter="P_a")]
+        assert len(on) == 1 and on[0].minima_per_period == minima
+    a2 = [a for a in attractors_360 if a.period == 1 and a.minima_per_period == 2][0]
+    b2 = continue_orbit(MODEL, exc, a2.state, 1, parameter="P_a",
+                        settings=ContinuationSettings(pa_min=0.3, pa_max=0.9))
+    assert [sp.type for sp in b2.special] == ["fold", "period-doubling"]
+    fold, pd = b2.special
+    assert 0.40 < fold.pa_over_q < 0.50 < 0.65 < pd.pa_over_q < 0.70  # born, then doubles (S3.3)
+    e = MODEL.excitation(pd.pa_over_q, 360.0)
+    bf = continue_orbit(MODEL, e, pd.state, 1,
+                        settings=ContinuationSettings(fmin=350, fmax=370, ds0=0.005, ds_max=0.01))
+    pds = [sp.fe_hz for sp in bf.special if sp.type == "period-doubling"]
+    assert len(pds) == 1 and abs(pds[0] - 360.0) < 1e-6
+
+
+def test_cli_continue_in_pa(tmp_path, capsys):
+    out = tmp_path / "pa"
+    rc = main(["continue", "--parameter", "pa", "--pa", "0.65", "--from-fe", "360", "--attractor",
+               "1", "--pa-min", "0.1", "--pa-max", "0.8", "--no-switch", "--out", str(out), "--json"])
+    assert rc == 0
+    d = json.loads(capsys.readouterr().out)
+    folds = [sp for sp in d["special_points"] if sp["type"] == "fold"]
+    assert len(folds) == 1 and 0.10 < folds[0]["pa_over_q"] < 0.2 and folds[0]["fe_hz"] == 360.0
+    assert all(s["pa_over_q"] == pytest.approx(0.8) for s in d["stops"])
+    assert (out / "branches_pa0.65_fe360_in_pa.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("args,message", [
+    (["continue", "--parameter", "pa", "--pa-min", "0.7", "--pa-max", "0.6"],
+     "contactvib: error: --pa-min (P_a/Q) = 0.7: must be < --pa-max = 0.6"),
+    (["continue", "--parameter", "pa", "--pa", "0.65", "--pa-max", "0.5"],
+     "contactvib: error: --pa (P_a/Q) = 0.65: must lie in [--pa-min, --pa-max] = [0.05, 0.5]"),
+    (["continue", "--parameter", "pa", "--pa-min", "-1"],
+     "contactvib: error: --pa-min (P_a/Q) = -1: must be > 0"),
+    (["continue", "--parameter", "pa", "--dataset", "x.nc"],
+     "contactvib: error: --dataset draws over a resonance graph in f_e: not with --parameter pa"),
+])
+def test_cli_continue_in_pa_bad_input(args, message, capsys):
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(message)
+
+
 def test_fold_curve_passes_through_one_parameter_folds():
     """The two-parameter fold curve from the 0.65 Q jump-up fold meets the one-parameter fold
     at 0.70 Q (computed independently, from an attractor seed at 0.70 Q)."""

@@ -16,7 +16,7 @@ from .cli import InputError, _frequency_range, _int, _model, _number, _pa_level,
 __all__ = []
 
 
-def _settings(fmin, fmax, max_points, app_max, rtol):
+def _settings(fmin, fmax, max_points, app_max, rtol, pa_range=(0.0, 2.0)):
     from .model import ParameterError
     from .periodic import ContinuationSettings
 
@@ -29,8 +29,8 @@ def _settings(fmin, fmax, max_points, app_max, rtol):
     if not (1e-14 <= r <= 1e-6):
         raise InputError(f"--rtol (rtol) = {r:g}: must be in [1e-14, 1e-6]")
     try:
-        return ContinuationSettings(fmin=lo, fmax=hi, max_points=n, app_max_um=a, rtol=r,
-                                    tol=max(100 * r, 1e-11))
+        return ContinuationSettings(fmin=lo, fmax=hi, pa_min=pa_range[0], pa_max=pa_range[1],
+                                    max_points=n, app_max_um=a, rtol=r, tol=max(100 * r, 1e-11))
     except ParameterError as e:
         raise InputError(f"{e.symbol} = {e.value}: {e.allowed}") from None
 
@@ -80,7 +80,7 @@ def _open_dataset(path, levels):
     return ds
 
 
-def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None):
+def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None, parameter="f_e"):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -98,7 +98,7 @@ def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None):
         bset.special_table().to_netcdf(out / f"special_points_{tag}.nc")
     (out / f"special_points_{tag}.json").write_text(bset.to_json(indent=1))
     fig, ax = plt.subplots(figsize=(7.5, 4.6))
-    plot_branches(bset, ax, title=title)
+    plot_branches(bset, ax, title=title, parameter=parameter)
     fig.tight_layout()
     fig_path = out / f"branches_{tag}.png"
     fig.savefig(fig_path, dpi=130)
@@ -117,13 +117,20 @@ def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None):
     return paths, fig_path
 
 
-def _summary(bset):
+def _summary(bset, parameter="f_e"):
     for b in bset:
-        st = "; ".join(f"{s.fe_hz:.6g} Hz: {s.reason}" for s in b.stops)
-        click.echo(f"{b.branch}: period {b.period}, {len(b)} points, f_e {b.fe_hz.min():.5g}–"
-                   f"{b.fe_hz.max():.5g} Hz, A_pp {b.app_um.min():.4g}–{b.app_um.max():.4g} um; stops: {st}")
+        if parameter == "f_e":
+            st = "; ".join(f"{s.fe_hz:.6g} Hz: {s.reason}" for s in b.stops)
+            rng = f"f_e {b.fe_hz.min():.5g}–{b.fe_hz.max():.5g} Hz"
+        else:
+            st = "; ".join(f"{s.pa_over_q:.6g} Q: {s.reason}" for s in b.stops)
+            rng = f"P_a {b.pa_over_q.min():.5g}–{b.pa_over_q.max():.5g} Q"
+        click.echo(f"{b.branch}: period {b.period}, {len(b)} points, {rng}, "
+                   f"A_pp {b.app_um.min():.4g}–{b.app_um.max():.4g} um; stops: {st}")
         for sp in b.special:
-            click.echo(f"    {sp.type:<16} f_e = {sp.fe_hz:12.6f} Hz  A_pp = {sp.app_um:10.5g} um  "
+            at = (f"f_e = {sp.fe_hz:12.6f} Hz" if parameter == "f_e"
+                  else f"P_a = {sp.pa_over_q:10.6f} Q")
+            click.echo(f"    {sp.type:<16} {at}  A_pp = {sp.app_um:10.5g} um  "
                        f"|mu| = {', '.join(f'{abs(m):.4f}' for m in sp.multipliers)}")
 
 
@@ -134,21 +141,37 @@ def _summary(bset):
               help="Frequency of the seed: the attractors found there are continued.")
 @click.option("--attractor", default=None, metavar="N",
               help="Seed index in the attractor list (as `attractors --json`); default: every one.")
+@click.option("--parameter", type=click.Choice(["fe", "pa"]), default="fe", show_default=True,
+              help="Continue in the frequency f_e (at fixed --pa) or in the amplitude P_a "
+                   "(at fixed --from-fe, between --pa-min and --pa-max).")
+@click.option("--pa-min", default="0.05", show_default=True, metavar="Q",
+              help="Lower end of the P_a range [Q] (--parameter pa).")
+@click.option("--pa-max", default="1.0", show_default=True, metavar="Q",
+              help="Upper end of the P_a range [Q] (--parameter pa).")
 @_continuation_options
 @click.option("--out", default="branch", show_default=True, type=click.Path(file_okay=False),
               help="Output folder (NetCDF branch files, special points, figure).")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-def continue_(pa, from_fe, attractor, settings, no_switch, dataset, fmin, fmax, max_points, app_max,
-              rtol, out, as_json):
-    """Continue branches of periodic orbits in f_e from the attractors at one frequency."""
+def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_switch, dataset,
+              fmin, fmax, max_points, app_max, rtol, out, as_json):
+    """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point."""
     model = _model(settings)
     p = _pa_level(pa)
+    by_pa = parameter == "pa"
+    if by_pa and dataset is not None:
+        raise InputError("--dataset draws over a resonance graph in f_e: not with --parameter pa")
     ds = _open_dataset(dataset, [p])
     fe = _number("--from-fe", "f_e", from_fe)
     if fe <= 0:
         raise InputError(f"--from-fe (f_e) = {fe:g}: must be > 0 Hz")
-    s = _settings(fmin, fmax, max_points, app_max, rtol)
-    if not (s.fmin <= fe <= s.fmax):
+    lo = _pa_level(pa_min, "--pa-min")
+    hi = _pa_level(pa_max, "--pa-max")
+    if by_pa and not lo < hi:
+        raise InputError(f"--pa-min (P_a/Q) = {lo:g}: must be < --pa-max = {hi:g}")
+    if by_pa and not lo <= p <= hi:
+        raise InputError(f"--pa (P_a/Q) = {p:g}: must lie in [--pa-min, --pa-max] = [{lo:g}, {hi:g}]")
+    s = _settings(fmin, fmax, max_points, app_max, rtol, (lo, hi) if by_pa else (0.0, 2.0))
+    if not by_pa and not (s.fmin <= fe <= s.fmax):
         raise InputError(f"--from-fe (f_e) = {fe:g}: must lie in [--fmin, --fmax] = [{s.fmin:g}, {s.fmax:g}] Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
     from .attractors import find_attractors
@@ -159,14 +182,17 @@ def continue_(pa, from_fe, attractor, settings, no_switch, dataset, fmin, fmax, 
         raise InputError(f"--attractor (N) = {n}: must be an index 0..{len(found) - 1} of the "
                          f"{len(found)} attractors found at {fe:g} Hz")
     msgs = []
-    bset = continue_attractors(model, p, fe, n, s, switch=not no_switch, attractors=found, log=msgs.append)
-    tag = f"pa{p:g}_fe{fe:g}"
-    paths, fig = _write(bset, Path(out), tag,
-                        f"$P_a$ = {p:g} Q, branches from the attractors at {fe:g} Hz", model, ds, p)
+    bset = continue_attractors(model, p, fe, n, s, switch=not no_switch, attractors=found,
+                               log=msgs.append, parameter="P_a" if by_pa else "f_e")
+    tag = f"pa{p:g}_fe{fe:g}" + ("_in_pa" if by_pa else "")
+    title = (f"$f_e$ = {fe:g} Hz, branches in $P_a$ from the attractors at {p:g} Q" if by_pa
+             else f"$P_a$ = {p:g} Q, branches from the attractors at {fe:g} Hz")
+    paths, fig = _write(bset, Path(out), tag, title, model, ds, p,
+                        parameter="P_a" if by_pa else "f_e")
     if as_json:
         click.echo(bset.to_json())
         return
-    _summary(bset)
+    _summary(bset, "P_a" if by_pa else "f_e")
     for m in msgs:
         click.echo(f"note: {m}")
     click.echo(f"wrote {len(paths)} branch files and {fig}")

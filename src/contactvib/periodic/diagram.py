@@ -25,13 +25,24 @@ __all__ = ["continue_attractors", "bifurcation_diagram", "on_branch", "DEFAULT_S
 DEFAULT_SEED_FE = (60.0, 200.0, 297.0, 420.0, 600.0, 900.0, 1200.0, 1930.0)
 
 
-def on_branch(model: ContactModel, branch: Branch, exc, z, k: int) -> bool:
-    """True when the period-``k`` orbit through ``z`` at ``exc`` lies on ``branch``."""
+def _param_column(branch: Branch, parameter: str) -> np.ndarray:
+    return branch.fe_hz if parameter == "f_e" else branch.pa_over_q
+
+
+def _param_value(exc, parameter: str) -> float:
+    return exc.f_e if parameter == "f_e" else exc.pa_over_q
+
+
+def on_branch(model: ContactModel, branch: Branch, exc, z, k: int, parameter: str = "f_e") -> bool:
+    """True when the period-``k`` orbit through ``z`` at ``exc`` lies on ``branch`` (a branch
+    continued in ``parameter``, "f_e" or "P_a")."""
     if branch.period != k or len(branch) < 2:
         return False
-    if np.any(np.abs(branch.pa_over_q - exc.pa_over_q) > 1e-12 * max(1.0, exc.pa_over_q)):
+    other = "P_a" if parameter == "f_e" else "f_e"  # held fixed along the branch
+    fixed = _param_column(branch, other) - _param_value(exc, other)
+    if np.any(np.abs(fixed) > 1e-12 * max(1.0, _param_value(exc, other))):
         return False
-    f = branch.fe_hz - exc.f_e
+    f = _param_column(branch, parameter) - _param_value(exc, parameter)
     pts_seed = strobe_points(exc, z, k)
     for i in np.nonzero(f[:-1] * f[1:] <= 0.0)[0]:
         a = 0.0 if f[i + 1] == f[i] else f[i] / (f[i] - f[i + 1])
@@ -45,42 +56,44 @@ def on_branch(model: ContactModel, branch: Branch, exc, z, k: int) -> bool:
     return False
 
 
-def _pd_done(sp, branches) -> bool:
+def _pd_done(sp, branches, parameter: str = "f_e") -> bool:
     """True when a known period-2k branch already starts or ends at this period doubling.
 
-    At a period doubling the period-2k branch touches the period-k orbit (same f_e and A_pp), so
-    a branch with a point within 1 % of (f_e, A_pp) of the doubling has been found (from either
-    end of its cascade, or switched onto from a copy of the period-k branch).
+    At a period doubling the period-2k branch touches the period-k orbit (same parameter and
+    A_pp), so a branch with a point within 1 % of (parameter, A_pp) of the doubling has been
+    found (from either end of its cascade, or switched onto from a copy of the period-k branch).
     """
+    q_sp = sp.fe_hz if parameter == "f_e" else sp.pa_over_q
     for b in branches:
         if b.period != 2 * sp.period:
             continue
-        near = (np.abs(b.fe_hz - sp.fe_hz) / sp.fe_hz
-                + np.abs(b.app_um - sp.app_um) / max(sp.app_um, 1e-12))
+        q = _param_column(b, parameter)
+        near = np.abs(q - q_sp) / q_sp + np.abs(b.app_um - sp.app_um) / max(sp.app_um, 1e-12)
         if near.size and float(near.min()) < 0.01:
             return True
         for st in b.stops:
-            if "merges" in st.reason and abs(st.fe_hz - sp.fe_hz) <= 1e-3 * sp.fe_hz:
+            q_st = st.fe_hz if parameter == "f_e" else st.pa_over_q
+            if "merges" in st.reason and abs(q_st - q_sp) <= 1e-3 * q_sp:
                 return True
-        if abs(b.fe_hz[0] - sp.fe_hz) <= 1e-6 * sp.fe_hz and b.parent is not None:
+        if abs(q[0] - q_sp) <= 1e-6 * q_sp and b.parent is not None:
             return True
     return False
 
 
-def _switch_all(model, branches: list, settings, kmax_switch: int, log):
+def _switch_all(model, branches: list, settings, kmax_switch: int, log, parameter: str = "f_e"):
     queue = list(branches)
     while queue:
         b = queue.pop(0)
         for sp in b.special:
             if sp.type != "period-doubling" or 2 * sp.period > kmax_switch:
                 continue
-            if _pd_done(sp, branches):
+            if _pd_done(sp, branches, parameter):
                 continue
             try:
-                nb = switch_period_doubling(model, sp, settings=settings,
+                nb = switch_period_doubling(model, sp, parameter=parameter, settings=settings,
                                             branch_id=f"{sp.branch}.pd{len(branches)}")
             except ContinuationError as e:
-                log(f"branch switching at {sp.fe_hz:.6g} Hz failed: {e}")
+                log(f"branch switching at {_where(sp, parameter)} failed: {e}")
                 continue
             branches.append(nb)
             queue.append(nb)
@@ -93,24 +106,32 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log):
                 z, _M, _r = refine_orbit(exc, st.merge_state, k, max_iter=30)
             except OrbitError:
                 continue
-            if any(on_branch(model, o, exc, z, k) for o in branches):
+            if any(on_branch(model, o, exc, z, k, parameter) for o in branches):
                 continue
             bid = f"{b.branch}.m{len(branches)}"
             try:
-                nb = continue_orbit(model, exc, z, k, settings=settings, branch_id=bid)
+                nb = continue_orbit(model, exc, z, k, parameter=parameter, settings=settings,
+                                    branch_id=bid)
             except (ContinuationError, ParameterError) as e:
-                log(f"continuation from the merge at {st.fe_hz:.6g} Hz failed: {e}")
+                log(f"continuation from the merge at {_where(st, parameter)} failed: {e}")
                 continue
-            log(f"{bid}: period {k} branch found where {b.branch} merges ({st.fe_hz:.6g} Hz)")
+            log(f"{bid}: period {k} branch found where {b.branch} merges ({_where(st, parameter)})")
             branches.append(nb)
             queue.append(nb)
+
+
+def _where(point, parameter: str) -> str:
+    if parameter == "f_e":
+        return f"f_e = {point.fe_hz:.6g} Hz"
+    return f"P_a = {point.pa_over_q:.6g} Q"
 
 
 def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
                         attractor: int | None = None, settings: ContinuationSettings | None = None,
                         switch: bool = True, kmax_switch: int = 8, known: list | None = None,
-                        prefix: str | None = None, attractors=None, log=None) -> BranchSet:
-    """Continue the attractors found at (``pa_over_q``, ``fe_hz``) in f_e, both ways.
+                        prefix: str | None = None, attractors=None, log=None,
+                        parameter: str = "f_e") -> BranchSet:
+    """Continue the attractors found at (``pa_over_q``, ``fe_hz``) in ``parameter``, both ways.
 
     Parameters
     ----------
@@ -123,6 +144,9 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
         Branches already computed (seeds on them are skipped); extended in place.
     attractors : AttractorSet, optional
         Reuse a search result instead of running :func:`find_attractors`.
+    parameter : {"f_e", "P_a"}
+        Continuation parameter: the frequency at fixed P_a (default) or the amplitude at
+        fixed f_e (range ``settings.pa_min`` … ``settings.pa_max``).
 
     Returns
     -------
@@ -133,9 +157,14 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
 
     settings = settings or ContinuationSettings()
     exc = model.excitation(pa_over_q, fe_hz)
-    if not (settings.fmin <= exc.f_e <= settings.fmax):
+    if parameter not in ("f_e", "P_a"):
+        raise ParameterError("parameter", parameter, "must be 'f_e' or 'P_a'")
+    if parameter == "f_e" and not (settings.fmin <= exc.f_e <= settings.fmax):
         raise ParameterError("f_e", fe_hz, f"seed must lie in [fmin, fmax] = [{settings.fmin:g}, "
                                            f"{settings.fmax:g}] Hz")
+    if parameter == "P_a" and not (settings.pa_min <= exc.pa_over_q <= settings.pa_max):
+        raise ParameterError("P_a", pa_over_q, f"seed must lie in [pa_min, pa_max] = "
+                                               f"[{settings.pa_min:g}, {settings.pa_max:g}] Q")
     found = attractors if attractors is not None else find_attractors(model, exc)
     if attractor is not None:
         n = int(check_range("attractor", attractor, 0, True))
@@ -148,18 +177,20 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
         idx = list(range(len(found)))
     log = log or (lambda msg: None)
     known = known if known is not None else []
-    prefix = prefix if prefix is not None else f"pa{exc.pa_over_q:g}"
+    if prefix is None:
+        prefix = f"pa{exc.pa_over_q:g}" if parameter == "f_e" else f"fe{exc.f_e:g}"
     new = []
     for i in idx:
         a = found[i]
         if a.period is None:
             log(f"attractor {i} at {exc.f_e:g} Hz is non-periodic: not continued")
             continue
-        if any(on_branch(model, b, exc, a.state, a.period) for b in known + new):
+        if any(on_branch(model, b, exc, a.state, a.period, parameter) for b in known + new):
             continue
         bid = f"{prefix}/b{len(known) + len(new)}"
         try:
-            b = continue_orbit(model, exc, a.state, a.period, settings=settings, branch_id=bid)
+            b = continue_orbit(model, exc, a.state, a.period, parameter=parameter,
+                               settings=settings, branch_id=bid)
         except ContinuationError as e:
             log(f"attractor {i}: {e}")
             continue
@@ -168,7 +199,7 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
     if switch:
         n0 = len(new)
         allb = known + new
-        _switch_all(model, allb, settings, kmax_switch, log)
+        _switch_all(model, allb, settings, kmax_switch, log, parameter)
         new.extend(allb[len(known) + n0:])
     known.extend(new)
     return BranchSet(new)

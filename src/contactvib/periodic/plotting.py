@@ -31,8 +31,10 @@ def _runs(mask):
     return list(zip(starts, stops))
 
 
-def plot_branches(branches, ax=None, title: str | None = None, specials=True):
-    """A_pp against f_e for every branch; stable solid, unstable dashed, special points marked."""
+def plot_branches(branches, ax=None, title: str | None = None, specials=True,
+                  parameter: str = "f_e"):
+    """A_pp against f_e (or P_a, ``parameter="P_a"``) for every branch; stable solid, unstable
+    dashed, special points marked."""
     from matplotlib.lines import Line2D
 
     ax = _ax(ax)
@@ -44,18 +46,21 @@ def plot_branches(branches, ax=None, title: str | None = None, specials=True):
         periods.add(b.period)
         for i0, i1 in _runs(b.stable):
             j1 = min(i1 + 1, len(b))  # join the runs
-            ax.plot(b.fe_hz[i0:j1], b.app_um[i0:j1], color=c, lw=1.2 if b.stable[i0] else 0.9,
+            q = b.fe_hz if parameter == "f_e" else b.pa_over_q
+            ax.plot(q[i0:j1], b.app_um[i0:j1], color=c, lw=1.2 if b.stable[i0] else 0.9,
                     ls="-" if b.stable[i0] else "--")
     used = set()
     if specials:
         for b in branches:
             for sp in b.special:
                 m, c = _MARKERS[sp.type]
-                ax.plot(sp.fe_hz, sp.app_um, m, color=c, ms=5, mfc="none" if sp.type == "grazing" else c,
+                q = sp.fe_hz if parameter == "f_e" else sp.pa_over_q
+                ax.plot(q, sp.app_um, m, color=c, ms=5, mfc="none" if sp.type == "grazing" else c,
                         zorder=5)
                 used.add(sp.type)
     ax.set_yscale("log")
-    ax.set_xlabel("excitation frequency $f_e$ [Hz]")
+    ax.set_xlabel("excitation frequency $f_e$ [Hz]" if parameter == "f_e"
+                  else "excitation amplitude $P_a$ [Q = Mg]")
     ax.set_ylabel("peak-to-peak amplitude $A_{pp}$ [µm]")
     handles = [Line2D([], [], color="k", ls="-", label="stable"),
                Line2D([], [], color="k", ls="--", label="unstable")]
@@ -86,7 +91,8 @@ def plot_evolution(result, ax=None, title: str | None = None):
     for name, (f, p) in result.extremes.items():
         ax.plot(f, p, "*", color="k", ms=9)
         ax.annotate(name, (f, p), textcoords="offset points", xytext=(5, -10), fontsize=7)
-    ax.set_xlabel("excitation frequency $f_e$ [Hz]")
+    ax.set_xlabel("excitation frequency $f_e$ [Hz]" if parameter == "f_e"
+                  else "excitation amplitude $P_a$ [Q = Mg]")
     ax.set_ylabel("excitation amplitude $P_a$ [Q]")
     handles = [Line2D([], [], color="tab:red", label="fold curve"),
                Line2D([], [], color="tab:orange", ls="--", label="period-doubling curve"),
