@@ -66,14 +66,15 @@ def test_bridge_follows_a_fast_bend_and_stops_at_the_branch_end():
     st, _z, _par = _orbit(170.0, z174)
     assert st != 0
     # ... the bridge's predictor does, to the reference orbit
-    zg = np.empty(2)
-    assert bridge_orbit(z174, r(174.0), z174, 0.0, False, r(170.0), 1, par174, 1e-12, 1e-10, zg)
+    zg, zb = np.empty(2), np.empty(2)
+    assert bridge_orbit(z174, r(174.0), z174, 0.0, False, r(170.0), 1, par174, 1e-12, 1e-10, zg,
+                        zb) == 2
     st, z170, _par = _orbit(170.0, zg)
     assert st == 0
     assert np.max(np.abs(z170 - ref["strobe"])) < 1e-8
     # the branch ends between 168 and 166 Hz: no bridge across 170 -> 162 Hz
-    assert not bridge_orbit(z170, r(170.0), z174, r(174.0), True, r(162.0), 1, par174, 1e-12,
-                            1e-10, zg)
+    assert bridge_orbit(z170, r(170.0), z174, r(174.0), True, r(162.0), 1, par174, 1e-12,
+                        1e-10, zg, zb) == 0
 
 
 def test_kernel_cache_folder_is_keyed_by_the_sources(monkeypatch, tmp_path):

@@ -491,3 +491,34 @@ def test_continuation_overlay_on_the_resonance_graph(paper, tmp_path, capsys):
     assert main(["continue", "--pa", "0.65", "--from-fe", "1930", "--attractor", "0",
                  "--fmin", "1700", "--fmax", "2000", "--dataset", nc, "--out", str(tmp_path / "b")]) == 0
     assert (tmp_path / "b" / "overlay_pa0.65_fe1930.png").stat().st_size > 20_000
+
+
+def test_label_flickers_along_a_branch_are_smoothed():
+    """A short run of other labels inside one continued branch (≤ 3 % of f_e, the same label on
+    both sides, minima matching the sides and not the run) takes the surrounding label; long
+    runs, runs whose minima match their own label, runs at a branch end and runs across two
+    branches are left alone."""
+    from contactvib.dataset import smooth_labels
+
+    fe = np.arange(226.0, 240.0)
+    six = np.full(fe.size, 6)
+    one = np.zeros(fe.size, int)
+    lab = np.array(["1/6"] * 4 + ["1/7"] * 4 + ["1/5"] + ["1/6"] * 5, dtype=object)
+    assert list(smooth_labels(lab, fe, six, one, 1.0)) == ["1/6"] * fe.size
+    long_run = np.array(["1/6"] * 3 + ["1/5"] * 8 + ["1/6"] * 3, dtype=object)  # 8 Hz > 3 %
+    assert list(smooth_labels(long_run, fe, six, one, 1.0)) == list(long_run)
+    own = np.array(["1/5"] * 6 + ["1/6"] * 2 + ["1/5"] * 6, dtype=object)  # a small 1/6 peak
+    minima = np.array([5] * 6 + [6] * 2 + [5] * 6)
+    assert list(smooth_labels(own, fe, minima, one, 1.0)) == list(own)
+    at_end = np.array(["1/6"] * 12 + ["1/5"] * 2, dtype=object)
+    assert list(smooth_labels(at_end, fe, six, one, 1.0)) == list(at_end)
+    two_chains = np.repeat([0, 1], 7)  # the flicker sits at the junction of two branches
+    lab2 = np.array(["1/6"] * 6 + ["1/5"] * 2 + ["1/6"] * 6, dtype=object)
+    assert list(smooth_labels(lab2, fe, six, two_chains, 1.0)) == list(lab2)
+
+
+def test_one_sixth_at_090q_bends_and_is_not_divided(ds):
+    """S3.7: at 0.90 Q the 1/6 grows and bends (one part; its labels no longer flicker)."""
+    facts = resonance_facts(ds, 0.90, 6)
+    assert facts.present and facts.bent
+    assert facts.stage() == "bent", facts

@@ -39,7 +39,7 @@ import numpy as np
 
 from .model import ContactModel
 
-__all__ = ["dominant_ratio", "resonance_label", "attractor_type", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
+__all__ = ["dominant_ratio", "resonance_label", "smooth_labels", "attractor_type", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
            "STOP_REASONS"]
 
 #: Layout version written into every dataset (``format`` attribute); chunks and datasets of
@@ -123,6 +123,75 @@ def resonance_label(kind: int, k: int, nu: Fraction, n_min: int, loses_contact: 
     return base + (" bouncing" if n_min < k else "")
 
 
+#: Longest flicker of the dominant-harmonic label that is smoothed away along a continued branch,
+#: as a fraction of its frequency (see :func:`smooth_labels`).
+LABEL_FLICKER = 0.03
+
+
+def _label_order(label) -> int | None:
+    """m of a period-1 label ``"main"`` (1) or ``"1/m"``; None for any other label."""
+    label = str(label)
+    if label == "main":
+        return 1
+    if label.startswith("1/") and label[2:].isdigit():
+        return int(label[2:])
+    return None
+
+
+def smooth_labels(labels, fe, minima, chains, df_hz: float, flicker: float = LABEL_FLICKER):
+    """Labels with short flickers removed along continuous branches.
+
+    In the flank of a peak two or three harmonics can be about equally amplified, and the
+    dominant-harmonic label then flickers along one continuous orbit family (0.90 Q, 230–234 Hz:
+    1/6 → 1/7 → 1/5 → 1/6 on an orbit with six minima throughout). A run of one label ``1/j`` on a
+    chain of Newton-continued orbits (same kind and period) takes the label ``1/m`` of both its
+    sides when it spans at most ``flicker`` of its frequency (or two grid steps), its orbits have
+    m minima and not j.
+    A short run whose minima agree with its own label is a resonance of its own and is kept (the
+    early 1/6 at 234 Hz, 0.85 Q, inside the flank of the 1/5).
+
+    Parameters
+    ----------
+    labels : object array (n,)
+    fe : float array (n,) [Hz]
+    minima : int array (n,)
+        Minima per period of every row.
+    chains : int array (n,)
+        Chain id of every row (rows linked by Newton continuation, same kind and period).
+    df_hz : float
+        Grid step [Hz].
+    """
+    out = labels.copy()
+    for c in np.unique(chains):
+        idx = np.nonzero(chains == c)[0]
+        if idx.size < 3 or np.unique(fe[idx]).size != idx.size:
+            continue  # two orbits at one frequency: not a single path along f_e
+        idx = idx[np.argsort(fe[idx], kind="stable")]
+        lab = out[idx]
+        n_row = minima[idx]
+        i = 0
+        while i < idx.size - 1:
+            side = lab[i]
+            m = _label_order(side)
+            # the next row with the same label after a run of other labels
+            j = i + 1
+            while j < idx.size and lab[j] != side:
+                j += 1
+            if m is None or j == i + 1 or j == idx.size:
+                i = j if j > i + 1 else i + 1
+                continue
+            seg = np.arange(i + 1, j)
+            orders = [_label_order(x) for x in lab[seg]]
+            f0, f1 = fe[idx[seg[0]]], fe[idx[seg[-1]]]
+            if (None not in orders and f1 - f0 + df_hz <= max(flicker * 0.5 * (f0 + f1), 2 * df_hz)
+                    and np.all(n_row[seg] == m)
+                    and not any(n == o for n, o in zip(n_row[seg], orders))):
+                lab[seg] = side
+            i = j
+        out[idx] = lab
+    return out
+
+
 class _UnionFind:
     def __init__(self, n):
         self.p = np.arange(n)
@@ -165,6 +234,15 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
            else Fraction(int(rows["nmin"][j]), NP_RECORD) for j in range(n)]
     labels = np.array([resonance_label(int(kind[j]), int(k[j]), nus[j], int(nmin[j]), bool(loses[j]),
                                        float(fe[j]), model.f_n0) for j in range(n)], dtype=object)
+    # chains: rows continued by Newton (no jump), same kind and period; short label flickers
+    # along a chain are smoothed away
+    chain_uf = _UnionFind(n)
+    for a, b, jump in level["links"]:
+        if jump == 0 and kind[a] == kind[b] and k[a] == k[b]:
+            chain_uf.union(int(a), int(b))
+    chains = np.array([chain_uf.find(j) for j in range(n)])
+    grid_step = float(np.min(np.diff(f))) if f.size > 1 else 1.0
+    labels = smooth_labels(labels, fe, nmin, chains, grid_step)
     # branches: rows continued by Newton (no jump), same kind, period and label
     uf = _UnionFind(n)
     for a, b, jump in level["links"]:

@@ -288,14 +288,32 @@ BRIDGE_DEPTH = 5
 
 
 @njit(cache=True)
-def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol, out_zg):
+def stays_on_branch(z_new, z_pred, z_cur):
+    """True when Newton from a secant predictor stayed on the branch.
+
+    The correction ``|z_new − z_pred|`` must be at most twice the predicted change
+    ``|z_pred − z_cur|`` (or 2 % of the state scale). A larger one means Newton converged to a
+    coexisting orbit: the branch ended (at a fold) between the two points, and what a sweep
+    does there is a jump, decided by the transient.
+    """
+    sc = state_scale(z_cur[0], z_cur[1])
+    corr = max(abs(z_new[0] - z_pred[0]), abs(z_new[1] - z_pred[1]))
+    d = max(abs(z_pred[0] - z_cur[0]), abs(z_pred[1] - z_cur[1]))
+    return corr <= max(2.0 * d, 0.02 * sc)
+
+
+@njit(cache=True)
+def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol, out_zg,
+                 out_from):
     """Predictor at ``r_to`` for a period-k orbit known at ``r_from`` (and at ``r_prev`` if
     ``have_prev``), from Newton-corrected sub-steps in r (halved on failure, down to
-    1/2**BRIDGE_DEPTH of the grid step), each stable orbit extrapolated linearly to the next.
+    1/2**BRIDGE_DEPTH of the grid step), each stable orbit extrapolated linearly to the next
+    and kept only if it stays on the branch (:func:`stays_on_branch`).
 
     Used when the one-step continuation fails: the branch may only bend fast between two grid
-    points. Returns True and writes ``out_zg`` when the sub-steps reach ``r_to``; False when the
-    orbit is lost between (a fold, a period doubling, an end of the branch).
+    points. Returns 0 when the orbit is lost between (a fold, a period doubling, an end of the
+    branch); otherwise writes the predictor ``out_zg`` and the last sub-step's orbit point
+    ``out_from`` and returns 2 if ``out_zg`` is a secant prediction, 1 if it is that point itself.
     """
     span = r_to - r_from
     h = 0.5 * span
@@ -319,10 +337,13 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
         if r_new == r_to:
             out_zg[0] = zg[0]
             out_zg[1] = zg[1]
-            return True
+            out_from[0] = zc[0]
+            out_from[1] = zc[1]
+            return 2 if have else 1
         par_s[4] = r_new
         st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, 8, oz, oM)
-        if st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + 1e-6:
+        if (st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + 1e-6
+                and (not have or stays_on_branch(oz, zg, zc))):
             zq[0] = zc[0]
             zq[1] = zc[1]
             rq = rc
@@ -333,7 +354,7 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
         else:
             h *= 0.5
             if abs(h) < h_min * (1.0 - 1e-9):
-                return False
+                return 0
 
 
 @njit(cache=True)
@@ -361,6 +382,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
     k = k0
     kind = kind0
     zp = np.empty(2)  # previous accepted orbit point on this segment (for the secant)
+    zb = np.empty(2)  # last orbit point of a bridge
     have_prev = False
     oz = np.empty(2)
     oM = np.empty((2, 2))
@@ -476,25 +498,31 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax, o_flight,
                                      o_nmin, o_next, o_ext_t, o_ext_x, o_ext_min, o_strobe,
                                      o_nstrobe, o_harm, oz, oM)
+            if ok and have_prev and not stays_on_branch(oz, zg, z):
+                ok = False  # Newton went over to a coexisting orbit: this branch ended
             z_from = z.copy()  # the phase point the accepted orbit was continued from
             if not ok:
                 r_prev = r_grid[i - direction] if have_prev else 0.0
-                if bridge_orbit(z, r_grid[i], zp, r_prev, have_prev, r_grid[i_next], k, par,
-                                rtol, close_tol, zg):
+                how = bridge_orbit(z, r_grid[i], zp, r_prev, have_prev, r_grid[i_next], k, par,
+                                   rtol, close_tol, zg, zb)
+                if how:
                     ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
                                              o_flight, o_nmin, o_next, o_ext_t, o_ext_x,
                                              o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
+                    ok = ok and (how == 1 or stays_on_branch(oz, zg, zb))
             # Newton's reach differs from phase to phase of a period-k orbit (a strobe point
             # close to an impact is a poor start): bridge from the other strobe points too
             for j in range(k if not ok else 0):
                 zj = t_pts[i, s, j]
                 if zj[0] == z[0] and zj[1] == z[1]:
                     continue
-                if bridge_orbit(zj, r_grid[i], zj, 0.0, False, r_grid[i_next], k, par, rtol,
-                                close_tol, zg):
+                how = bridge_orbit(zj, r_grid[i], zj, 0.0, False, r_grid[i_next], k, par, rtol,
+                                   close_tol, zg, zb)
+                if how:
                     ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
                                              o_flight, o_nmin, o_next, o_ext_t, o_ext_x,
                                              o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
+                    ok = ok and (how == 1 or stays_on_branch(oz, zg, zb))
                     if ok:
                         z_from[0] = zj[0]
                         z_from[1] = zj[1]
