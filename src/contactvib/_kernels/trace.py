@@ -501,22 +501,19 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
             if ok and have_prev and not stays_on_branch(oz, zg, z):
                 ok = False  # Newton went over to a coexisting orbit: this branch ended
             z_from = z.copy()  # the phase point the accepted orbit was continued from
-            if not ok:
-                r_prev = r_grid[i - direction] if have_prev else 0.0
-                how = bridge_orbit(z, r_grid[i], zp, r_prev, have_prev, r_grid[i_next], k, par,
-                                   rtol, close_tol, zg, zb)
-                if how:
-                    ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
-                                             o_flight, o_nmin, o_next, o_ext_t, o_ext_x,
-                                             o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
-                    ok = ok and (how == 1 or stays_on_branch(oz, zg, zb))
-            # Newton's reach differs from phase to phase of a period-k orbit (a strobe point
-            # close to an impact is a poor start): bridge from the other strobe points too
-            for j in range(k if not ok else 0):
-                zj = t_pts[i, s, j]
-                if zj[0] == z[0] and zj[1] == z[1]:
-                    continue
-                how = bridge_orbit(zj, r_grid[i], zj, 0.0, False, r_grid[i_next], k, par, rtol,
+            # lost: bridge the step by sub-steps, from the carried point (with its secant) and
+            # then from the orbit's other strobe points (Newton's reach differs from phase to
+            # phase of a period-k orbit: a strobe point close to an impact is a poor start)
+            for j in range(-1, k if not ok else -1):
+                if j < 0:
+                    zs, zq, hv = z, zp, have_prev
+                    rq = r_grid[i - direction] if have_prev else 0.0
+                else:
+                    zs = t_pts[i, s, j]
+                    if zs[0] == z[0] and zs[1] == z[1]:
+                        continue
+                    zq, hv, rq = zs, False, 0.0
+                how = bridge_orbit(zs, r_grid[i], zq, rq, hv, r_grid[i_next], k, par, rtol,
                                    close_tol, zg, zb)
                 if how:
                     ok, res = continue_orbit(zg, k, par, rtol, close_tol, n_rows, o_xmin, o_xmax,
@@ -524,8 +521,8 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, rtol, close_tol, kmax, m
                                              o_ext_min, o_strobe, o_nstrobe, o_harm, oz, oM)
                     ok = ok and (how == 1 or stays_on_branch(oz, zg, zb))
                     if ok:
-                        z_from[0] = zj[0]
-                        z_from[1] = zj[1]
+                        z_from[0] = zs[0]
+                        z_from[1] = zs[1]
                         break
             if ok:
                 described = True
