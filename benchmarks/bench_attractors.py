@@ -19,8 +19,11 @@ What is measured (all in one run, results printed and written to benchmarks/resu
 3. Work unit: 4 orbits x S perturbed starts x P periods = N trajectory-periods.
    * scipy: DOP853, rtol = atol = 1e-10, mode by mode (terminal events at x = 0), a few
      trajectories, cost scaled per trajectory-period (one core, pure Python loop).
-   * contactvib: ``flow.advance`` in a numba ``@njit(parallel=True)`` ensemble over all starts
-     (both cores). Its tolerance is the loosest one whose stroboscopic error is <= scipy's.
+   * contactvib: ``taylor.advance_state`` (the Taylor-series flow that the attractor search
+     integrates its transients with) in a numba ``@njit(parallel=True)`` ensemble over all
+     starts (both cores), starts interleaved across the orbits. Its tolerance is the loosest
+     one whose stroboscopic error is <= scipy's. The same for ``flow.advance`` (DOP853, the
+     shooting integrator) as a second row.
 4. Newton (``shooting.newton_orbit``) of the four orbits to closure 1e-8, and ``settle.settle_many``
    from 64 perturbed starts per orbit (transient + period detection + Newton to 1e-8).
 5. Compile time: first call vs second call, with the on-disk numba cache (warm) and in a fresh
@@ -62,15 +65,21 @@ ORBIT_GUESS = np.array([[-45.6107, 0.5061], [1.3016, -0.1249], [3.3857, -1.2839]
 RTOL_REF = 1e-13
 SCIPY_TOL = 1e-10
 TOL_SCAN = [1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10, 3e-11, 1e-11, 3e-12, 1e-12]
+TOL_SCAN_TAYLOR = [1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 1e-10, 1e-11, 1e-12]
 PERTURB = 1e-3  # relative perturbation of the starts around each orbit point
 
 
 # --------------------------------------------------------------------------------------------
 # compiled ensemble (benchmark-local; library kernels are called, not modified)
 # --------------------------------------------------------------------------------------------
-def _make_ensemble():
+def _make_ensemble(method="taylor"):
+    """Compiled ensemble over all starts; ``method`` "taylor": ``taylor.advance_state`` (the
+    library's transient integrator), "dop853": ``flow.advance`` (its shooting integrator)."""
     from contactvib._kernels.flow import REC_WIDTH, STATUS_OK, advance, initial_mode
     from contactvib._kernels.shooting import MAX_STEPS_PER_PERIOD
+    from contactvib._kernels.taylor import advance_state
+
+    use_taylor = method == "taylor"
 
     @njit(parallel=True, cache=False)
     def ensemble(Z, n_periods, par, rtol, atol):
@@ -90,8 +99,12 @@ def _make_ensemble():
             h = 0.01
             rec = np.empty((0, REC_WIDTH))
             for n in range(1, n_periods + 1):
-                contact, h, _ir, ns, _tf, _ne, st = advance(y, 0.0, T, contact, h, par, rtol, atol,
-                                                            rec, 0, MAX_STEPS_PER_PERIOD)
+                if use_taylor:
+                    contact, h, ns, _tf, _ne, st = advance_state(y, 0.0, T, contact, h, par, rtol,
+                                                                 MAX_STEPS_PER_PERIOD)
+                else:
+                    contact, h, _ir, ns, _tf, _ne, st = advance(y, 0.0, T, contact, h, par, rtol,
+                                                                atol, rec, 0, MAX_STEPS_PER_PERIOD)
                 steps[i] += ns
                 if st != STATUS_OK:
                     status[i] = st
@@ -337,7 +350,7 @@ def main(argv=None):
     R["reference_orbits"] = [{"x": float(o[0]), "v": float(o[1]), "closure": r, "floquet_abs_max": float(m)}
                              for o, r, m in zip(orbits, ref_res, mult)]
 
-    ref_kernel = ensemble  # one period at rtol=atol=1e-13, in parallel over the points
+    ref_kernel = _make_ensemble("dop853")  # one period at rtol=atol=1e-13 (DOP853), in parallel
 
     def ref_map(Zp):
         Zp = np.ascontiguousarray(Zp, dtype=np.float64)
@@ -382,47 +395,58 @@ def main(argv=None):
           f"strobe error max {e_sp.max():.2e}; ref(contactvib 1e-13) vs scipy 1e-13: {ref_agree:.1e}")
 
     # ---------------- contactvib: tolerance scan on scipy's own starts and periods -------------
-    Zc = starts_around(orbits, a.starts, rng)
+    # starts interleaved across the four orbits (a multi-start's starts come in random order; a
+    # block per orbit would hand one thread all the cheap orbits and the other the dear ones)
+    Zc = np.ascontiguousarray(starts_around(orbits, a.starts, rng).reshape(4, a.starts, 2)
+                              .transpose(1, 0, 2).reshape(-1, 2))
+    near = np.tile(orbits, (a.starts, 1))
     sub = Zs  # same start points and number of periods as the scipy sample: like for like
     n_sub_p = a.scipy_periods
-    scan = []
-    for tol in TOL_SCAN:
-        hist, steps, st = ensemble(sub, n_sub_p, par, tol, tol)
-        zfrom = hist[:, :-1, :].reshape(-1, 2)
-        zto = hist[:, 1:, :].reshape(-1, 2)
-        ok = np.all(np.isfinite(zto), axis=1)
-        e = strobe_error(zfrom[ok], zto[ok], ref_map)
-        scan.append({"tol": tol, "strobe_err_max": float(e.max()), "strobe_err_median": float(np.median(e)),
-                     "steps_per_period": float(steps.sum() / (len(sub) * n_sub_p)), "failed": int((st != 0).sum())})
-    R["contactvib_tol_scan"] = scan
-    target = e_sp.max()
-    chosen = next((s["tol"] for s in scan if s["strobe_err_max"] <= target and s["failed"] == 0), TOL_SCAN[-1])
-    R["contactvib_matched_tol"] = chosen
-
-    # ---------------- contactvib: the work unit at the matched tolerance (and at 1e-10) --------
     N_tp = len(Zc) * a.periods
-    work = {}
-    for label, tol in (("matched", chosen), ("same_tol_1e-10", SCIPY_TOL)):
-        wall, (hist, steps, st) = timed(ensemble, Zc, a.periods, par, tol, tol, repeat=3)
-        zfrom = hist[:, :-1, :].reshape(-1, 2)
-        zto = hist[:, 1:, :].reshape(-1, 2)
-        ok = np.all(np.isfinite(zto), axis=1)
-        e = strobe_error(zfrom[ok], zto[ok], ref_map)
-        dist = np.max(np.abs(hist[:, -1, :] - np.repeat(orbits, a.starts, axis=0)), axis=1) / \
-            np.maximum(1, np.max(np.abs(np.repeat(orbits, a.starts, axis=0)), axis=1))
-        work[label] = {"tol": tol, "wall_s": wall, "trajectory_periods": N_tp, "threads": n_threads,
-                       "tp_per_s": N_tp / wall, "tp_per_s_per_core": N_tp / wall / n_threads,
-                       "steps_per_period": float(steps.sum() / N_tp), "failed": int((st != 0).sum()),
-                       "strobe_err_max": float(e.max()), "strobe_err_median": float(np.median(e)),
-                       "final_dist_to_orbit_max": float(dist.max())}
-    # the same work unit on ONE thread (true per-core throughput, no scaling assumption)
-    numba.set_num_threads(1)
-    wall1, _ = timed(ensemble, Zc, a.periods, par, chosen, chosen, repeat=3)
-    numba.set_num_threads(n_threads)
-    work["matched_1thread"] = {"tol": chosen, "wall_s": wall1, "trajectory_periods": N_tp, "threads": 1,
-                               "tp_per_s": N_tp / wall1, "tp_per_s_per_core": N_tp / wall1,
-                               "parallel_efficiency": wall1 / (work["matched"]["wall_s"] * n_threads)}
+    target = e_sp.max()
+
+    def measure(ens, tols):
+        scan = []
+        for tol in tols:
+            hist, steps, st = ens(sub, n_sub_p, par, tol, tol)
+            zfrom = hist[:, :-1, :].reshape(-1, 2)
+            zto = hist[:, 1:, :].reshape(-1, 2)
+            ok = np.all(np.isfinite(zto), axis=1)
+            e = strobe_error(zfrom[ok], zto[ok], ref_map)
+            scan.append({"tol": tol, "strobe_err_max": float(e.max()), "strobe_err_median": float(np.median(e)),
+                         "steps_per_period": float(steps.sum() / (len(sub) * n_sub_p)),
+                         "failed": int((st != 0).sum())})
+        chosen = next((s["tol"] for s in scan if s["strobe_err_max"] <= target and s["failed"] == 0), tols[-1])
+        # the work unit at the matched tolerance (and at scipy's 1e-10)
+        work = {}
+        for label, tol in (("matched", chosen), ("same_tol_1e-10", SCIPY_TOL)):
+            wall, (hist, steps, st) = timed(ens, Zc, a.periods, par, tol, tol, repeat=3)
+            zfrom = hist[:, :-1, :].reshape(-1, 2)
+            zto = hist[:, 1:, :].reshape(-1, 2)
+            ok = np.all(np.isfinite(zto), axis=1)
+            e = strobe_error(zfrom[ok], zto[ok], ref_map)
+            dist = np.max(np.abs(hist[:, -1, :] - near), axis=1) / np.maximum(1, np.max(np.abs(near), axis=1))
+            work[label] = {"tol": tol, "wall_s": wall, "trajectory_periods": N_tp, "threads": n_threads,
+                           "tp_per_s": N_tp / wall, "tp_per_s_per_core": N_tp / wall / n_threads,
+                           "steps_per_period": float(steps.sum() / N_tp), "failed": int((st != 0).sum()),
+                           "strobe_err_max": float(e.max()), "strobe_err_median": float(np.median(e)),
+                           "final_dist_to_orbit_max": float(dist.max())}
+        # the same work unit on ONE thread (true per-core throughput, no scaling assumption)
+        numba.set_num_threads(1)
+        wall1, _ = timed(ens, Zc, a.periods, par, chosen, chosen, repeat=3)
+        numba.set_num_threads(n_threads)
+        work["matched_1thread"] = {"tol": chosen, "wall_s": wall1, "trajectory_periods": N_tp, "threads": 1,
+                                   "tp_per_s": N_tp / wall1, "tp_per_s_per_core": N_tp / wall1,
+                                   "parallel_efficiency": wall1 / (work["matched"]["wall_s"] * n_threads)}
+        return scan, chosen, work
+
+    scan, chosen, work = measure(ensemble, TOL_SCAN_TAYLOR)
+    R["contactvib_tol_scan"] = scan
+    R["contactvib_matched_tol"] = chosen
     R["contactvib_ensemble"] = work
+    dop = _make_ensemble("dop853")
+    scan_d, chosen_d, work_d = measure(dop, TOL_SCAN)
+    R["contactvib_dop853"] = {"tol_scan": scan_d, "matched_tol": chosen_d, "ensemble": work_d}
     sp_per = scipy_wall / n_sp
     W = {"trajectory_periods": N_tp, "description": f"4 orbits x {a.starts} starts x {a.periods} periods",
          "scipy_wall_s_scaled": sp_per * N_tp, "scipy_tp_per_s_per_core": 1.0 / sp_per,
@@ -488,7 +512,7 @@ def main(argv=None):
     for j, o in enumerate(R["reference_orbits"]):
         print(f"  {j}: x = {o['x']:+.10f}  v = {o['v']:+.10f}  closure {o['closure']:.1e}  |mu|max {o['floquet_abs_max']:.4f}")
     print(line)
-    print("contactvib tolerance scan (on scipy's starts and periods; one-period strobe error vs rtol-1e-13 reference):")
+    print("contactvib Taylor-series ensemble, tolerance scan (on scipy's starts and periods; one-period strobe error vs rtol-1e-13 DOP853 reference):")
     for s in scan:
         mark = "  <- matched" if s["tol"] == chosen else ""
         print(f"  tol {s['tol']:.0e}: err max {s['strobe_err_max']:.2e}  median {s['strobe_err_median']:.2e}"
@@ -502,8 +526,11 @@ def main(argv=None):
     for label in ("matched", "matched_1thread", "same_tol_1e-10"):
         w = dict(work[label])
         w.setdefault("strobe_err_max", work["matched"]["strobe_err_max"])
-        print(f"{'contactvib ensemble (' + label + ')':<40}{w['tol']:>8.0e}{w['wall_s']:>12.3f}"
+        print(f"{'contactvib Taylor ensemble (' + label + ')':<40}{w['tol']:>8.0e}{w['wall_s']:>12.3f}"
               f"{w['strobe_err_max']:>12.2e}{w['tp_per_s_per_core']:>12.1f}{w['threads']:>7}")
+    wd = R["contactvib_dop853"]["ensemble"]["matched"]
+    print(f"{'contactvib DOP853 ensemble (matched)':<40}{wd['tol']:>8.0e}{wd['wall_s']:>12.3f}"
+          f"{wd['strobe_err_max']:>12.2e}{wd['tp_per_s_per_core']:>12.1f}{wd['threads']:>7}")
     print(f"speed-up at equal accuracy: wall {W['speedup_wall']:.0f}x ({n_threads} threads vs 1 core), "
           f"per core {W['speedup_per_core']:.0f}x, 1 thread vs 1 core {W['speedup_1thread_vs_scipy']:.0f}x")
     print("scipy ms per period by orbit: " + ", ".join(f"{1e3 * t:.1f}" for t in R["scipy"]["s_per_period_by_orbit"])

@@ -1,6 +1,7 @@
 """Convergence to an attractor with period detection and Newton refinement (compiled, pure).
 
-One trajectory is integrated period by period at a loose tolerance. After each period the
+One trajectory is integrated period by period at a loose tolerance (the Taylor-series flow of
+:mod:`.taylor` for polynomial laws, DOP853 otherwise). After each period the
 stroboscopic points are searched for the smallest ``k ≤ kmax`` with
 ``|P_n − P_{n−k}| < detect_tol · scale``; the candidate is then refined by Newton shooting
 (:func:`.shooting.newton_orbit`) at a tight tolerance and accepted only if it closes
@@ -20,8 +21,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .flow import REC_WIDTH, STATUS_OK, advance, initial_mode
+from .flow import STATUS_OK, initial_mode
 from .shooting import MAX_STEPS_PER_PERIOD, floquet_abs_max, newton_orbit, state_scale, strobe_map
+from .taylor import advance_state
 
 SETTLE_PERIODIC = 0
 SETTLE_NONPERIODIC = 1
@@ -83,18 +85,16 @@ def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
     y[1] = z_init[1]
     contact = initial_mode(y[0], y[1])
     h = 0.01
-    contact, h, _i, _ns, _tf, _ne, st = advance(
-        y, phase0 * T, T, contact, h, par, rtol_transient, rtol_transient, np.empty((0, REC_WIDTH)), 0,
-        MAX_STEPS_PER_PERIOD)
+    contact, h, _ns, _tf, _ne, st = advance_state(
+        y, phase0 * T, T, contact, h, par, rtol_transient, MAX_STEPS_PER_PERIOD)
     if st != STATUS_OK:
         return SETTLE_FAILED, 0, 0, math.inf
     hist[0, 0] = y[0]
     hist[0, 1] = y[1]
     tol = detect_tol
     for n in range(1, max_periods + 1):
-        contact, h, _i, _ns, _tf, _ne, st = advance(
-            y, 0.0, T, contact, h, par, rtol_transient, rtol_transient, np.empty((0, REC_WIDTH)), 0,
-            MAX_STEPS_PER_PERIOD)
+        contact, h, _ns, _tf, _ne, st = advance_state(
+            y, 0.0, T, contact, h, par, rtol_transient, MAX_STEPS_PER_PERIOD)
         if st != STATUS_OK:
             return SETTLE_FAILED, 0, n, math.inf
         hist[n, 0] = y[0]
