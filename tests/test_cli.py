@@ -21,6 +21,8 @@ CMD = [sys.executable, "-m", "contactvib.cli"]
     (["--set", "l=-1"], "contactvib: error: --set l (l) = -1: must be >= 0"),
     (["--set", "mass=1"], "contactvib: error: --set mass (mass) = 1: unknown parameter"),
     (["--pa-newton", "-2"], "contactvib: error: --pa-newton (P_a) = -2: must be >= 0 N"),
+    (["--set", "l=0"], "contactvib: error: --set l=0 (h_n) = 3.5e+11: gives the damping ratio "
+                       "zeta = 8.02e+04 with l = 0: must give zeta <= 100"),
 ])
 def test_bad_input_one_line(args, message):
     """Bad input: one stderr line naming option, symbol, value and range; exit 2; no traceback."""

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from contactvib import ContactModel, ParameterError
+from contactvib.model import ZETA_MAX
 
 
 def test_paper_static_deflection_and_natural_frequency():
@@ -55,6 +56,19 @@ def test_bad_parameters_are_rejected(kw, symbol):
     with pytest.raises(ParameterError) as e:
         ContactModel(**kw)
     assert e.value.symbol == symbol
+
+
+def test_overdamped_contact_is_rejected_with_the_largest_h_n():
+    """The paper's h_n with l = 0 gives ζ = 8e4 (a stiff contact that explicit integration
+    would crawl through): refused, naming h_n and the largest h_n allowed; ζ is linear in h_n,
+    so that bound gives ζ = ZETA_MAX, and the h_n suggested for the paper's ζ gives 0.018."""
+    with pytest.raises(ParameterError) as e:
+        ContactModel(l=0.0)
+    assert e.value.symbol == "h_n" and "zeta = 8.02e+04" in e.value.allowed
+    h_max = float(e.value.allowed.split("h_n <= ")[1].split()[0])
+    assert ContactModel(l=0.0, h_n=h_max * 0.999).zeta == pytest.approx(ZETA_MAX, rel=2e-3)
+    h_paper = float(e.value.allowed.split("about ")[1].split()[0])
+    assert ContactModel(l=0.0, h_n=h_paper).zeta == pytest.approx(ContactModel().zeta, rel=1e-2)
 
 
 def test_bad_excitation_and_unknown_name():

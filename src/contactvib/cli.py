@@ -54,8 +54,11 @@ def _model(settings: tuple[str, ...]) -> ContactModel:
         try:
             ContactModel(**{name: value})
         except ParameterError as e:
-            raise InputError(f"--set {name} ({e.symbol}) = {_show(e.value)}: {e.allowed}") from None
-    return _checked("--set", ContactModel.from_overrides, overrides)
+            if e.symbol == name:  # the parameter's own range; combinations are checked below
+                raise InputError(f"--set {name} ({e.symbol}) = {_show(e.value)}: {e.allowed}") from None
+    # a combination out of range (the damping ratio) names every --set the user gave
+    given = " ".join(f"--set {k}={_show(v)}" for k, v in overrides.items()) or "the paper's parameters"
+    return _checked(given, ContactModel.from_overrides, overrides)
 
 
 def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: str) -> Excitation:

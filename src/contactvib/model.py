@@ -60,6 +60,10 @@ _BOUNDS = {
 }
 
 
+#: Largest linear damping ratio accepted (the paper's is 0.018; above this the contact is stiff).
+ZETA_MAX = 100.0
+
+
 class ParameterError(ValueError):
     """A parameter is outside its allowed range.
 
@@ -150,6 +154,16 @@ class ContactModel:
         for name, (lower, inclusive) in _BOUNDS.items():
             check_range(name, getattr(self, name), lower, inclusive, PARAMETER_UNITS[name])
             object.__setattr__(self, name, float(getattr(self, name)))
+        if not self.zeta <= ZETA_MAX:
+            # ζ is proportional to h_n: name the largest h_n allowed with this l
+            h_max = self.h_n * ZETA_MAX / self.zeta
+            raise ParameterError(
+                "h_n", self.h_n,
+                f"gives the damping ratio zeta = {self.zeta:.3g} with l = {self.l:g}: must give "
+                f"zeta <= {ZETA_MAX:g}, i.e. h_n <= {h_max:.3g} N s/m^(3+l) (a contact this "
+                f"overdamped is stiff: explicit integration would take ~zeta steps per natural "
+                f"period; h_n scales as y0^(1-l), about {PAPER_DEFAULTS['h_n'] * self.y0 ** (1.0 - self.l):.3g} "
+                f"for the paper's zeta = 0.018 at this l)")
 
     # ----------------------------------------------------------------- construction
     @classmethod

@@ -244,19 +244,27 @@ def dense_root(F, y_old, comp, level, a, b):
         fc = dense_value(F, y_old, c, comp) - level
         if fc == 0.0 or abs(b - a) < 4e-16:
             return c
-        if (fc > 0.0) == (fb > 0.0):
-            b = c
-            fb = fc
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            a = c
-            fa = fc
-            if side == 1:
-                fb *= 0.5
-            side = 1
+        a, b, fa, fb, side = illinois_update(a, b, fa, fb, c, fc, side)
     return c
+
+
+@njit(cache=True)
+def illinois_update(a, b, fa, fb, c, fc, side):
+    """Bracket [a, b] after the trial point c (value fc) of the Illinois method; the retained
+    end's value is halved when the same side is kept twice. Returns (a, b, fa, fb, side)."""
+    if (fc > 0.0) == (fb > 0.0):
+        b = c
+        fb = fc
+        if side == -1:
+            fa *= 0.5
+        side = -1
+    else:
+        a = c
+        fa = fc
+        if side == 1:
+            fb *= 0.5
+        side = 1
+    return a, b, fa, fb, side
 
 
 @njit(cache=True)
