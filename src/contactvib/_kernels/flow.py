@@ -238,13 +238,20 @@ def dense_root(F, y_old, comp, level, a, b):
     side = 0
     c = b
     for _ in range(200):
-        c = (a * fb - b * fa) / (fb - fa)
-        if not (c > min(a, b) and c < max(a, b)):
-            c = 0.5 * (a + b)
+        c = illinois_trial(a, b, fa, fb)
         fc = dense_value(F, y_old, c, comp) - level
         if fc == 0.0 or abs(b - a) < 4e-16:
             return c
         a, b, fa, fb, side = illinois_update(a, b, fa, fb, c, fc, side)
+    return c
+
+
+@njit(cache=True)
+def illinois_trial(a, b, fa, fb):
+    """The secant point of the bracket [a, b] (its midpoint if the secant falls outside)."""
+    c = (a * fb - b * fa) / (fb - fa)
+    if not (c > min(a, b) and c < max(a, b)):
+        c = 0.5 * (a + b)
     return c
 
 

@@ -39,7 +39,7 @@ from numba import njit
 
 from .flow import (REC_WIDTH, STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK,
                    STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS, _crosses, advance,
-                   illinois_update)
+                   illinois_trial, illinois_update)
 
 SAFETY = 0.8
 N_SUB = 8  # sub-intervals of a step searched for a crossing of x = 0
@@ -176,9 +176,7 @@ def poly_root(C, N, shift, a, b):
     side = 0
     c = b
     for _ in range(200):
-        c = (a * fb - b * fa) / (fb - fa)
-        if not (c > min(a, b) and c < max(a, b)):
-            c = 0.5 * (a + b)
+        c = illinois_trial(a, b, fa, fb)
         fc = poly(C, N, c, shift)
         if fc == 0.0 or abs(b - a) <= 4e-16 * max(1.0, abs(b)):
             return c
