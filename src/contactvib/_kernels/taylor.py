@@ -66,6 +66,14 @@ def order_for(tol):
 
 
 @njit(cache=True)
+def _rotation(k, ct, st):
+    """cos(rτ0 + kπ/2) from ct = cos rτ0, st = sin rτ0 (the forcing's k-th coefficient is
+    p r^k/k! times this)."""
+    m = k & 3
+    return ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
+
+
+@njit(cache=True)
 def series(contact, t, x0, v0, par, N, X, V, W):
     """Taylor coefficients X[0..N], V[0..N] of x and x' about τ = t.
 
@@ -89,8 +97,7 @@ def series(contact, t, x0, v0, par, N, X, V, W):
     fk = p  # p r^k / k!
     if not contact:  # flight: x'' = (1 + p cos rτ)/m2
         for k in range(N):
-            m = k & 3
-            g = ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
+            g = _rotation(k, ct, st)
             a = fk * g + (1.0 if k == 0 else 0.0)
             X[k + 1] = V[k] * INV[k + 1]
             V[k + 1] = a * inv_m2 * INV[k + 1]
@@ -102,8 +109,7 @@ def series(contact, t, x0, v0, par, N, X, V, W):
         p_k = x0 * x0  # (x²)_k
         for k in range(N):
             n = k + 1
-            m = k & 3
-            g = ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
+            g = _rotation(k, ct, st)
             s = 0.0
             for j in range((n + 1) // 2 - 1, 0, -1):
                 s += X[j] * X[n - j]
@@ -125,8 +131,7 @@ def series(contact, t, x0, v0, par, N, X, V, W):
     for q in range(2, qmax + 1):
         W[q, 0] = W[q - 1, 0] * x0
     for k in range(N):
-        m = k & 3
-        g = ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
+        g = _rotation(k, ct, st)
         X[k + 1] = V[k] * INV[k + 1]
         n = k + 1
         W[1, n] = X[n]
