@@ -249,7 +249,7 @@ def compile_times_cold():
 def run_cli():
     env = dict(os.environ)
     env["PYTHONPATH"] = str(SRC) + os.pathsep + env.get("PYTHONPATH", "")
-    cmd = [sys.executable, "-m", "contactvib.cli", "attractors", "--pa", str(PA), "--fe", str(FE), "--json"]
+    cmd = [sys.executable, "-m", "contactvib", "attractors", "--pa", str(PA), "--fe", str(FE), "--json"]
     runs = []
     for _ in range(2):
         t0 = time.perf_counter()
@@ -269,7 +269,7 @@ def run_cli():
     except Exception:  # noqa: BLE001
         n_att, periods = None, None
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-c", "import contactvib.cli, contactvib.attractors"], env=env, cwd=ROOT)
+    subprocess.run([sys.executable, "-c", "import contactvib.cli, contactvib.steady.attractors"], env=env, cwd=ROOT)
     t_import = time.perf_counter() - t0
     return {"available": True, "python_start_and_import_s": t_import, "command": " ".join(["PYTHONPATH=src", "python"] + cmd[1:]),
             "wall_first_s": runs[0], "wall_second_s": runs[1], "n_attractors": n_att,

@@ -27,8 +27,8 @@ import numpy as np  # noqa: E402
 
 from contactvib import ContactModel, find_attractors  # noqa: E402
 from contactvib._kernels.continuation import orbit_range  # noqa: E402
-from contactvib.periodic import ContinuationSettings, continue_orbit  # noqa: E402
-from contactvib.steady import refine_orbit  # noqa: E402
+from contactvib import ContinuationSettings, continue_orbit  # noqa: E402
+from contactvib.steady.orbits import refine_orbit  # noqa: E402
 
 AUTO_SECONDS = 7.0
 

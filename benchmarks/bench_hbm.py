@@ -17,8 +17,8 @@ import time
 import numpy as np
 
 from contactvib import ContactModel
-from contactvib.hbm import hb_continuation
-from contactvib.steady import describe_orbit, refine_orbit
+from contactvib.frequency.harmonic_balance import hb_continuation
+from contactvib.steady.orbits import describe_orbit, refine_orbit
 
 
 def _best(fn, repeats: int = 5):

@@ -1,26 +1,67 @@
 """contactvib: non-linear dynamics of contact oscillators (Kostek 2013).
 
-The public API: :class:`ContactModel` (parameters, derived quantities), its
-:meth:`ContactModel.excitation`, :func:`find_attractors`, :func:`simulate`,
-:func:`attractor_history`, :func:`refine_orbit`, and the result types.
-Heavy modules (numba kernels) are imported on first use.
-"""
-from .model import PAPER_DEFAULTS, ContactModel, Excitation, ParameterError
+The public API: every verb and result type is importable from here, e.g.
+``from contactvib import ContactModel, find_attractors, simulate``. Heavy modules (numba kernels,
+matplotlib) are imported on first use of a name that needs them.
 
-__all__ = ["ContactModel", "Excitation", "ParameterError", "PAPER_DEFAULTS", "find_attractors",
-           "simulate", "attractor_history", "refine_orbit", "Attractor", "AttractorSet",
-           "TimeHistory"]
+Verbs: :func:`find_attractors`, :func:`simulate`, :func:`attractor_history`,
+:func:`refine_orbit`, :func:`describe_orbit`, :func:`continue_orbit`,
+:func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
+:func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
+:func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
+:func:`attractors_at`, :func:`reproduce_paper`.
+"""
+
+from contactvib.model import PAPER_DEFAULTS, ContactModel, Excitation, ParameterError
+
 __version__ = "0.1.0"
 
+#: public name -> (module, attribute); the module is imported on first access
 _LAZY = {
-    "find_attractors": ("attractors", "find_attractors"),
-    "simulate": ("simulate", "simulate"),
-    "attractor_history": ("simulate", "attractor_history"),
-    "refine_orbit": ("steady", "refine_orbit"),
-    "Attractor": ("results", "Attractor"),
-    "AttractorSet": ("results", "AttractorSet"),
-    "TimeHistory": ("results", "TimeHistory"),
+    # steady states
+    "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
+    "simulate": ("contactvib.steady.simulate", "simulate"),
+    "attractor_history": ("contactvib.steady.simulate", "attractor_history"),
+    "refine_orbit": ("contactvib.steady.orbits", "refine_orbit"),
+    "describe_orbit": ("contactvib.steady.orbits", "describe_orbit"),
+    "OrbitError": ("contactvib.steady.orbits", "OrbitError"),
+    "Attractor": ("contactvib.steady.results", "Attractor"),
+    "AttractorSet": ("contactvib.steady.results", "AttractorSet"),
+    "TimeHistory": ("contactvib.steady.results", "TimeHistory"),
+    # continuation
+    "continue_orbit": ("contactvib.continuation.shooting", "continue_orbit"),
+    "switch_period_doubling": ("contactvib.continuation.shooting", "switch_period_doubling"),
+    "ContinuationSettings": ("contactvib.continuation.shooting", "ContinuationSettings"),
+    "ContinuationError": ("contactvib.continuation.shooting", "ContinuationError"),
+    "continue_attractors": ("contactvib.continuation.diagram", "continue_attractors"),
+    "bifurcation_diagram": ("contactvib.continuation.diagram", "bifurcation_diagram"),
+    "evolution": ("contactvib.continuation.evolution", "evolution"),
+    "EvolutionResult": ("contactvib.continuation.evolution", "EvolutionResult"),
+    "Curve": ("contactvib.continuation.evolution", "Curve"),
+    "Branch": ("contactvib.continuation.branch", "Branch"),
+    "BranchSet": ("contactvib.continuation.branch", "BranchSet"),
+    "SpecialPoint": ("contactvib.continuation.branch", "SpecialPoint"),
+    "Stop": ("contactvib.continuation.branch", "Stop"),
+    # frequency domain
+    "perturbation_series": ("contactvib.frequency.perturbation", "perturbation_series"),
+    "perturbation_curve": ("contactvib.frequency.perturbation", "perturbation_curve"),
+    "PerturbationResult": ("contactvib.frequency.perturbation", "PerturbationResult"),
+    "hb_solve": ("contactvib.frequency.harmonic_balance", "hb_solve"),
+    "hb_continuation": ("contactvib.frequency.harmonic_balance", "hb_continuation"),
+    "HBSolution": ("contactvib.frequency.harmonic_balance", "HBSolution"),
+    "HBBranch": ("contactvib.frequency.harmonic_balance", "HBBranch"),
+    "HBError": ("contactvib.frequency.harmonic_balance", "HBError"),
+    # sweeps and the paper
+    "SweepSettings": ("contactvib.sweeps.sweep", "SweepSettings"),
+    "trace_level": ("contactvib.sweeps.sweep", "trace_level"),
+    "resonance_dataset": ("contactvib.sweeps.resonance", "resonance_dataset"),
+    "attractors_at": ("contactvib.sweeps.dataset", "attractors_at"),
+    "reproduce_paper": ("contactvib.sweeps.paper", "reproduce_paper"),
+    "PaperResult": ("contactvib.sweeps.paper", "PaperResult"),
 }
+
+__all__ = ["ContactModel", "Excitation", "ParameterError", "PAPER_DEFAULTS", "__version__",
+           *_LAZY]
 
 
 def __getattr__(name):
@@ -28,5 +69,11 @@ def __getattr__(name):
         import importlib
 
         module, attr = _LAZY[name]
-        return getattr(importlib.import_module(f".{module}", __name__), attr)
+        value = getattr(importlib.import_module(module), attr)
+        globals()[name] = value  # later lookups, and the submodule attribute, give the function
+        return value
     raise AttributeError(f"module 'contactvib' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(__all__)

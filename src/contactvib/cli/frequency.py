@@ -1,0 +1,240 @@
+"""CLI commands ``perturbation`` (series solution vs numerics) and ``hbm`` (harmonic balance)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from contactvib.cli.common import (InputError, _excitation, _frequency_range, _int, _model, _number,
+                  _operating_point_options)
+
+_CONV_ORDERS_MAX = 80
+
+
+def _figure_setup():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+@click.command()
+@_operating_point_options
+@click.option("--order", default="40", show_default=True, metavar="N",
+              help="Number of terms N of the series in P_a/Q (1..400).")
+@click.option("--summation", type=click.Choice(["pade", "plain"]), default="pade",
+              show_default=True, help="Padé per harmonic (converges near resonances) or the "
+                                      "plain partial sum.")
+@click.option("--out", default=None, type=click.Path(file_okay=False),
+              help="Folder for the overlay and convergence figures (and convergence.csv).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
+def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
+    """Perturbation series of the steady state, its validity, and a comparison with the numerics."""
+    model = _model(settings)
+    exc = _excitation(model, pa, pa_newton, fe)
+    n = _int("--order", order, 1, 400)
+    from contactvib.frequency.perturbation import convergence_table, perturbation_series, steady_counterpart
+
+    res = perturbation_series(model, exc, n, summation)
+    if as_json and out is None:
+        click.echo(res.to_json())
+        return
+    num = steady_counterpart(model, exc, res)
+    if as_json:
+        click.echo(res.to_json())
+    else:
+        click.echo(f"P_a = {exc.pa_over_q:g} Q, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz, "
+                   f"order N = {n} ({summation} summation)")
+        click.echo(f"  series:    A_pp = {res.app_um:.6g} um, y_min = {res.ymin_um:.6g} um, "
+                   f"y_max = {res.ymax_um:.6g} um, estimated A_pp error {res.error_estimate_um:.2g} um")
+        click.echo("  valid:     " + ("yes" if res.valid else f"NO: {res.reason}"))
+        click.echo(f"  numerics:  A_pp = {num.app_um:.6g} um, y_min = {num.ymin_um:.6g} um "
+                   f"(period {num.period}, {num.minima_per_period} minima, "
+                   f"{'loses contact' if num.loses_contact else 'contact kept'}); "
+                   f"relative A_pp difference {abs(res.app_um - num.app_um) / num.app_um:.2e}")
+        h = ", ".join(f"{a:.4g}" for a in res.harmonics_um[:7])
+        click.echo(f"  harmonics [um], k = 0..6 (k = 0: mean shift): {h}")
+    if out is None:
+        return
+    plt = _figure_setup()
+    from contactvib.plotting.frequency import overlay_figure, plot_convergence
+    from contactvib.steady.simulate import attractor_history
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
+    hist_num = attractor_history(model, exc, num, n_periods=2, samples_per_period=1000)
+    series = res.history(n_periods=2, samples_per_period=1000) if res.valid else None
+    note = "" if res.valid else f"perturbation series not drawn: {res.reason}"
+    head = (f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz: perturbation (N = {n}, "
+            f"{summation}) vs numerics; $A_{{pp}}$ {res.app_um:.4g} vs {num.app_um:.4g} µm")
+    if not res.valid:
+        head = (f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz: numerics, $A_{{pp}}$ = "
+                f"{num.app_um:.4g} µm; perturbation series (N = {n}) INVALID, not drawn:\n"
+                + res.reason.split(";")[0])
+        note = ""
+    fig = overlay_figure(hist_num, series, head, note)
+    p1 = out / f"perturbation_{tag}.png"
+    fig.savefig(p1, dpi=130)
+    plt.close(fig)
+    orders = sorted(set(range(2, min(max(n, 8), _CONV_ORDERS_MAX) + 1, 2)) | {1})
+    tables = {s: convergence_table(model, exc, orders, num.app_um, s) for s in ("plain", "pade")}
+    lines = ["N,app_plain_um,relerr_plain,estimate_plain_um,app_pade_um,relerr_pade,estimate_pade_um"]
+    for rp, rq in zip(tables["plain"], tables["pade"]):
+        lines.append(f"{rp[0]},{rp[1]:.12g},{rp[2]:.3e},{rp[3]:.3e},{rq[1]:.12g},{rq[2]:.3e},{rq[3]:.3e}")
+    p2 = out / f"convergence_{tag}.csv"
+    p2.write_text("\n".join(lines) + "\n")
+    fig, ax = plt.subplots(figsize=(6, 3.8))
+    plot_convergence({"plain": tables["plain"], "Padé": tables["pade"]}, ax)
+    ax.set_title(f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz: series vs shooting "
+                 f"($A_{{pp}}$ = {num.app_um:.5g} µm)", fontsize=9)
+    fig.tight_layout()
+    p3 = out / f"convergence_{tag}.png"
+    fig.savefig(p3, dpi=130)
+    plt.close(fig)
+    if not as_json:
+        for p in (p1, p2, p3):
+            click.echo(str(p))
+
+
+@click.command()
+@click.option("--pa", default="0.65", show_default=True, metavar="Q",
+              help="Excitation amplitude P_a as a multiple of Q = M g.")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+              help="Override a model parameter by its paper symbol (as for `attractors`).")
+@click.option("--harmonics", default="32", show_default=True, metavar="H",
+              help="Number of harmonics H (1..1024).")
+@click.option("--fmin", default="300", show_default=True, metavar="HZ", help="Lowest f_e [Hz].")
+@click.option("--fmax", default="2000", show_default=True, metavar="HZ", help="Highest f_e [Hz].")
+@click.option("--energy-tol", default="1e-8", show_default=True,
+              help="Stop a branch when the top quarter of the harmonics holds more than this "
+                   "share of the energy.")
+@click.option("--out", default="hbm", show_default=True, type=click.Path(file_okay=False),
+              help="Output folder for the branch figure and branch.json.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
+def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
+    """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
+    model = _model(settings)
+    pa_q = _number("--pa", "P_a/Q", pa)
+    if pa_q < 0:
+        raise InputError(f"--pa (P_a/Q) = {pa_q:g}: must be >= 0 (multiple of Q = M g)")
+    H = _int("--harmonics", harmonics, 1, 1024)
+    f1, f2 = _frequency_range(fmin, fmax)
+    etol = _number("--energy-tol", "energy_tol", energy_tol)
+    if etol <= 0:
+        raise InputError(f"--energy-tol (energy_tol) = {etol:g}: must be > 0")
+    from contactvib.frequency.harmonic_balance import hb_continuation
+
+    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol)),
+                ("from fmax", hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol,
+                                              from_fmax=True))]
+    series = _series_points(model, pa_q, f1, f2)
+    branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
+    payload = {"pa_over_q": pa_q, "harmonics": H, "fmin_hz": f1, "fmax_hz": f2,
+               "branches": [dict(b.to_dict(), start=name) for name, b in branches]}
+    outp = Path(out)
+    outp.mkdir(parents=True, exist_ok=True)
+    (outp / "branch.json").write_text(json.dumps(payload))
+    plt = _figure_setup()
+    from contactvib.plotting.frequency import plot_branch
+
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    colours = ["k", "tab:blue", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:olive"]
+    for i, (name, b) in enumerate(branches):
+        plot_branch(b, ax, label=f"HB (H = {H}) {name}", colour=colours[i % len(colours)])
+    fs, apps = series
+    if fs:
+        ax.plot(fs, apps, "o", mfc="none", color="tab:red", ms=3.5,
+                label="perturbation (N = 40, Padé), valid points only")
+    for m in range(1, 7):
+        fm = model.f_n0 / m
+        if f1 <= fm <= f2:
+            ax.axvline(fm, color="0.8", lw=0.6, zorder=0)
+            ax.text(fm, 1.0, f"1/{m}" if m > 1 else "$f_{n0}$", transform=ax.get_xaxis_transform(),
+                    fontsize=7, ha="center", va="bottom", color="0.4")
+    ax.set_title(f"Harmonic balance, $P_a$ = {pa_q:g} Q (dots: loss of contact)", fontsize=10,
+                 pad=14)
+    ax.legend(loc="upper right", fontsize=7, frameon=False)
+    fig.tight_layout()
+    tag = f"pa{pa_q:g}_H{H}"
+    path = outp / f"hbm_branch_{tag}.png"
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    if as_json:
+        click.echo(json.dumps(payload))
+        return
+    for name, b in branches:
+        click.echo(f"branch {name}: {len(b)} points, f_e {b.fe_hz.min():.1f}..{b.fe_hz.max():.1f} Hz, "
+                   f"A_pp {b.app_um.min():.4g}..{b.app_um.max():.4g} um, "
+                   f"{int((~b.stable).sum())} unstable points; {b.stop_reason}")
+    click.echo(str(path))
+
+
+def _series_points(model, pa_q, f1, f2, order: int = 40, n: int = 120):
+    """Frequencies and A_pp of the valid perturbation series on a log grid (small amplitudes)."""
+    import numpy as np
+
+    from contactvib.frequency.perturbation import perturbation_series
+
+    fs, apps = [], []
+    for f in np.geomspace(f1, f2, n):
+        r = perturbation_series(model, model.excitation(pa_q, float(f)), order)
+        if r.valid:
+            fs.append(float(f))
+            apps.append(r.app_um)
+    return fs, apps
+
+
+def _passes(branch, f, app, rtol=0.02):
+    """Whether a branch passes through (f, app): some segment spans f at A_pp within rtol."""
+    fe, a = branch.fe_hz, branch.app_um
+    for i in range(fe.size - 1):
+        lo, hi = sorted((fe[i], fe[i + 1]))
+        if lo <= f <= hi:
+            w = 0.0 if hi == lo else (f - fe[i]) / (fe[i + 1] - fe[i])
+            if abs(a[i] + w * (a[i + 1] - a[i]) - app) <= rtol * app:
+                return True
+    return False
+
+
+def _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches):
+    """Continue, both ways, from the middle of each run of valid series points that no branch
+    found yet (the small-amplitude parts between the superharmonic resonances)."""
+    import numpy as np
+
+    from contactvib.frequency.harmonic_balance import hb_continuation, hb_solve
+    from contactvib.frequency.perturbation import perturbation_series
+
+    fs, apps = series
+    grid = np.geomspace(f1, f2, 120)
+    idx = [int(np.argmin(np.abs(grid - f))) for f in fs]
+    runs, cur = [], []
+    for i, j in enumerate(idx):
+        if cur and j != idx[i - 1] + 1:
+            runs.append(cur)
+            cur = []
+        cur.append(i)
+    if cur:
+        runs.append(cur)
+    new = []
+    for run in runs:
+        mid = run[len(run) // 2]
+        f, a = fs[mid], apps[mid]
+        if any(_passes(b, f, a) for _name, b in branches + new):
+            continue
+        c = perturbation_series(model, model.excitation(pa_q, f), 40).sum_coefficients
+        X = np.zeros(2 * H + 1)
+        X[0] = 1.0 + c[0].real
+        k = min(H, c.size - 1)
+        X[1:2 * k + 1:2] = 2.0 * c[1:k + 1].real
+        X[2:2 * k + 1:2] = -2.0 * c[1:k + 1].imag
+        start = hb_solve(model, model.excitation(pa_q, f), H, start=X, stability=False)
+        for down in (False, True):
+            new.append((f"from {f:.0f} Hz {'down' if down else 'up'}",
+                        hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol, start=start,
+                                        from_fmax=down, f_start=f)))
+    return new

@@ -1,0 +1,47 @@
+"""Command-line interface (thin: parse, validate, call the public API, print, write).
+
+Bad input stops before any computation with one line on stderr,
+``contactvib: error: --fe (f_e) = -5: must be > 0 Hz``, and exit status 2.
+"""
+from __future__ import annotations
+
+import click
+
+from contactvib.cli.common import InputError
+from contactvib.cli.continuation import bifurcations, continue_, evolution
+from contactvib.cli.frequency import hbm, perturbation
+from contactvib.cli.steady import attractors, simulate
+from contactvib.cli.sweeps import paper, query, resonance
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="contactvib")
+def cli():
+    """contactvib: primary and superharmonic contact resonances (Kostek 2013).
+
+    Units: y in µm (positive = contact deflection, negative = gap), ẏ in mm/s, t in ms,
+    f in Hz, P_a in multiples of Q = M g. Defaults are the paper's parameters.
+    """
+
+
+for _command in (attractors, simulate, resonance, query, paper, continue_, bifurcations, evolution,
+                 perturbation, hbm):
+    cli.add_command(_command)
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``contactvib`` console script."""
+    try:
+        rv = cli.main(args=argv, prog_name="contactvib", standalone_mode=False)
+        return rv if isinstance(rv, int) else 0
+    except InputError as e:
+        click.echo(f"contactvib: error: {e}", err=True)
+    except click.exceptions.Abort:
+        click.echo("contactvib: interrupted", err=True)
+        return 130
+    except click.ClickException as e:
+        click.echo(f"contactvib: error: {e.format_message()}", err=True)
+    return 2
+
+
+

@@ -1,0 +1,99 @@
+"""CLI commands ``attractors`` and ``simulate`` (steady states at one operating point)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from contactvib.cli.common import (_excitation, _int, _model, _number, _operating_point_options,
+                                   _search_options)
+
+
+def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
+    from contactvib.steady.attractors import find_attractors
+
+    kw = dict(n_starts=_int("--starts", starts, 1), seed=_int("--seed", seed, 0),
+              kmax=_int("--kmax", kmax, 1, 64), seeds=not no_seeds)
+    kw["max_periods"] = _int("--max-periods", max_periods, 4 * kw["kmax"])
+    return find_attractors(model, exc, **kw)
+
+
+@click.command()
+@_operating_point_options
+@_search_options
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
+def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, as_json):
+    """All coexisting attractors at one operating point (P_a, f_e)."""
+    model = _model(settings)
+    exc = _excitation(model, pa, pa_newton, fe)
+    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
+    if as_json:
+        click.echo(result.to_json())
+        return
+    click.echo(f"P_a = {exc.pa_over_q:g} Q ({exc.P_a:.4g} N), f_e = {exc.f_e:g} Hz, "
+               f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.y0 * 1e6:.4f} um; "
+               f"{result.n_box} box starts + {result.n_seeds} seeds")
+    head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
+            f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}")
+    click.echo(head)
+    for i, a in enumerate(result):
+        per = "-" if a.period is None else str(a.period)
+        mins = "-" if a.minima_per_period is None else str(a.minima_per_period)
+        mu = "-" if a.floquet_abs_max is None else f"{a.floquet_abs_max:.4f}"
+        click.echo(f"{i:>2} {per:>6} {mins:>6} {a.app_um:>11.5g} {a.ymin_um:>11.5g} {a.ymax_um:>10.5g} "
+                   f"{a.contact_loss_fraction:>10.3f} {mu:>8} {a.basin_fraction:>7.2%}")
+
+
+@click.command()
+@_operating_point_options
+@_search_options
+@click.option("--out", "out", default="simulate", show_default=True, type=click.Path(file_okay=False),
+              help="Output folder for the figures and attractors.json.")
+@click.option("--from-state", nargs=2, default=None, metavar="Y_UM YDOT_MM_S",
+              help="Simulate one trajectory from this state instead of the attractors.")
+@click.option("--periods", default="20", show_default=True,
+              help="Periods to simulate with --from-state.")
+def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, out,
+             from_state, periods):
+    """Time histories and phase portraits (one figure per attractor, as Figs. 4–9)."""
+    model = _model(settings)
+    exc = _excitation(model, pa, pa_newton, fe)
+    out = Path(out)
+    if from_state is not None:
+        y = _number("--from-state", "y", from_state[0])
+        yd = _number("--from-state", "ydot", from_state[1])
+        n = _int("--periods", periods, 1)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from contactvib.plotting.figures import attractor_figure, plot_phase_portrait, plot_time_history
+    from contactvib.steady.simulate import attractor_history, simulate as run
+
+    out.mkdir(parents=True, exist_ok=True)
+    tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
+    if from_state is not None:
+        h = run(model, exc, y, yd, n_periods=n)
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+        plot_time_history(h, a1)
+        plot_phase_portrait(h, a2)
+        fig.suptitle(f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz, from y = {y:g} µm, "
+                     f"ẏ = {yd:g} mm/s", fontsize=10)
+        fig.tight_layout()
+        path = out / f"trajectory_{tag}.png"
+        fig.savefig(path, dpi=130)
+        plt.close(fig)
+        click.echo(str(path))
+        return
+    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
+    (out / "attractors.json").write_text(result.to_json(indent=1))
+    for i, a in enumerate(result):
+        hist = attractor_history(model, exc, a)
+        fig = attractor_figure(hist, a)
+        path = out / f"attractor{i}_{tag}.png"
+        fig.savefig(path, dpi=130)
+        plt.close(fig)
+        click.echo(f"{path}  period={a.period} minima={a.minima_per_period} A_pp={a.app_um:.4g} um")
+

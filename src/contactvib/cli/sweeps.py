@@ -1,0 +1,167 @@
+"""CLI commands ``resonance``, ``query`` and ``paper`` (frequency sweeps and the paper's figures).
+
+Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.resonance` /
+:mod:`contactvib.paper` / :func:`contactvib.dataset.attractors_at`, print and write.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from contactvib.cli.common import InputError, _frequency_range, _int, _model, _number, _pa_level
+
+__all__: list = []
+
+
+def _sweep_options(f):
+    for opt in reversed([
+        click.option("--fmin", default="30", show_default=True, metavar="HZ", help="Lowest f_e [Hz]."),
+        click.option("--fmax", default="2000", show_default=True, metavar="HZ", help="Highest f_e [Hz]."),
+        click.option("--df", default="1", show_default=True, metavar="HZ", help="Frequency step [Hz]."),
+        click.option("--multistart-per-octave", default="8", show_default=True,
+                     help="Multi-start frequencies per octave of f_e (0: sweeps only)."),
+        click.option("--starts", default="24", show_default=True,
+                     help="Random starts per multi-start frequency (ballistic seeds are added)."),
+        click.option("--seed", default="0", show_default=True, help="Random seed of the start boxes."),
+        click.option("--kmax", default="8", show_default=True, help="Largest period detected (1..16)."),
+        click.option("--workers", default=None, metavar="N",
+                     help="Worker processes (default: one per CPU core, at most one per level)."),
+        click.option("--resume", is_flag=True,
+                     help="Reuse the finished levels in OUT/.chunks (same model and settings)."),
+        click.option("--no-progress", is_flag=True, help="No progress bar."),
+        click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+                     help="Override a model parameter by its paper symbol (M, g, S, c_n, m2, h_n, l)."),
+    ]):
+        f = opt(f)
+    return f
+
+
+def _sweep_settings(fmin, fmax, df, per_octave, starts, seed, kmax):
+    from contactvib.model import ParameterError
+    from contactvib.sweeps.sweep import SweepSettings
+
+    lo, hi = _frequency_range(fmin, fmax)
+    step = _number("--df", "df", df)
+    if step <= 0:
+        raise InputError(f"--df (df) = {step:g}: must be > 0 Hz")
+    po = _number("--multistart-per-octave", "multistart_per_octave", per_octave)
+    if not 0 <= po <= 1000:
+        raise InputError(f"--multistart-per-octave (multistart_per_octave) = {po:g}: must be in [0, 1000]")
+    kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=step, multistart_per_octave=po,
+              multistart_starts=_int("--starts", starts, 0), seed=_int("--seed", seed, 0),
+              kmax=_int("--kmax", kmax, 1, 16))
+    try:
+        return SweepSettings(**kw)
+    except ParameterError as e:
+        opt = {"f_max": "--fmax", "df": "--df", "kmax": "--kmax"}.get(e.symbol, e.symbol)
+        raise InputError(f"{opt} ({e.symbol}) = {e.value}: {e.allowed}") from None
+
+
+def _workers(text):
+    return None if text is None else _int("--workers", text, 1, 256)
+
+
+@click.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
+@click.option("--pa", default="0.65", show_default=True, metavar="Q [Q ...]",
+              help="Excitation amplitudes P_a [Q]; several values after one --pa.")
+@_sweep_options
+@click.option("--out", default="resonance", show_default=True, type=click.Path(file_okay=False),
+              help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
+                   "diagram per level.")
+@click.pass_context
+def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax, workers, resume,
+              no_progress, settings, out):
+    """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
+    for extra in ctx.args:
+        if extra.startswith("-"):
+            try:
+                float(extra)
+            except ValueError:
+                raise InputError(f"{extra}: no such option (see contactvib resonance --help)") from None
+    levels = [_pa_level(t) for t in [pa, *ctx.args]]
+    model = _model(settings)
+    st = _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax)
+    n_workers = _workers(workers)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from contactvib.sweeps.paper import level_figures
+    from contactvib.sweeps.resonance import resonance_dataset
+
+    out = Path(out)
+    ds = resonance_dataset(model, levels, st, out=out, resume=resume, workers=n_workers,
+                           progress=not no_progress)
+    for p in sorted(set(levels)):
+        level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png", model)
+    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
+               f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
+
+
+@click.command()
+@click.argument("dataset", type=click.Path())
+@click.option("--pa", required=True, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
+@click.option("--fe", required=True, metavar="HZ", help="Frequency [Hz] (nearest grid point within half a step).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels).")
+def query(dataset, pa, fe, as_json):
+    """The attractors stored in a resonance dataset at one (P_a, f_e)."""
+    p = _number("--pa", "P_a/Q", pa)
+    f = _number("--fe", "f_e", fe)
+    if f <= 0:
+        raise InputError(f"--fe (f_e) = {f:g}: must be > 0 Hz")
+    path = Path(dataset)
+    if not path.is_file():
+        raise InputError(f"DATASET = {dataset}: no such file")
+    import xarray as xr
+
+    from contactvib.sweeps.dataset import attractors_at
+
+    try:
+        ds = xr.open_dataset(path)
+    except Exception as e:  # not NetCDF, damaged
+        raise InputError(f"DATASET = {dataset}: not a readable NetCDF dataset ({type(e).__name__})") from None
+    with ds:
+        if "branch_label" not in ds:
+            raise InputError(f"DATASET = {dataset}: not a contactvib resonance dataset")
+        if "format" not in ds.attrs:
+            raise InputError(f"DATASET = {dataset}: written by an older contactvib: recompute it")
+        try:
+            res = attractors_at(ds, p, f)
+        except LookupError as e:
+            raise InputError(str(e)) from None
+    if as_json:
+        click.echo(json.dumps(res))
+        return
+    click.echo(f"P_a = {res['pa_over_q']:g} Q, f_e = {res['fe_hz']:g} Hz (requested {p:g} Q, {f:g} Hz)")
+    click.echo(f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
+               f"{'gap [frac]':>10} {'basin':>7}  branch label (found by)")
+    for i, a in enumerate(res["attractors"]):
+        per = "-" if a["period"] is None else str(a["period"])
+        mins = "-" if a["minima_per_period"] is None else str(a["minima_per_period"])
+        basin = "-" if a["basin_fraction"] is None else f"{a['basin_fraction']:.1%}"
+        click.echo(f"{i:>2} {per:>6} {mins:>6} {a['app_um']:>11.5g} {a['ymin_um']:>11.5g} "
+                   f"{a['contact_loss_fraction']:>10.3f} {basin:>7}  {a['branch_label']} ({a['found_by']})")
+
+
+@click.command()
+@click.option("--out", default="paper", show_default=True, type=click.Path(file_okay=False),
+              help="Output folder: paper.nc, .chunks/, fig2*/fig3* per level, fig4–fig9, index.md.")
+@_sweep_options
+def paper(out, fmin, fmax, df, multistart_per_octave, starts, seed, kmax, workers, resume,
+          no_progress, settings):
+    """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
+    model = _model(settings)
+    st = _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax)
+    n_workers = _workers(workers)
+    from contactvib.sweeps.paper import reproduce_paper
+
+    res = reproduce_paper(out, model=model, settings=st, resume=resume, workers=n_workers,
+                          progress=not no_progress)
+    ds = res.dataset
+    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches; "
+               f"{res.timing['sweeps_and_figures_s']:.1f} s")
+    click.echo(f"wrote {Path(out) / 'paper.nc'}, {2 * len(res.level_figures) + len(res.time_figures)} "
+               f"figures and {res.index}")
+

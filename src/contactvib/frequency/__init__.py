@@ -1,0 +1,1 @@
+"""Frequency-domain solutions: the perturbation series and harmonic balance."""

@@ -1,0 +1,205 @@
+"""Figures in the paper's style (matplotlib only here; every function takes ``ax=None``).
+
+Time history: y [µm] against t [ms], the equilibrium y0 dashed, the loss of contact (y < 0)
+shaded. Phase portrait: ẏ [mm/s] against y [µm] (Kostek 2013, Figs. 4–9).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contactvib.steady.results import Attractor, TimeHistory
+
+__all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph",
+           "extrema_diagram"]
+
+
+def _ax(ax):
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(6, 3.2))
+    return ax
+
+
+def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
+    """y(t) [µm vs ms] with y0 marked and the gap (y < 0) shaded."""
+    ax = _ax(ax)
+    ax.plot(history.t_ms, history.y_um, color="k", lw=1.0, label=label)
+    ax.axhline(history.y0_um, color="0.4", ls="--", lw=0.8, label="equilibrium $y_0$")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    gap = ~history.in_contact
+    if gap.any():
+        lo = min(float(history.y_um.min()), 0.0)
+        ax.fill_between(history.t_ms, lo, 0.0, where=gap, color="tab:red", alpha=0.15,
+                        step="mid", label="loss of contact")
+    ax.set_xlabel("t [ms]")
+    ax.set_ylabel("y [µm]")
+    ax.legend(loc="best", fontsize=7, frameon=False)
+    return ax
+
+
+def plot_phase_portrait(history: TimeHistory, ax=None):
+    """Phase portrait ẏ [mm/s] against y [µm]; the contact boundary y = 0 dotted."""
+    ax = _ax(ax)
+    ax.plot(history.y_um, history.ydot_mm_s, color="k", lw=0.9)
+    ax.axvline(0.0, color="tab:red", ls=":", lw=0.8, label="y = 0 (contact boundary)")
+    ax.plot([history.y0_um], [0.0], "+", color="0.3", ms=8, label="equilibrium")
+    ax.set_xlabel("y [µm]")
+    ax.set_ylabel("dy/dt [mm/s]")
+    ax.legend(loc="best", fontsize=7, frameon=False)
+    return ax
+
+
+def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | None = None):
+    """A two-panel figure (time history, phase portrait) for one attractor."""
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    plot_time_history(history, a1)
+    plot_phase_portrait(history, a2)
+    k = "non-periodic" if attractor.period is None else f"period {attractor.period}"
+    n = attractor.minima_per_period
+    mins = "" if n is None else f", {n} {'minimum' if n == 1 else 'minima'} per period"
+    head = title or (f"$P_a$ = {history.pa_over_q:g} Q, $f_e$ = {history.fe_hz:g} Hz: {k}{mins}, "
+                     f"$A_{{pp}}$ = {attractor.app_um:.4g} µm")
+    fig.suptitle(head, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+# ---------------------------------------------------------------- resonance graphs (Figs. 2, 3)
+
+def _family(label: str):
+    """(order m or None, variant) of a resonance label from :func:`contactvib.dataset.resonance_label`."""
+    if label.startswith("main"):
+        return 1, label[4:].strip()
+    if label.startswith("1/"):
+        head, _, rest = label.partition(" ")
+        return int(head[2:]), rest
+    return None, label
+
+
+def _order_color(m):
+    import matplotlib.pyplot as plt
+
+    if m == 1:
+        return "k"
+    cmap = plt.get_cmap("tab10")
+    return cmap((m - 2) % 10)
+
+
+def _level(ds, pa_over_q):
+
+    sel = np.nonzero(np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6)[0]
+    if sel.size == 0:
+        raise ValueError(f"P_a = {pa_over_q:g} Q is not in the dataset")
+    return sel
+
+
+def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, m_max: int = 6,
+                    annotate: bool = True, perturbation=None):
+    """A_pp [µm, log] against f_e [Hz] for one P_a level, one line per branch (Fig. 2).
+
+    Colour = resonance order (main black, 1/m coloured; dashed after period doubling); thin grey
+    = non-resonant (quasistatic) motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; red
+    dots = non-periodic attractors; gold underlay = branches no laboratory sweep reaches
+    (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6). ``perturbation``:
+    ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation.perturbation_curve`, drawn as
+    red crosses where the series is valid.
+    """
+
+    ax = _ax(ax)
+    sel = _level(ds, pa_over_q)
+    fe = ds["fe_hz"].values[sel]
+    app = ds["app_um"].values[sel]
+    br = ds["branch_index"].values[sel]
+    kind = ds["kind"].values[sel]
+    labels = ds["resonance"].values[sel]
+    reach = (ds["branch_reached_by_sweep"].values if "branch_reached_by_sweep" in ds
+             else np.ones(ds.sizes["branch"], np.int8))
+    best: dict = {}
+    isolated_drawn = False
+    for b in np.unique(br):
+        pts = np.nonzero(br == b)[0]
+        pts = pts[np.argsort(fe[pts])]
+        lab = str(labels[pts[0]])
+        if kind[pts[0]] != "periodic":
+            ax.plot(fe[pts], app[pts], ".", color="tab:red", ms=1.5, zorder=3)
+            continue
+        m, variant = _family(lab)
+        if m is None:
+            style = dict(color="0.55", lw=0.6, ls=":") if lab != "non-resonant" else dict(color="0.35", lw=0.8)
+        else:
+            style = dict(color=_order_color(m), lw=1.1 if not variant else 0.9,
+                         ls="-" if not variant else "--")
+        # split at grid gaps so that a branch is never drawn across a hole
+        gaps = np.nonzero(np.diff(fe[pts]) > 1.5 * np.min(np.diff(np.unique(fe))) if fe.size > 1 else [])[0]
+        for seg in np.split(pts, gaps + 1):
+            ax.plot(fe[seg], app[seg], **style)
+            if m is not None and not reach[b]:  # a sweep never reaches it (Sec. 3: isolated part)
+                ax.plot(fe[seg], app[seg], color="gold", lw=4.5, alpha=0.55, zorder=0,
+                        solid_capstyle="round",
+                        label=None if isolated_drawn else "isolated: not reached by sweeps")
+                isolated_drawn = True
+        if m is not None and not variant:
+            j = pts[np.argmax(app[pts])]
+            if m not in best or app[j] > best[m][1]:
+                best[m] = (fe[j], app[j])
+    if annotate:
+        for m, (f, a) in best.items():
+            ax.annotate("main" if m == 1 else f"1/{m}", (f, a), xytext=(2, 3),
+                        textcoords="offset points", fontsize=7, color=_order_color(m))
+    fn0 = fn0_hz if fn0_hz is not None else float(ds.attrs["fn0_hz"])
+    ax.set_yscale("log")
+    lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
+    marks = [fn0 / m for m in range(1, m_max + 1)]
+    ax.plot(marks, [lo * 1.3] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
+    if perturbation is not None:
+        pf, pa_app, ok = (np.asarray(x) for x in perturbation)
+        ax.plot(pf[ok], pa_app[ok], "x", color="tab:red", ms=3.5, mew=0.8,
+                label="perturbation series (where valid)")
+    ax.plot([], [], color="0.3", lw=1.1, label="period 1 (colour: order m)")
+    ax.plot([], [], color="0.3", lw=0.9, ls="--", label="period-k (doubled, windows)")
+    ax.plot([], [], color="0.55", lw=0.6, ls=":", label="sub-/ultrasubharmonic bouncing")
+    ax.plot([], [], ".", color="tab:red", ms=3, label="non-periodic")
+    ax.set_xlabel("$f_e$ [Hz]")
+    ax.set_ylabel("$A_{pp}$ [µm]")
+    ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, frameon=False)
+    return ax
+
+
+def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
+    """Local extrema of y(t) [µm] against f_e [Hz] for one P_a level (Fig. 3).
+
+    Minima grey, maxima black, the extrema of sub-/ultrasubharmonic bouncing orbits light blue;
+    the y axis is linear within ±``linthresh_um`` and logarithmic
+    beyond (symlog), so the small superharmonic loops and the large main-resonance orbits show
+    together; y < 0 is loss of contact.
+    """
+
+    ax = _ax(ax)
+    sel = _level(ds, pa_over_q)
+    fe = ds["fe_hz"].values[sel]
+    e0 = ds["extrema_start"].values[sel]
+    ne = ds["extrema_count"].values[sel]
+    idx = np.concatenate([np.arange(a, a + n) for a, n in zip(e0, ne)]) if sel.size else np.array([], int)
+    f_rep = np.repeat(fe, ne)
+    bouncing = np.repeat([str(x).startswith(("subharmonic", "ultrasubharmonic"))
+                          for x in ds["resonance"].values[sel]], ne)
+    y = ds["extremum_y_um"].values[idx]
+    is_min = ds["extremum_is_min"].values[idx].astype(bool)
+    ax.plot(f_rep[bouncing], y[bouncing], ",", color="#9ecae1", rasterized=True)
+    ax.plot(f_rep[is_min & ~bouncing], y[is_min & ~bouncing], ",", color="0.55", rasterized=True)
+    ax.plot(f_rep[~is_min & ~bouncing], y[~is_min & ~bouncing], ",", color="k", rasterized=True)
+    ax.plot([], [], "s", color="0.55", ms=4, label="minima")
+    ax.plot([], [], "s", color="k", ms=4, label="maxima")
+    ax.plot([], [], "s", color="#9ecae1", ms=4, label="bouncing orbits (not in the paper)")
+    ax.axhline(0.0, color="tab:red", lw=0.5, ls=":")
+    ax.set_yscale("symlog", linthresh=linthresh_um)
+    ax.set_xlabel("$f_e$ [Hz]")
+    ax.set_ylabel("local extrema of y [µm]")
+    ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7, frameon=False, markerscale=1)
+    return ax

@@ -1,0 +1,91 @@
+"""Figures for the perturbation series and harmonic balance (matplotlib; functions take ax=None).
+
+* :func:`overlay_figure` — series against the numerical steady state: time history and phase
+  portrait (as Kostek 2013, Figs. 4g, 5a, 9a). An invalid series is not drawn; the figure says
+  why.
+* :func:`plot_convergence` — |A_pp error| against the order N (plain and Padé sums).
+* :func:`plot_branch` — HB branch A_pp against f_e, stable solid, unstable dashed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contactvib.plotting.figures import _ax
+from contactvib.steady.results import TimeHistory
+
+__all__ = ["overlay_figure", "plot_convergence", "plot_branch"]
+
+
+def overlay_figure(numeric: TimeHistory, series: TimeHistory | None, title: str, note: str = ""):
+    """Two panels: y(t) and ẏ(y) of the numerics (black) and the series (red dashed) if given."""
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    a1.plot(numeric.t_ms, numeric.y_um, color="k", lw=1.2, label="numerical (shooting)")
+    a2.plot(numeric.y_um, numeric.ydot_mm_s, color="k", lw=1.2, label="numerical (shooting)")
+    if series is not None:
+        a1.plot(series.t_ms, series.y_um, color="tab:red", ls="--", lw=1.2, label="perturbation")
+        a2.plot(series.y_um, series.ydot_mm_s, color="tab:red", ls="--", lw=1.2,
+                label="perturbation")
+    a1.axhline(numeric.y0_um, color="0.5", ls=":", lw=0.8, label="equilibrium $y_0$")
+    a2.plot([numeric.y0_um], [0.0], "+", color="0.3", ms=8, label="equilibrium")
+    if note:
+        a1.text(0.01, 0.02, note, transform=a1.transAxes, fontsize=8, color="tab:red", va="bottom")
+    a1.set_xlabel("t [ms]")
+    a1.set_ylabel("y [µm]")
+    a2.set_xlabel("y [µm]")
+    a2.set_ylabel("dy/dt [mm/s]")
+    a1.legend(loc="upper right", fontsize=7, frameon=False)
+    a2.legend(loc="best", fontsize=7, frameon=False)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def plot_convergence(rows_by_label: dict, ax=None):
+    """Relative A_pp error (solid) and estimate (dotted) against N, one colour per summation.
+
+    ``rows_by_label`` maps a label to rows ``(N, A_pp, rel_error, estimate_um, valid)`` and
+    the reference A_pp is implied by the rows (estimate / A_pp is drawn).
+    """
+    ax = _ax(ax)
+    for (label, rows), colour in zip(rows_by_label.items(), ["tab:blue", "tab:red", "tab:green"]):
+        rows = np.array([(n, a, e, est) for n, a, e, est, _v in rows], float)
+        err = np.maximum(rows[:, 2], 1e-16)
+        ax.semilogy(rows[:, 0], err, "o-", ms=3, color=colour, label=f"{label}: |error| of A_pp")
+        est = rows[:, 3] / rows[:, 1]
+        ok = np.isfinite(est)
+        ax.semilogy(rows[ok, 0], est[ok], ":", color=colour, label=f"{label}: estimate")
+    ax.axhline(1e-3, color="0.5", lw=0.8, ls="--", label="validity limit 1e-3")
+    ax.set_xlabel("order N")
+    ax.set_ylabel("relative A_pp error [1]")
+    ax.legend(loc="best", fontsize=7, frameon=False)
+    return ax
+
+
+def plot_branch(branch, ax=None, label: str = "HB branch", colour: str = "k"):
+    """A_pp [µm] against f_e [Hz]: stable solid, unstable dashed, contact loss marked."""
+    ax = _ax(ax)
+    f, a, s = branch.fe_hz, branch.app_um, branch.stable
+    # split into runs of equal stability so that each run is one line
+    start = 0
+    first_s = first_u = True
+    for i in range(1, f.size + 1):
+        if i == f.size or s[i] != s[start]:
+            seg = slice(start, min(i + 1, f.size))
+            stable = bool(s[start])
+            lab = None
+            if stable and first_s:
+                lab, first_s = f"{label}, stable", False
+            elif not stable and first_u:
+                lab, first_u = f"{label}, unstable", False
+            ax.plot(f[seg], a[seg], color=colour, ls="-" if stable else "--", lw=1.2, label=lab)
+            start = i
+    lost = branch.loses_contact
+    if lost.any():
+        ax.plot(f[lost], a[lost], ".", color=colour, ms=2.5, alpha=0.5)
+    ax.set_xlabel("$f_e$ [Hz]")
+    ax.set_ylabel("$A_{pp}$ [µm]")
+    ax.set_yscale("log")
+    return ax

@@ -1,0 +1,189 @@
+"""Coexisting attractors at one operating point (P_a, f_e): multi-start search.
+
+Procedure
+---------
+1. Starts: ``n_starts`` states drawn uniformly (fixed seed) from a box around the static
+   equilibrium scaled by y0 and the excitation, ``x = y/y0 ∈ [1 − a, 1 + a]``,
+   ``x' = ẏ/(y0 ω_n0) ∈ [−a, a]`` with ``a = 2 + 10 P_a/Q``; plus deterministic *ballistic
+   seeds* that a y0-scaled box cannot reach: take-off from ``y = 0`` upwards with the speed
+   that gives a free flight of ``j`` excitation periods (``ẏ = −j g T / 2`` times 0.5, 0.75,
+   1), at four phases. They find the open primary branch at low frequency (flights of hundreds
+   of µm) and the period-j "bouncing" orbits at high frequency.
+2. Every start is integrated in parallel (numba threads) until its stroboscopic points near a
+   cycle of period ``k ≤ kmax``; the cycle is refined by Newton shooting and accepted when it
+   closes to 1e-10, is stable and has no shorter period (:mod:`contactvib._kernels.settle`).
+3. Orbits are de-duplicated by the sameness rule (same period, stroboscopic sets equal to 1e-6
+   relative in some cyclic order); non-periodic attractors by the overlap of their
+   stroboscopic clouds.
+4. Two waves: the first ``FIRST_WAVE`` box starts and the seeds run to the end (step 2); the
+   other box starts are stopped as soon as a stroboscopic point comes within ``capture_tol``
+   (relative) of a strobe point of a stable periodic orbit found by the first wave, and are
+   counted for that orbit without another Newton refinement. Starts that are not captured run
+   to the end as in step 2, so attractors the first wave missed are still found.
+5. The basin fraction of an attractor is the share of the *box* starts that reached it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contactvib._kernels.settle import (SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC,
+                             settle_capture_many)
+from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.steady.results import AttractorSet
+from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
+
+__all__ = ["find_attractors", "start_box", "ballistic_seeds"]
+
+#: Box starts of the first wave, which run to the end and supply the capture points.
+FIRST_WAVE = 64
+
+
+def start_box(excitation: Excitation, n: int, seed: int = 0):
+    """``n`` random nondimensional starts (x, x') and phases 0 from the physics box."""
+    a = 2.0 + 10.0 * excitation.pa_over_q
+    rng = np.random.default_rng(seed)
+    Z = np.column_stack([rng.uniform(1.0 - a, 1.0 + a, n), rng.uniform(-a, a, n)])
+    return Z, np.zeros(n)
+
+
+def ballistic_seeds(excitation: Excitation, max_flight_periods: int = 2):
+    """Take-off states at y = 0 for free flights of 1..``max_flight_periods`` periods."""
+    m2 = excitation.model.m2
+    T = excitation.tau_period
+    Z, ph = [], []
+    for j in range(1, max_flight_periods + 1):
+        v_take_off = j * T / (2.0 * m2)  # x'' = 1/m2 in flight (gravity alone)
+        for s in (0.5, 0.75, 1.0):
+            for phase in (0.0, 0.25, 0.5, 0.75):
+                Z.append((0.0, -s * v_take_off))
+                ph.append(phase)
+    return np.array(Z, float).reshape(-1, 2), np.array(ph, float)
+
+
+def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
+    a = a[np.isfinite(a[:, 0])]
+    b = b[np.isfinite(b[:, 0])]
+    if a.size == 0 or b.size == 0:
+        return False
+    extent = max(np.ptp(a, axis=0).max(), np.ptp(b, axis=0).max(), 1e-9)
+    d_ab = np.min(np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2), axis=1)
+    d_ba = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
+    return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
+
+
+def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
+                    seed: int = 0, kmax: int = 8, max_periods: int = 400,
+                    seeds: bool = True, detect_tol: float = 1e-4,
+                    rtol_transient: float = 1e-8, capture_tol: float = 3e-3) -> AttractorSet:
+    """All attractors reached from the start box and the ballistic seeds.
+
+    Parameters
+    ----------
+    model, excitation
+        The oscillator and the harmonic force.
+    n_starts : int
+        Random starts in the box (≥ 1).
+    seed : int
+        Random seed of the box sample.
+    kmax : int
+        Largest period searched, in excitation periods (1..64).
+    max_periods : int
+        Transient limit per start; a start that finds no cycle by then is non-periodic.
+    seeds : bool
+        Add the ballistic seeds.
+    detect_tol : float
+        Relative stroboscopic distance that triggers a Newton refinement.
+    rtol_transient : float
+        Integrator tolerance during transients (refinement always uses 1e-12).
+    capture_tol : float
+        Relative distance to a known orbit's strobe point at which a second-wave start is
+        counted for that orbit (0: every start runs to the end).
+
+    Returns
+    -------
+    AttractorSet
+    """
+    n_starts = int(check_range("n_starts", n_starts, 1, True))
+    kmax = int(check_range("kmax", kmax, 1, True))
+    if kmax > 64:
+        raise ParameterError("kmax", kmax, "must be <= 64")
+    max_periods = int(check_range("max_periods", max_periods, 4 * kmax, True))
+    detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
+    rtol_transient = check_range("rtol_transient", rtol_transient, 0.0, False)
+    capture_tol = check_range("capture_tol", capture_tol, 0.0, True)
+    if capture_tol > 0.1:
+        raise ParameterError("capture_tol", capture_tol, "must be <= 0.1")
+
+    Zb, phb = start_box(excitation, n_starts, seed)
+    if seeds:
+        Zs, phs = ballistic_seeds(excitation)
+    else:
+        Zs, phs = np.empty((0, 2)), np.empty(0)
+    par = excitation.kernel_parameters()
+    n_tail = 64
+    n_first = min(n_starts, FIRST_WAVE)
+    groups: list[dict] = []  # each: period, strobe, z, M, res, hits, box, tail
+    n_failed = 0
+
+    def run(Z, ph, in_box, cap_pts, cap_id):
+        nonlocal n_failed
+        status, period, _nper, residual, z_star, monodromy, tail = settle_capture_many(
+            Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient, RTOL_REFINE,
+            CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
+        for i in range(Z.shape[0]):
+            if status[i] == SETTLE_CAPTURED:
+                g = groups[int(period[i])]
+            elif status[i] == SETTLE_PERIODIC:
+                k = int(period[i])
+                pts = strobe_points(excitation, z_star[i], k)
+                for g in groups:
+                    if g["period"] == k and same_orbit(g["strobe"], pts):
+                        break
+                else:
+                    g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
+                         "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
+                    groups.append(g)
+            elif status[i] == SETTLE_NONPERIODIC:
+                for g in groups:
+                    if g["period"] is None and _same_cloud(g["tail"], tail[i]):
+                        break
+                else:
+                    g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
+                         "M": None, "res": np.inf, "hits": 0, "box": 0}
+                    groups.append(g)
+            else:
+                n_failed += 1
+                continue
+            g["hits"] += 1
+            g["box"] += int(in_box[i])
+
+    no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
+    run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),
+        np.arange(n_first + Zs.shape[0]) < n_first, no_pts, no_id)
+    if n_starts > n_first:
+        periodic = [(j, g) for j, g in enumerate(groups) if g["period"] is not None]
+        cap_pts = np.vstack([g["strobe"] for _j, g in periodic]) if periodic else no_pts
+        cap_id = np.array([j for j, g in periodic for _p in range(g["period"])], np.int64)
+        run(Zb[n_first:], phb[n_first:], np.ones(n_starts - n_first, bool), cap_pts, cap_id)
+
+    attractors = [
+        describe_orbit(model, excitation, g["z"], g["period"], g["M"], g["res"],
+                       basin_fraction=g["box"] / n_starts, hits=g["hits"])
+        for g in groups
+    ]
+    attractors.sort(key=lambda a: -a.app_um)
+    return AttractorSet(
+        attractors=attractors,
+        fn0_hz=model.f_n0,
+        y0_um=model.y0 * 1e6,
+        pa_over_q=excitation.pa_over_q,
+        fe_hz=excitation.f_e,
+        n_box=n_starts,
+        n_seeds=Zs.shape[0],
+        n_failed=n_failed,
+        settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
+                  "seeds": seeds, "detect_tol": detect_tol, "rtol_transient": rtol_transient,
+                  "capture_tol": capture_tol, "first_wave": n_first,
+                  "rtol_refine": RTOL_REFINE, "close_tol": CLOSE_TOL},
+    )

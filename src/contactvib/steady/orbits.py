@@ -1,0 +1,159 @@
+"""Steady states: refinement of periodic orbits, their description, and the sameness rule.
+
+A period-k orbit is a fixed point of the k-fold stroboscopic map, refined by Newton shooting
+with the monodromy from the variational equations (:mod:`contactvib._kernels.shooting`). Its
+description (extrema, minima count, A_pp, loss of contact) comes from the dense output of one
+tight-tolerance pass over the orbit (:mod:`contactvib._kernels.orbit`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from contactvib._kernels.flow import STATUS_OK, STATUS_RECORD_FULL
+from contactvib._kernels.orbit import find_extrema, record_orbit
+from contactvib._kernels.shooting import newton_orbit, strobe_map
+from contactvib.model import ContactModel, Excitation
+from contactvib.steady.results import Attractor
+
+__all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points", "OrbitError",
+           "RTOL_REFINE", "CLOSE_TOL"]
+
+#: Integration tolerance for refined orbits and their description.
+RTOL_REFINE = 1e-12
+#: An orbit is accepted when its relative closure |P^k(z) − z| / max(1, |z|) is at most this.
+CLOSE_TOL = 1e-10
+#: Two orbits are the same when their stroboscopic sets agree to this (relative), any cyclic order.
+SAME_TOL = 1e-6
+
+
+class OrbitError(RuntimeError):
+    """Shooting or integration of an orbit failed."""
+
+
+def _units(model: ContactModel):
+    y_um = model.y0 * 1e6
+    v_mm_s = model.y0 * model.omega_n0 * 1e3
+    t_ms = 1e3 / model.omega_n0
+    return y_um, v_mm_s, t_ms
+
+
+def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) -> np.ndarray:
+    """The k stroboscopic points (nondimensional, shape (k, 2)) of the orbit through ``z``."""
+    par = excitation.kernel_parameters()
+    pts = np.empty((k, 2))
+    cur = np.asarray(z, dtype=float).copy()
+    nxt = np.empty(2)
+    for j in range(k):
+        pts[j] = cur
+        st = strobe_map(cur, 1, par, rtol, rtol, nxt, np.empty((0, 0)))
+        if st != STATUS_OK:
+            raise OrbitError(f"integration failed (status {st})")
+        cur = nxt.copy()
+    return pts
+
+
+def refine_orbit(excitation: Excitation, z, k: int, tol: float = CLOSE_TOL,
+                 rtol: float = RTOL_REFINE, max_iter: int = 20):
+    """Newton shooting for a period-``k`` orbit from the nondimensional state ``z``.
+
+    Returns
+    -------
+    z : ndarray (2,)
+        Orbit point at phase 0, nondimensional.
+    monodromy : ndarray (2, 2)
+    closure : float
+        Relative closure achieved.
+
+    Raises
+    ------
+    OrbitError
+        If Newton does not reach ``tol``.
+    """
+    par = excitation.kernel_parameters()
+    out_z = np.empty(2)
+    out_M = np.empty((2, 2))
+    st, res = newton_orbit(np.asarray(z, float), int(k), par, rtol, rtol, tol, max_iter, out_z, out_M)
+    if st != STATUS_OK:
+        raise OrbitError(f"Newton shooting for a period-{k} orbit failed (status {st}, "
+                         f"closure {res:.2e}); try another start")
+    return out_z, out_M, res
+
+
+def same_orbit(strobe_a: np.ndarray, strobe_b: np.ndarray, rtol: float = SAME_TOL) -> bool:
+    """Same period and stroboscopic sets equal to ``rtol`` (relative) in some cyclic order."""
+    if strobe_a.shape != strobe_b.shape:
+        return False
+    k = strobe_a.shape[0]
+    scale = max(1.0, float(np.max(np.abs(strobe_a))), float(np.max(np.abs(strobe_b))))
+    for s in range(k):
+        if np.max(np.abs(strobe_a - np.roll(strobe_b, s, axis=0))) <= rtol * scale:
+            return True
+    return False
+
+
+def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE, phase0: float = 0.0):
+    """Dense step records over ``n_periods`` from ``z`` (grows its buffer as needed)."""
+    par = excitation.kernel_parameters()
+    cap = 4096 * max(1, n_periods)
+    while True:
+        rec, z_end, t_flight, n_events, st = record_orbit(
+            np.asarray(z, float), phase0, int(n_periods), par, rtol, cap)
+        if st == STATUS_RECORD_FULL:
+            cap *= 4
+            continue
+        if st != STATUS_OK:
+            raise OrbitError(f"integration failed (status {st})")
+        return rec, z_end, t_flight
+
+
+def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
+                   monodromy=None, closure: float = math.inf, basin_fraction: float = 0.0,
+                   hits: int = 0, n_periods_nonperiodic: int = 32) -> Attractor:
+    """Measure an orbit through the nondimensional state ``z`` at phase 0.
+
+    For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
+    k-period; for a non-periodic attractor over ``n_periods_nonperiodic`` periods.
+    """
+    y_um, v_mm_s, t_ms = _units(model)
+    n = period if period is not None else n_periods_nonperiodic
+    rec, _z_end, t_flight = record(excitation, z, n)
+    t_ext, x_ext, is_min = find_extrema(rec)
+    if x_ext.size:
+        xmin, xmax = float(x_ext.min()), float(x_ext.max())
+    else:  # monotone pieces only (cannot happen on a closed orbit); use the step ends
+        xs = rec[:, 3]
+        xmin, xmax = float(xs.min()), float(xs.max())
+    span = n * excitation.tau_period
+    if period is not None:
+        strobe = strobe_points(excitation, z, period)
+        multipliers = np.linalg.eigvals(monodromy) if monodromy is not None else np.empty(0, complex)
+        minima = int(np.count_nonzero(is_min))
+        kind = "periodic"
+    else:
+        strobe = np.asarray(z, float)[None, :]
+        multipliers = np.empty(0, complex)
+        minima = None
+        kind = "non-periodic"
+    return Attractor(
+        period=period,
+        kind=kind,
+        minima_per_period=minima,
+        app_um=(xmax - xmin) * y_um,
+        ymin_um=xmin * y_um,
+        ymax_um=xmax * y_um,
+        loses_contact=bool(xmin < 0.0),
+        contact_loss_fraction=float(t_flight / span),
+        basin_fraction=float(basin_fraction),
+        floquet_multipliers=np.asarray(multipliers, complex),
+        strobe_y_um=strobe[:, 0] * y_um,
+        strobe_ydot_mm_s=strobe[:, 1] * v_mm_s,
+        extrema_t_ms=t_ext * t_ms,
+        extrema_y_um=x_ext * y_um,
+        extrema_is_min=np.asarray(is_min, bool),
+        closure=float(closure),
+        hits=int(hits),
+        state=np.asarray(z, float).copy(),
+    )

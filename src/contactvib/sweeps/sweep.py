@@ -1,0 +1,339 @@
+"""Frequency sweeps: every attractor along a frequency grid, linked into branches (one P_a level).
+
+Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
+
+1. **Laboratory sweeps.** An up-sweep starts from rest at f_min and a down-sweep from rest at
+   f_max; each carries the state from one frequency to the next. At each step the orbit is
+   predicted (secant), corrected by Newton shooting and accepted while it stays stable; when it
+   does not (a fold, a period doubling, chaos) the carried state is integrated until it settles
+   on a new attractor — the jump a laboratory sweep makes (:mod:`contactvib._kernels.trace`).
+2. **Reverse sweeps from every landing point.** Where a sweep jumped onto an attractor, a sweep
+   in the opposite direction is started from it, so the branch it landed on is followed back to
+   where it ends (e.g. the upper 1/2 branch down to low frequencies).
+3. **Small-amplitude seeds.** At every multi-start frequency (below) the perturbation solution
+   (:mod:`contactvib.perturbation`) is corrected by Newton shooting; a stable orbit no trace has
+   met is traced up and down. This reaches the in-contact parts of superharmonic peaks that are
+   cut off from the sweeps and have tiny basins (the 1/2 near 800 Hz at 0.90 Q: 0.4–4 % of the
+   box).
+4. **Multi-start seeds.** At ``multistart_per_octave`` frequencies per octave (geometric
+   spacing: the resonance structure is self-similar, f_n0/m, and densest at low f_e) a
+   multi-start search (random box scaled by
+   y0 and P_a, plus ballistic seeds, :func:`contactvib.attractors.find_attractors`' procedure)
+   looks for attractors no sweep has met; each new one is traced up and down. This is how the
+   isolated parts of the 1/2 and 1/3 resonances (Kostek 2013, Sec. 3: "cannot be found with a
+   sweeping signal") are found.
+5. All traces share one table of known attractors per frequency; a trace that reaches an
+   attractor already traced in its direction stops, so nothing is computed twice. Points
+   continued by Newton are linked into branches; jumps are not links.
+
+The basin fraction is measured at the multi-start frequencies only (NaN elsewhere).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from contactvib.model import ContactModel, ParameterError, check_range
+
+__all__ = ["SweepSettings", "frequency_grid", "multistart_indices", "trace_level"]
+
+_MAXA = 48  # attractors per frequency in the shared table
+
+#: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
+#: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
+TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start")
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """Settings of a resonance sweep.
+
+    Attributes
+    ----------
+    fmin_hz, fmax_hz, df_hz : float
+        Frequency grid [Hz].
+    kmax : int
+        Largest period detected [excitation periods].
+    max_periods : int
+        Transient limit after a jump [excitation periods].
+    multistart_per_octave : float
+        Multi-start frequencies per octave of f_e, geometrically spaced from f_min and snapped to
+        the grid (0: no multi-start).
+    multistart_starts : int
+        Random box starts per multi-start frequency (ballistic seeds are added).
+    seed : int
+        Random seed of the box samples.
+    rtol : float
+        Integrator tolerance of the shooting and the orbit descriptions.
+    close_tol : float
+        Relative closure for accepting an orbit.
+    """
+
+    fmin_hz: float = 30.0
+    fmax_hz: float = 2000.0
+    df_hz: float = 1.0
+    kmax: int = 8
+    max_periods: int = 300
+    multistart_per_octave: float = 8.0
+    multistart_starts: int = 24
+    seed: int = 0
+    rtol: float = 1e-10
+    close_tol: float = 1e-9
+    detect_tol: float = 1e-4
+    rtol_transient: float = 1e-8
+    same_tol: float = 1e-6
+    capture_tol: float = 1e-3
+
+    def __post_init__(self):
+        check_range("f_min", self.fmin_hz, 0.0, False, "Hz")
+        check_range("df", self.df_hz, 0.0, False, "Hz")
+        if not self.fmax_hz > self.fmin_hz:
+            raise ParameterError("f_max", self.fmax_hz, f"must be > f_min = {self.fmin_hz:g} Hz")
+        if (self.fmax_hz - self.fmin_hz) / self.df_hz > 1e6:
+            raise ParameterError("df", self.df_hz, "gives more than 1e6 frequencies; use a larger step")
+        if not (1 <= int(self.kmax) <= 16) or self.kmax != int(self.kmax):
+            raise ParameterError("kmax", self.kmax, "must be an integer in 1..16")
+        check_range("max_periods", self.max_periods, 4 * self.kmax, True)
+        check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True)
+        if self.multistart_per_octave > 1000:
+            raise ParameterError("multistart_per_octave", self.multistart_per_octave, "must be <= 1000")
+        check_range("multistart_starts", self.multistart_starts, 0, True)
+        check_range("seed", self.seed, 0, True)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def frequency_grid(settings: SweepSettings) -> np.ndarray:
+    """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
+    n = int(math.floor((settings.fmax_hz - settings.fmin_hz) / settings.df_hz + 1e-9)) + 1
+    return settings.fmin_hz + settings.df_hz * np.arange(n)
+
+
+def multistart_indices(settings: SweepSettings) -> np.ndarray:
+    """Grid indices of the multi-start frequencies: f_min · 2^(j / per_octave), snapped, unique."""
+    f = frequency_grid(settings)
+    if settings.multistart_per_octave <= 0 or settings.multistart_starts <= 0:
+        return np.zeros(0, np.int64)
+    n_oct = math.log2(f[-1] / f[0])
+    fs = f[0] * 2.0 ** (np.arange(int(n_oct * settings.multistart_per_octave) + 1)
+                        / settings.multistart_per_octave)
+    idx = np.clip(np.round((fs - f[0]) / settings.df_hz).astype(np.int64), 0, f.size - 1)
+    return np.unique(idx)
+
+
+class _Level:
+    """Shared table and accumulated rows of one P_a level (internal)."""
+
+    def __init__(self, model: ContactModel, pa_over_q: float, f: np.ndarray, st: SweepSettings):
+        from contactvib._kernels import trace as tk
+
+        self.tk = tk
+        self.model = model
+        self.st = st
+        self.f = f
+        self.r = f / model.f_n0
+        self.par = model.excitation(pa_over_q, f[0]).kernel_parameters()
+        n = f.size
+        self.t_n = np.zeros(n, np.int64)
+        self.t_k = np.zeros((n, _MAXA), np.int64)
+        self.t_kind = np.zeros((n, _MAXA), np.int64)
+        self.t_pts = np.zeros((n, _MAXA, 16, 2))
+        self.t_box = np.zeros((n, _MAXA, 4))
+        self.t_row = np.zeros((n, _MAXA), np.int64)
+        self.t_cov = np.zeros((n, _MAXA, 2), np.bool_)
+        self.chunks: list[dict] = []
+        self.links: list[np.ndarray] = []
+        self.n_rows = 0
+        self.stops: list[tuple] = []
+
+    def _alloc(self, cap):
+        tk = self.tk
+        return dict(
+            i=np.zeros(cap, np.int64), kind=np.zeros(cap, np.int64), k=np.zeros(cap, np.int64),
+            z=np.zeros((cap, 2)), mu_re=np.zeros((cap, 2)), mu_im=np.zeros((cap, 2)),
+            closure=np.zeros(cap), xmin=np.zeros(cap), xmax=np.zeros(cap), flight=np.zeros(cap),
+            nmin=np.zeros(cap, np.int64), next=np.zeros(cap, np.int64),
+            ext_t=np.zeros((cap, tk.EXT_MAX)), ext_x=np.zeros((cap, tk.EXT_MAX)),
+            ext_min=np.zeros((cap, tk.EXT_MAX), np.bool_), strobe=np.zeros((cap, tk.STROBE_MAX, 2)),
+            nstrobe=np.zeros(cap, np.int64), harm=np.zeros((cap, tk.HARM_MAX)),
+            lyap=np.zeros(cap), origin=np.zeros(cap, np.int64),
+        )
+
+    def trace(self, z, k, kind, i0, direction, label, root):
+        """Run one trace; returns the new rows' (global) indices of jump landings."""
+        st = self.st
+        cap = self.f.size + 1
+        o = self._alloc(cap)
+        la = np.zeros(cap, np.int64)
+        lb = np.zeros(cap, np.int64)
+        lj = np.zeros(cap, np.int64)
+        n_rows, n_links, stop, i_stop = self.tk.trace(
+            np.asarray(z, float), int(k), int(kind), int(i0), int(direction), self.r, self.par,
+            st.rtol, st.close_tol, int(st.kmax), int(st.max_periods), st.detect_tol,
+            st.rtol_transient, st.same_tol, self.n_rows,
+            self.t_n, self.t_k, self.t_kind, self.t_pts, self.t_box, self.t_row, self.t_cov,
+            o["i"], o["kind"], o["k"], o["z"], o["mu_re"], o["mu_im"], o["closure"], o["xmin"],
+            o["xmax"], o["flight"], o["nmin"], o["next"], o["ext_t"], o["ext_x"], o["ext_min"],
+            o["strobe"], o["nstrobe"], o["harm"], o["lyap"], o["origin"], la, lb, lj)
+        self.stops.append((label, direction, float(self.f[i0]), float(self.f[i_stop]), int(stop), root))
+        if n_rows:
+            self.chunks.append({key: v[:n_rows].copy() for key, v in o.items()})
+            self.chunks[-1]["found_by"] = np.full(n_rows, TRACE_ROOTS.index(root), np.int64)
+        if n_links:
+            self.links.append(np.column_stack([la[:n_links], lb[:n_links], lj[:n_links]]))
+        base = self.n_rows
+        self.n_rows += n_rows
+        landings = [(base + j) for j in range(n_rows)
+                    if o["origin"][j] == self.tk.ORIGIN_JUMP and o["kind"][j] == self.tk.KIND_PERIODIC]
+        return landings
+
+    def row(self, gid):
+        """(z, k, kind, i) of global row ``gid``."""
+        for c in self.chunks:
+            n = c["i"].size
+            if gid < n:
+                return c["z"][gid], int(c["k"][gid]), int(c["kind"][gid]), int(c["i"][gid])
+            gid -= n
+        raise IndexError(gid)
+
+    def known_slot(self, i, z, k, kind):
+        return self.tk.find_known(i, np.asarray(z, float), int(k), int(kind), self.t_n, self.t_k,
+                                  self.t_kind, self.t_pts, self.t_box, self.st.same_tol)
+
+
+def _settle_from(level: _Level, i: int, z, phase: float = 0.0):
+    from contactvib._kernels.settle import SETTLE_NONPERIODIC, SETTLE_PERIODIC, settle
+
+    st = level.st
+    par = level.par.copy()
+    par[4] = level.r[i]
+    hist = np.empty((st.max_periods + 1, 2))
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    s, k, n, _res = settle(np.asarray(z, float), phase, par, st.kmax, 4, st.max_periods,
+                           st.detect_tol, st.rtol_transient, st.rtol, st.close_tol, hist, oz, oM)
+    if s == SETTLE_PERIODIC:
+        return oz, k, 0
+    if s == SETTLE_NONPERIODIC:
+        return hist[n].copy(), 0, 1
+    return None
+
+
+def _small_amplitude_seed(model, exc, par, st: SweepSettings):
+    """Orbit point from the perturbation solution, corrected by Newton; None if not a stable orbit.
+
+    The series (order 24, Padé-summed, :mod:`contactvib.perturbation`) is the small-amplitude
+    solution continued to this frequency; used only as a Newton start, valid or not.
+    """
+    from contactvib.frequency.perturbation import perturbation_series
+    from contactvib._kernels.settle import _refine
+
+    try:
+        z = np.asarray(perturbation_series(model, exc, order=24).state, float)
+    except (ValueError, FloatingPointError, ZeroDivisionError):
+        return None
+    if not np.all(np.isfinite(z)):
+        return None
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    ok, k, _res = _refine(z, 1, par, st.rtol, st.close_tol, oz, oM)
+    return oz.copy() if ok and k == 1 else None
+
+
+def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> dict:
+    """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
+
+    Returns
+    -------
+    dict
+        ``rows`` (dict of per-row arrays, nondimensional), ``links`` (int array (n, 3): row a,
+        row b, jump flag), ``f_hz`` (the grid), ``basin`` (per-row basin fraction, NaN where not
+        measured), ``stops`` (one tuple per trace: label, direction, f_start, f_stop, reason, root);
+        ``rows['found_by']`` indexes :data:`TRACE_ROOTS`.
+    """
+    from contactvib.steady.attractors import ballistic_seeds, start_box
+    from contactvib._kernels import trace as tk
+    from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+
+    st = settings
+    f = frequency_grid(st)
+    lv = _Level(model, pa_over_q, f, st)
+    queue: list[tuple] = []  # (z, k, kind, i0, direction, label, root)
+
+    for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
+        res = _settle_from(lv, i0, (1.0, 0.0))
+        if res is not None:
+            queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
+
+    def drain():
+        while queue:
+            z, k, kind, i0, direction, label, root = queue.pop(0)
+            for gid in lv.trace(z, k, kind, i0, direction, label, root):
+                zz, kk, kd, ii = lv.row(gid)
+                queue.append((zz, kk, kd, ii, -direction, "reverse", root))
+
+    drain()
+
+    basin_obs: dict[int, list] = {}
+    for i in multistart_indices(st):
+        i = int(i)
+        exc = model.excitation(pa_over_q, f[i])
+        Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
+        Zs, phs = ballistic_seeds(exc)
+        Z = np.vstack([Zb, Zs])
+        ph = np.concatenate([phb, phs])
+        par = lv.par.copy()
+        par[4] = lv.r[i]
+        zs = _small_amplitude_seed(model, exc, par, st)
+        if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
+            queue.append((zs, 1, 0, i, +1, "perturbation seed", "perturbation seed"))
+            queue.append((zs, 1, 0, i, -1, "perturbation seed", "perturbation seed"))
+            drain()
+        status, kk, zz = tk.settle_known_many(
+            Z, ph, i, par, st.kmax, st.max_periods, st.detect_tol, st.rtol_transient, st.rtol,
+            st.close_tol, st.capture_tol, lv.t_n, lv.t_k, lv.t_kind, lv.t_pts)
+        found = []
+        hits: dict[int, int] = {}
+        for j in range(Z.shape[0]):
+            if status[j] == SETTLE_CAPTURED:
+                if j < Zb.shape[0]:
+                    gid = int(lv.t_row[i, kk[j]])
+                    hits[gid] = hits.get(gid, 0) + 1
+                continue
+            if status[j] == SETTLE_PERIODIC:
+                z, k, kind = zz[j], int(kk[j]), 0
+            elif status[j] == SETTLE_NONPERIODIC:
+                z, k, kind = zz[j], 0, 1
+            else:
+                continue
+            found.append((j, z, k, kind))
+            if lv.known_slot(i, z, k, kind) < 0:
+                queue.append((z, k, kind, i, +1, "multi-start", "multi-start"))
+                queue.append((z, k, kind, i, -1, "multi-start", "multi-start"))
+                drain()
+        for j, z, k, kind in found:
+            if j >= Zb.shape[0]:
+                continue
+            s = lv.known_slot(i, z, k, kind)
+            if s >= 0:
+                gid = int(lv.t_row[i, s])
+                hits[gid] = hits.get(gid, 0) + 1
+        basin_obs[i] = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
+        for s in range(lv.t_n[i]):
+            gid = int(lv.t_row[i, s])
+            if gid not in hits:
+                basin_obs[i].append((gid, 0.0))
+
+    rows = {key: np.concatenate([c[key] for c in lv.chunks]) if lv.chunks else None
+            for key in (lv.chunks[0] if lv.chunks else {})}
+    basin = np.full(lv.n_rows, np.nan)
+    for lst in basin_obs.values():
+        for gid, frac in lst:
+            basin[gid] = frac
+    links = np.concatenate(lv.links) if lv.links else np.zeros((0, 3), np.int64)
+    return {"rows": rows, "links": links, "f_hz": f, "basin": basin, "stops": lv.stops,
+            "pa_over_q": float(pa_over_q)}
