@@ -2,7 +2,7 @@
 
 The module fixture runs ``reproduce_paper`` on the paper's eight levels over 30–2000 Hz at a
 4 Hz step (the default test grid; the 1 Hz run is the ``slow`` test at the end). Facts are read
-with :func:`contactvib.sweeps.paper.resonance_facts`; numbers are checked against the scipy reference
+with :func:`contactvib.sweeps.facts.resonance_facts`; numbers are checked against the scipy reference
 orbits in ``tests/data/reference.json`` (DOP853, rtol 1e-12, made by ``make_reference.py``).
 """
 
@@ -18,7 +18,8 @@ import xarray as xr
 from contactvib.cli import main
 from contactvib.sweeps.dataset import attractors_at, dominant_ratio, resonance_label
 from contactvib.model import ContactModel, ParameterError
-from contactvib.sweeps.paper import PAPER_LEVELS, coexisting_resonances, reproduce_paper, resonance_facts
+from contactvib.sweeps.facts import coexisting_resonances, resonance_facts
+from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid, multistart_indices, trace_level
 
 REF = json.loads((Path(__file__).parents[1] / "data" / "reference.json").read_text())

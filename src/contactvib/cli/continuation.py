@@ -80,13 +80,11 @@ def _open_dataset(path, levels):
     return ds
 
 
-def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None, parameter="f_e"):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from contactvib.plotting.branches import plot_branches
+def _write(bset, out: Path, tag: str, title: str, ds=None, pa=None, parameter="f_e"):
+    """Branch files, special points (NetCDF, JSON) and the branch figure (plus the overlay on
+    ``ds``'s resonance graph)."""
+    from contactvib.plotting.branches import branches_figure, branches_over_dataset_figure
+    from contactvib.plotting.figures import save_figure
 
     out.mkdir(parents=True, exist_ok=True)
     paths = []
@@ -97,23 +95,9 @@ def _write(bset, out: Path, tag: str, title: str, model, ds=None, pa=None, param
     if len(bset.special_points):
         bset.special_table().to_netcdf(out / f"special_points_{tag}.nc")
     (out / f"special_points_{tag}.json").write_text(bset.to_json(indent=1))
-    fig, ax = plt.subplots(figsize=(7.5, 4.6))
-    plot_branches(bset, ax, title=title, parameter=parameter)
-    fig.tight_layout()
-    fig_path = out / f"branches_{tag}.png"
-    fig.savefig(fig_path, dpi=130)
-    plt.close(fig)
+    fig_path = save_figure(branches_figure(bset, title, parameter), out / f"branches_{tag}.png")
     if ds is not None:  # continuation (stable solid, unstable dashed) over the sweep's attractors
-        from contactvib.plotting.figures import resonance_graph
-
-        fig, ax = plt.subplots(figsize=(8.0, 5.0))
-        resonance_graph(ds, pa, ax=ax, annotate=False)
-        for line in ax.lines:
-            line.set_alpha(0.45)
-        plot_branches(bset, ax, title=f"{title}, over the sweep's attractors (faint)")
-        fig.tight_layout()
-        fig.savefig(out / f"overlay_{tag}.png", dpi=130)
-        plt.close(fig)
+        save_figure(branches_over_dataset_figure(bset, ds, pa, title), out / f"overlay_{tag}.png")
     return paths, fig_path
 
 
@@ -187,7 +171,7 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_sw
     tag = f"pa{p:g}_fe{fe:g}" + ("_in_pa" if by_pa else "")
     title = (f"$f_e$ = {fe:g} Hz, branches in $P_a$ from the attractors at {p:g} Q" if by_pa
              else f"$P_a$ = {p:g} Q, branches from the attractors at {fe:g} Hz")
-    paths, fig = _write(bset, Path(out), tag, title, model, ds, p,
+    paths, fig = _write(bset, Path(out), tag, title, ds, p,
                         parameter="P_a" if by_pa else "f_e")
     if as_json:
         click.echo(bset.to_json())
@@ -233,7 +217,7 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max
     allb = BranchSet([])
     for p in levels:
         bset = bifurcation_diagram(model, p, seeds, s, switch=not no_switch)
-        _write(bset, Path(out), f"pa{p:g}", f"$P_a$ = {p:g} Q: all branches", model, ds, p)
+        _write(bset, Path(out), f"pa{p:g}", f"$P_a$ = {p:g} Q: all branches", ds, p)
         allb.branches.extend(bset.branches)
         if not as_json:
             click.echo(f"P_a = {p:g} Q: {len(bset)} branches, {len(bset.special_points)} special points")
@@ -264,24 +248,17 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     if hi <= lo:
         raise InputError(f"--pa-max (P_a/Q) = {hi:g}: must be > --pa-min = {lo:g}")
     n = _int("--levels", levels, 2, 50)
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from contactvib.continuation.evolution import evolution as run
-    from contactvib.plotting.branches import plot_evolution
+    from contactvib.plotting.branches import evolution_figure
+    from contactvib.plotting.figures import save_figure
 
     msgs = []
     res = run(model, m, lo, hi, n, log=msgs.append)
     outp = Path(out)
     outp.mkdir(parents=True, exist_ok=True)
     (outp / f"evolution_order{m}.json").write_text(res.to_json(indent=1))
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    plot_evolution(res, ax, title=f"evolution of the 1/{m} resonance: folds and period doublings")
-    fig.tight_layout()
-    fig.savefig(outp / f"evolution_order{m}.png", dpi=130)
-    plt.close(fig)
+    save_figure(evolution_figure(res, f"evolution of the 1/{m} resonance: folds and period doublings"),
+                outp / f"evolution_order{m}.png")
     if as_json:
         click.echo(res.to_json())
         return

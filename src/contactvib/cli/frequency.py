@@ -13,15 +13,6 @@ from contactvib.cli.common import (InputError, _excitation, _frequency_range, _i
 _CONV_ORDERS_MAX = 80
 
 
-def _figure_setup():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 @click.command()
 @_operating_point_options
 @click.option("--order", default="40", show_default=True, metavar="N",
@@ -60,8 +51,8 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
         click.echo(f"  harmonics [um], k = 0..6 (k = 0: mean shift): {h}")
     if out is None:
         return
-    plt = _figure_setup()
-    from contactvib.plotting.frequency import overlay_figure, plot_convergence
+    from contactvib.plotting.figures import save_figure
+    from contactvib.plotting.frequency import convergence_figure, overlay_figure
     from contactvib.steady.simulate import attractor_history
 
     out = Path(out)
@@ -77,10 +68,7 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
                 f"{num.app_um:.4g} µm; perturbation series (N = {n}) INVALID, not drawn:\n"
                 + res.reason.split(";")[0])
         note = ""
-    fig = overlay_figure(hist_num, series, head, note)
-    p1 = out / f"perturbation_{tag}.png"
-    fig.savefig(p1, dpi=130)
-    plt.close(fig)
+    p1 = save_figure(overlay_figure(hist_num, series, head, note), out / f"perturbation_{tag}.png")
     orders = sorted(set(range(2, min(max(n, 8), _CONV_ORDERS_MAX) + 1, 2)) | {1})
     tables = {s: convergence_table(model, exc, orders, num.app_um, s) for s in ("plain", "pade")}
     lines = ["N,app_plain_um,relerr_plain,estimate_plain_um,app_pade_um,relerr_pade,estimate_pade_um"]
@@ -88,14 +76,10 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
         lines.append(f"{rp[0]},{rp[1]:.12g},{rp[2]:.3e},{rp[3]:.3e},{rq[1]:.12g},{rq[2]:.3e},{rq[3]:.3e}")
     p2 = out / f"convergence_{tag}.csv"
     p2.write_text("\n".join(lines) + "\n")
-    fig, ax = plt.subplots(figsize=(6, 3.8))
-    plot_convergence({"plain": tables["plain"], "Padé": tables["pade"]}, ax)
-    ax.set_title(f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz: series vs shooting "
-                 f"($A_{{pp}}$ = {num.app_um:.5g} µm)", fontsize=9)
-    fig.tight_layout()
-    p3 = out / f"convergence_{tag}.png"
-    fig.savefig(p3, dpi=130)
-    plt.close(fig)
+    fig = convergence_figure({"plain": tables["plain"], "Padé": tables["pade"]},
+                             f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz: series vs "
+                             f"shooting ($A_{{pp}}$ = {num.app_um:.5g} µm)")
+    p3 = save_figure(fig, out / f"convergence_{tag}.png")
     if not as_json:
         for p in (p1, p2, p3):
             click.echo(str(p))
@@ -139,31 +123,12 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     outp = Path(out)
     outp.mkdir(parents=True, exist_ok=True)
     (outp / "branch.json").write_text(json.dumps(payload))
-    plt = _figure_setup()
-    from contactvib.plotting.frequency import plot_branch
+    from contactvib.plotting.figures import save_figure
+    from contactvib.plotting.frequency import hbm_figure
 
-    fig, ax = plt.subplots(figsize=(8, 4.2))
-    colours = ["k", "tab:blue", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:olive"]
-    for i, (name, b) in enumerate(branches):
-        plot_branch(b, ax, label=f"HB (H = {H}) {name}", colour=colours[i % len(colours)])
-    fs, apps = series
-    if fs:
-        ax.plot(fs, apps, "o", mfc="none", color="tab:red", ms=3.5,
-                label="perturbation (N = 40, Padé), valid points only")
-    for m in range(1, 7):
-        fm = model.f_n0 / m
-        if f1 <= fm <= f2:
-            ax.axvline(fm, color="0.8", lw=0.6, zorder=0)
-            ax.text(fm, 1.0, f"1/{m}" if m > 1 else "$f_{n0}$", transform=ax.get_xaxis_transform(),
-                    fontsize=7, ha="center", va="bottom", color="0.4")
-    ax.set_title(f"Harmonic balance, $P_a$ = {pa_q:g} Q (dots: loss of contact)", fontsize=10,
-                 pad=14)
-    ax.legend(loc="upper right", fontsize=7, frameon=False)
-    fig.tight_layout()
-    tag = f"pa{pa_q:g}_H{H}"
-    path = outp / f"hbm_branch_{tag}.png"
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    fig = hbm_figure([(f"HB (H = {H}) {name}", b) for name, b in branches], series, model.f_n0,
+                     (f1, f2), f"Harmonic balance, $P_a$ = {pa_q:g} Q (dots: loss of contact)")
+    path = save_figure(fig, outp / f"hbm_branch_pa{pa_q:g}_H{H}.png")
     if as_json:
         click.echo(json.dumps(payload))
         return

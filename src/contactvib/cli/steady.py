@@ -64,36 +64,22 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
         y = _number("--from-state", "y", from_state[0])
         yd = _number("--from-state", "ydot", from_state[1])
         n = _int("--periods", periods, 1)
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from contactvib.plotting.figures import attractor_figure, plot_phase_portrait, plot_time_history
+    from contactvib.plotting.figures import attractor_figure, history_figure, save_figure
     from contactvib.steady.simulate import attractor_history, simulate as run
 
     out.mkdir(parents=True, exist_ok=True)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
     if from_state is not None:
         h = run(model, exc, y, yd, n_periods=n)
-        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
-        plot_time_history(h, a1)
-        plot_phase_portrait(h, a2)
-        fig.suptitle(f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz, from y = {y:g} µm, "
-                     f"ẏ = {yd:g} mm/s", fontsize=10)
-        fig.tight_layout()
-        path = out / f"trajectory_{tag}.png"
-        fig.savefig(path, dpi=130)
-        plt.close(fig)
+        fig = history_figure(h, f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz, from "
+                                f"y = {y:g} µm, ẏ = {yd:g} mm/s")
+        path = save_figure(fig, out / f"trajectory_{tag}.png")
         click.echo(str(path))
         return
     result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
     (out / "attractors.json").write_text(result.to_json(indent=1))
     for i, a in enumerate(result):
         hist = attractor_history(model, exc, a)
-        fig = attractor_figure(hist, a)
-        path = out / f"attractor{i}_{tag}.png"
-        fig.savefig(path, dpi=130)
-        plt.close(fig)
+        path = save_figure(attractor_figure(hist, a), out / f"attractor{i}_{tag}.png")
         click.echo(f"{path}  period={a.period} minima={a.minima_per_period} A_pp={a.app_um:.4g} um")
 

@@ -85,17 +85,14 @@ def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax
     model = _model(settings)
     st = _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax)
     n_workers = _workers(workers)
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from contactvib.sweeps.paper import level_figures
+    from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
     out = Path(out)
     ds = resonance_dataset(model, levels, st, out=out, resume=resume, workers=n_workers,
                            progress=not no_progress)
     for p in sorted(set(levels)):
-        level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png", model)
+        write_level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png", model)
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_branches", "plot_evolution"]
+__all__ = ["plot_branches", "plot_evolution", "branches_figure", "branches_over_dataset_figure",
+           "evolution_figure"]
 
 _COLORS = {1: "k", 2: "tab:blue", 3: "tab:green", 4: "tab:purple", 6: "tab:olive", 8: "tab:cyan"}
 _MARKERS = {"fold": ("o", "tab:red"), "period-doubling": ("s", "tab:orange"),
@@ -103,3 +104,38 @@ def plot_evolution(result, ax=None, title: str | None = None):
         ax.set_title(title, fontsize=10)
     ax.grid(True, lw=0.3, color="0.85")
     return ax
+
+
+def branches_figure(branches, title: str, parameter: str = "f_e"):
+    """A figure of :func:`plot_branches` (A_pp against f_e, or P_a with ``parameter="P_a"``)."""
+    from contactvib.plotting.figures import new_figure
+
+    fig, axes = new_figure(figsize=(7.5, 4.6))
+    plot_branches(branches, axes[0, 0], title=title, parameter=parameter)
+    fig.tight_layout()
+    return fig
+
+
+def branches_over_dataset_figure(branches, ds, pa_over_q: float, title: str):
+    """Continued branches (stable solid, unstable dashed) over a sweep's resonance graph of the
+    same P_a (drawn faint)."""
+    from contactvib.plotting.figures import new_figure, resonance_graph
+
+    fig, axes = new_figure(figsize=(8.0, 5.0))
+    ax = axes[0, 0]
+    resonance_graph(ds, pa_over_q, ax=ax, annotate=False)
+    for line in ax.lines:
+        line.set_alpha(0.45)
+    plot_branches(branches, ax, title=f"{title}, over the sweep's attractors (faint)")
+    fig.tight_layout()
+    return fig
+
+
+def evolution_figure(result, title: str):
+    """A figure of :func:`plot_evolution`."""
+    from contactvib.plotting.figures import new_figure
+
+    fig, axes = new_figure(figsize=(7, 4.5))
+    plot_evolution(result, axes[0, 0], title=title)
+    fig.tight_layout()
+    return fig

@@ -10,16 +10,27 @@ import numpy as np
 
 from contactvib.steady.results import Attractor, TimeHistory
 
-__all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph",
+__all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph", "save_figure",
+           "history_figure", "new_figure",
            "extrema_diagram"]
 
 
-def _ax(ax):
+def _ax(ax, size=(6, 3.2)):
+    """``ax``, or the axes of a new pyplot figure of ``size`` inches when None."""
     if ax is None:
         import matplotlib.pyplot as plt
 
-        _, ax = plt.subplots(figsize=(6, 3.2))
+        _, ax = plt.subplots(figsize=size)
     return ax
+
+
+def new_figure(nrows: int = 1, ncols: int = 1, figsize=(7.0, 4.2), **subplot_kw):
+    """A figure and its axes array (squeeze=False) outside pyplot's state: for files, any backend,
+    no need to close. ``subplot_kw`` goes to :meth:`matplotlib.figure.Figure.subplots`."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(nrows, ncols, squeeze=False, **subplot_kw)
 
 
 def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
@@ -51,21 +62,24 @@ def plot_phase_portrait(history: TimeHistory, ax=None):
     return ax
 
 
-def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | None = None):
-    """A two-panel figure (time history, phase portrait) for one attractor."""
-    import matplotlib.pyplot as plt
+def history_figure(history: TimeHistory, title: str):
+    """A two-panel figure: time history (left) and phase portrait (right) of one trajectory."""
+    fig, axes = new_figure(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    plot_time_history(history, axes[0, 0])
+    plot_phase_portrait(history, axes[0, 1])
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
 
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
-    plot_time_history(history, a1)
-    plot_phase_portrait(history, a2)
+
+def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | None = None):
+    """:func:`history_figure` of one attractor, titled with its period, minima and A_pp."""
     k = "non-periodic" if attractor.period is None else f"period {attractor.period}"
     n = attractor.minima_per_period
     mins = "" if n is None else f", {n} {'minimum' if n == 1 else 'minima'} per period"
     head = title or (f"$P_a$ = {history.pa_over_q:g} Q, $f_e$ = {history.fe_hz:g} Hz: {k}{mins}, "
                      f"$A_{{pp}}$ = {attractor.app_um:.4g} µm")
-    fig.suptitle(head, fontsize=10)
-    fig.tight_layout()
-    return fig
+    return history_figure(history, head)
 
 
 # ---------------------------------------------------------------- resonance graphs (Figs. 2, 3)
@@ -203,3 +217,12 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
     ax.legend(loc="upper right", fontsize=7, frameon=False, markerscale=1)
     return ax
+
+
+def save_figure(fig, path, dpi: int = 130):
+    """Write ``fig`` to ``path`` (format from the suffix) and release it; returns the path."""
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)  # a pyplot figure is dropped from pyplot's list; others are left to the GC
+    return path

@@ -11,17 +11,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib.plotting.figures import _ax
+from contactvib.plotting.figures import _ax, new_figure
 from contactvib.steady.results import TimeHistory
 
-__all__ = ["overlay_figure", "plot_convergence", "plot_branch"]
+__all__ = ["overlay_figure", "plot_convergence", "plot_branch", "convergence_figure", "hbm_figure"]
 
 
 def overlay_figure(numeric: TimeHistory, series: TimeHistory | None, title: str, note: str = ""):
     """Two panels: y(t) and ẏ(y) of the numerics (black) and the series (red dashed) if given."""
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    fig, axes = new_figure(1, 2, figsize=(11, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    a1, a2 = axes[0]
     a1.plot(numeric.t_ms, numeric.y_um, color="k", lw=1.2, label="numerical (shooting)")
     a2.plot(numeric.y_um, numeric.ydot_mm_s, color="k", lw=1.2, label="numerical (shooting)")
     if series is not None:
@@ -89,3 +88,39 @@ def plot_branch(branch, ax=None, label: str = "HB branch", colour: str = "k"):
     ax.set_ylabel("$A_{pp}$ [µm]")
     ax.set_yscale("log")
     return ax
+
+
+def convergence_figure(rows_by_label: dict, title: str):
+    """A figure of :func:`plot_convergence`."""
+    fig, axes = new_figure(figsize=(6, 3.8))
+    plot_convergence(rows_by_label, axes[0, 0])
+    axes[0, 0].set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+_BRANCH_COLOURS = ["k", "tab:blue", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:olive"]
+
+
+def hbm_figure(branches, series, fn0_hz: float, f_range, title: str):
+    """Harmonic-balance branches A_pp(f_e) (stable solid, unstable dashed, dots for loss of
+    contact), the valid perturbation points ``series = (fe_hz, app_um)`` as circles, and f_n0/m
+    marked. ``branches``: (label, HBBranch) pairs; ``f_range``: (f_min, f_max) [Hz]."""
+    fig, axes = new_figure(figsize=(8, 4.2))
+    ax = axes[0, 0]
+    for i, (label, b) in enumerate(branches):
+        plot_branch(b, ax, label=label, colour=_BRANCH_COLOURS[i % len(_BRANCH_COLOURS)])
+    fs, apps = series
+    if fs:
+        ax.plot(fs, apps, "o", mfc="none", color="tab:red", ms=3.5,
+                label="perturbation (N = 40, Padé), valid points only")
+    for m in range(1, 7):
+        fm = fn0_hz / m
+        if f_range[0] <= fm <= f_range[1]:
+            ax.axvline(fm, color="0.8", lw=0.6, zorder=0)
+            ax.text(fm, 1.0, f"1/{m}" if m > 1 else "$f_{n0}$", transform=ax.get_xaxis_transform(),
+                    fontsize=7, ha="center", va="bottom", color="0.4")
+    ax.set_title(title, fontsize=10, pad=14)
+    ax.legend(loc="upper right", fontsize=7, frameon=False)
+    fig.tight_layout()
+    return fig

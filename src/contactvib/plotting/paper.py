@@ -1,0 +1,63 @@
+"""The paper's figures: one level's resonance graph and local-extrema diagram (Figs. 2, 3) and a
+time-history figure with one row per attractor (Figs. 4–9). Matplotlib only; the data come in."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from contactvib.plotting.figures import (extrema_diagram, new_figure, plot_phase_portrait,
+                                         plot_time_history, resonance_graph)
+
+__all__ = ["level_figures", "TimeRow", "time_figure"]
+
+
+def level_figures(ds, pa_over_q: float, perturbation=None, ref: str = ""):
+    """The resonance graph (Fig. 2) and the local-extrema diagram (Fig. 3) of one P_a level.
+
+    ``perturbation``: ``(fe_hz, app_um, valid)`` of the series, drawn on the graph where valid;
+    ``ref`` names the paper's panel in the titles (e.g. "c" for Figs. 2c/3c).
+    Returns the two figures ``(graph, extrema)``.
+    """
+    figures = []
+    for draw, what, fig_no, kw in ((resonance_graph, "Resonance graph", "2",
+                                    {"perturbation": perturbation}),
+                                   (extrema_diagram, "Local extrema of y(t)", "3", {})):
+        fig, axes = new_figure(figsize=(7.0, 4.2))
+        ax = axes[0, 0]
+        draw(ds, pa_over_q, ax=ax, **kw)
+        ax.set_xlim(0, float(ds["fe_hz"].max()) * 1.02)
+        cf = f" (cf. Fig. {fig_no}{ref})" if ref else ""
+        ax.set_title(f"{what}, $P_a$ = {pa_over_q:g} Q{cf}", fontsize=10)
+        fig.tight_layout()
+        figures.append(fig)
+    return tuple(figures)
+
+
+@dataclass(frozen=True)
+class TimeRow:
+    """One attractor of a time-history figure: its history, the row title, and the perturbation
+    series' history to overlay (None: not drawn) with its legend label."""
+
+    history: object
+    title: str
+    series: object = None
+    series_label: str = ""
+
+
+def time_figure(rows, title: str):
+    """Figs. 4–9: one row per attractor, y(t) [µm vs ms] left and the phase portrait right."""
+    n = max(len(rows), 1)
+    fig, axes = new_figure(n, 2, figsize=(11, 2.5 * n + 0.6), gridspec_kw={"width_ratios": [1.7, 1]})
+    for r, row in enumerate(rows):
+        plot_time_history(row.history, axes[r, 0])
+        plot_phase_portrait(row.history, axes[r, 1])
+        if row.series is not None:
+            hp = row.series
+            axes[r, 0].plot(hp.t_ms, hp.y_um, color="tab:red", ls="--", lw=1.0,
+                            label=row.series_label)
+            axes[r, 1].plot(hp.y_um, hp.ydot_mm_s, color="tab:red", ls="--", lw=1.0)
+            axes[r, 0].legend(loc="best", fontsize=7, frameon=False)
+        axes[r, 0].set_title(row.title, fontsize=8.5, loc="left")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
