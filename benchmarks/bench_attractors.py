@@ -10,7 +10,7 @@ Operating point: the paper's defaults, P_a = 0.65 Q, f_e = 360 Hz, whose four co
 period-1 attractors have the phase-0 orbit points (x = y/y0, v) ~ (-45.6107, 0.5061),
 (1.3016, -0.1249), (3.3857, -1.2839), (-0.2552, 0.5431).
 
-What is measured (all in one run, results printed and written to benchmarks/results.json):
+What is measured (all in one run, results printed and written to benchmarks/results_attractors.json):
 
 1. Reference: the four orbits refined by Newton shooting at rtol = atol = 1e-13, and a
    reference one-period stroboscopic map P_ref(z) = strobe_map(z, 1, par, 1e-13, 1e-13).
@@ -288,7 +288,7 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=None, help="numba threads (default: all)")
     ap.add_argument("--no-cli", action="store_true")
     ap.add_argument("--no-cold", action="store_true", help="skip the cold-compile subprocess")
-    ap.add_argument("--out", default=str(HERE / "results.json"))
+    ap.add_argument("--out", default=str(HERE / "results_attractors.json"))
     a = ap.parse_args(argv)
     if a.quick:
         a.starts, a.periods, a.scipy_starts, a.scipy_periods, a.scipy_long = 16, 5, 1, 2, 30

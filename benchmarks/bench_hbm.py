@@ -6,7 +6,7 @@ stability by one shooting period per point. Shooting: at the same frequencies, N
 (rtol 1e-12, closure 1e-10) warm-started from the previous orbit, then the A_pp measurement of
 ``describe_orbit``. Reports wall times (best of 5 runs) and the largest relative A_pp difference.
 
-    cd /work/main && PYTHONPATH=src python benchmarks/bench_hbm.py [--harmonics 32]
+    PYTHONPATH=src python benchmarks/bench_hbm.py [--harmonics 32]
 """
 
 from __future__ import annotations
