@@ -8,7 +8,8 @@ the solution about ``τ0`` follow from a recurrence (automatic differentiation):
     a_k = [δ_k0 − (x^m2)_k − c (x^l v)_k + p γ_k] / m2     contact mode (x > 0)
     a_k = [δ_k0 + p γ_k] / m2                              flight mode  (x ≤ 0)
 
-with Cauchy products for the powers and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. A step of order
+with Cauchy products for the powers (the contact law's recurrence, :func:`.contact.series_contact`)
+and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. A step of order
 ``N`` has length ``h = SAFETY · min_{k=N−1,N} (tol·s / |c_k|)^(1/k)`` (Jorba & Zou 2005), ``c_k``
 the last coefficients of x and v and ``s = 1 + |x0|`` or ``1 + |v0|`` (``atol = rtol = tol``):
 no step is ever rejected. The step's polynomial is its own dense output. A crossing of
@@ -40,6 +41,7 @@ from numba import njit
 from .flow import (REC_WIDTH, STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK,
                    STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS, _crosses, advance,
                    illinois_trial, illinois_update)
+from .contact import series_contact
 
 SAFETY = 0.8
 N_SUB = 8  # sub-intervals of a step searched for a crossing of x = 0
@@ -74,77 +76,37 @@ def _rotation(k, ct, st):
 
 
 @njit(cache=True)
+def excitation_series(t, p, r, N, E):
+    """E[k] = δ_k0 + p γ_k, k < N: Taylor coefficients of 1 + p cos(rτ) about τ = t."""
+    ct = math.cos(r * t)
+    st = math.sin(r * t)
+    fk = p  # p r^k / k!
+    for k in range(N):
+        E[k] = fk * _rotation(k, ct, st) + (1.0 if k == 0 else 0.0)
+        fk *= r * INV[k + 1]
+
+
+@njit(cache=True)
 def series(contact, t, x0, v0, par, N, X, V, W):
     """Taylor coefficients X[0..N], V[0..N] of x and x' about τ = t.
 
-    The damping term is a derivative, x^l x' = (x^(l+1))'/(l+1), so its k-th coefficient is
-    (k+1)/(l+1) (x^(l+1))_{k+1}, and only the powers of x are multiplied out (W[q] = x^q, work
-    array (MAX_EXPONENT + 2, N + 1)); X_{k+1} = V_k/(k+1) is known before a_k is needed.
-    For the paper's law (m2 = 2, l = 1) both terms come from the one series x²: about 80 ns for
-    order 14.
+    Flight: ``x'' = E/m2``; contact: the contact law's recurrence
+    (:func:`.contact.series_contact`, about 90 ns for order 14 for the paper's law). ``W``:
+    work array (MAX_EXPONENT + 2, N + 1); row 0 holds the excitation's coefficients E_k
+    (:func:`excitation_series`), the other rows the powers of x.
     """
     m2 = par[0]
-    c = par[2]
-    p = par[3]
-    r = par[4]
-    im2 = int(m2)
-    il = int(par[1])
-    inv_m2 = 1.0 / m2
-    ct = math.cos(r * t)
-    st = math.sin(r * t)
     X[0] = x0
     V[0] = v0
-    fk = p  # p r^k / k!
-    if not contact:  # flight: x'' = (1 + p cos rτ)/m2
-        for k in range(N):
-            g = _rotation(k, ct, st)
-            a = fk * g + (1.0 if k == 0 else 0.0)
-            X[k + 1] = V[k] * INV[k + 1]
-            V[k + 1] = a * inv_m2 * INV[k + 1]
-            fk *= r * INV[k + 1]
+    E = W[0]
+    excitation_series(t, par[3], par[4], N, E)
+    if contact:
+        series_contact(E, X, V, W, N, m2, par[1], par[2])
         return
-    if im2 == 2 and il == 1:  # x'' = (1 − x² − c x x' + p cos rτ)/2,  x x' = (x²)'/2
-        # (x²)_n = S + 2 x_0 x_n: the old terms S first, so that the newest coefficient
-        # x_n = v_{n−1}/n enters last and the recurrence's critical path is two operations
-        p_k = x0 * x0  # (x²)_k
-        for k in range(N):
-            n = k + 1
-            g = _rotation(k, ct, st)
-            s = 0.0
-            for j in range((n + 1) // 2 - 1, 0, -1):
-                s += X[j] * X[n - j]
-            s = 2.0 * s
-            if n % 2 == 0:
-                s += X[n // 2] * X[n // 2]
-            alpha = 0.5 * INV[n]
-            hc = 0.5 * c * n
-            A = alpha * (fk * g + (1.0 if k == 0 else 0.0) - p_k - hc * s)
-            B = alpha * hc * 2.0 * x0
-            xn = V[k] * INV[n]
-            X[n] = xn
-            V[n] = A - B * xn
-            fk *= r * INV[n]
-            p_k = s + 2.0 * x0 * xn
-        return
-    qmax = max(im2, il + 1)
-    W[1, 0] = x0
-    for q in range(2, qmax + 1):
-        W[q, 0] = W[q - 1, 0] * x0
-    for k in range(N):
-        g = _rotation(k, ct, st)
+    inv_m2 = 1.0 / m2
+    for k in range(N):  # flight: x'' = (1 + p cos rτ)/m2
         X[k + 1] = V[k] * INV[k + 1]
-        n = k + 1
-        W[1, n] = X[n]
-        for q in range(2, qmax + 1):
-            acc = 0.0
-            for j in range(n + 1):
-                acc += W[q - 1, j] * X[n - j]
-            W[q, n] = acc
-        a = fk * g + (1.0 if k == 0 else 0.0) - W[im2, k]
-        if c != 0.0:
-            a -= c * (k + 1) / (il + 1) * W[il + 1, k + 1]
-        V[k + 1] = a * inv_m2 * INV[k + 1]
-        fk *= r * INV[k + 1]
+        V[k + 1] = E[k] * inv_m2 * INV[k + 1]
 
 
 @njit(cache=True)
