@@ -15,11 +15,11 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy_contact import scipy_in_contact
 
-from contactvib.model import ContactModel, PowerLaw
 from contactvib._kernels.flow import REC_WIDTH, STATUS_OK, advance, rhs
 from contactvib._kernels.taylor import MAX_EXPONENT, is_polynomial_law, series
 from contactvib.frequency.harmonic_balance import hb_solve
 from contactvib.frequency.perturbation import perturbation_series
+from contactvib.model import ContactModel, PowerLaw
 
 M2S = [1.0, 1.5, 2.0, 3.0]
 LS = [0.0, 0.5, 1.0]

@@ -63,7 +63,7 @@ class PowerLaw:
     """
 
     m2: float = 2.0
-    l: float = 1.0  # noqa: E741 (the paper's symbol)
+    l: float = 1.0  # the paper's symbol
 
     def force(self, x, v, c: float):
         """Contact force and its partial derivatives, vectorised (numpy broadcasting).
@@ -116,7 +116,9 @@ class PowerLaw:
         -------
         R, S : ndarray (M,)
         """
-        from contactvib._kernels.contact import power_series_partial  # numba on first use only
+        from contactvib._kernels.contact import (
+            power_series_partial,  # numba on first use only
+        )
 
         R = np.empty(u.shape[1])
         S = np.empty(u.shape[1])
