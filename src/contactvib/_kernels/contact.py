@@ -110,7 +110,7 @@ def power_table_update(n, X, W, qmax):
         W[q, n] = acc
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _series_square(E, X, V, N, c):
     """:func:`series_contact` for m2 = 2, l = 1: both terms from the one series x².
 
@@ -138,7 +138,7 @@ def _series_square(E, X, V, N, c):
         p_k = s + 2.0 * x0 * xn
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def series_contact(E, X, V, W, N, m2, l, c):
     """Taylor coefficients of the contact mode ``m2 x'' = E(τ) − f(x, x')`` (integer m2, l).
 
