@@ -21,7 +21,7 @@ Everything that evaluates the law is built from the functions here:
 
 For the paper's law (m2 = 2, l = 1) the floating-point operation order is the one the kernels
 had before this module existed (``x·|x|``, the order of the additions), so results are
-bit-identical.
+bit-identical. What a new law must provide: ``contactvib.model.contact_law`` ("For developers").
 
 References
 ----------

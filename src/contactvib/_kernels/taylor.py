@@ -110,7 +110,8 @@ def _excitation_series(t, r, N, F, E):
         k += 4
     for j in range(k, N):
         E[j] = F[j] * _rotation(j, ct, st) + 0.0
-    E[0] = F[0] * ct + 1.0
+    if N > 0:
+        E[0] = F[0] * ct + 1.0
 
 
 @njit(cache=True, inline="always")

@@ -14,23 +14,26 @@ The compiled definition lives in :mod:`contactvib._kernels.contact`; this object
 
 For developers
 --------------
-The law is defined once, in ``_kernels/contact.py``; a law provides these functions:
+The law is defined once, in ``_kernels/contact.py`` (compiled); a law provides these four:
 
-1. ``force(x, v, *law)`` — the scalar force f(x, v) in contact (smoothly continued below 0);
-2. ``force_partials(x, v, *law)`` — (∂f/∂x, ∂f/∂v), for the Jacobian and variational equation;
-3. ``series_contact(E, X, V, W, N, *law)`` — the Taylor-coefficient recurrence of
-   ``m2 x'' = E − f(x, x')`` (only for laws with a polynomial right-hand side; others integrate
-   with DOP853: :func:`contactvib._kernels.taylor.is_polynomial_law`);
-4. the power series of its stiffness and damping parts about the static point
-   ``x = 1 + u`` (here Miller's recurrence :func:`~contactvib._kernels.contact.power_series_partial`
-   for ``(1 + u)^m2`` and ``(1 + u)^l``), for the perturbation series.
+1. ``force(x, v, m2, l, c)`` — the scalar force f(x, v) in contact, continued smoothly below
+   x = 0 (the DOP853 stages may sample there);
+2. ``force_partials(x, v, m2, l, c)`` — (∂f/∂x, ∂f/∂v), for the Jacobian and the variational
+   equation;
+3. ``series_contact(E, X, V, W, N, m2, l, c)`` — the Taylor-coefficient recurrence of
+   ``m2 x'' = E(τ) − f(x, x')`` given the excitation's coefficients E (only for laws whose
+   right-hand side is polynomial; :func:`contactvib._kernels.taylor.is_polynomial_law` sends the
+   others to DOP853), built from the Cauchy products ``power_table_update``;
+4. the power series of its stiffness and damping parts about the static point ``x = 1 + u``
+   (for the power law Miller's recurrence ``power_series_partial`` for ``(1 + u)^m2`` and
+   ``(1 + u)^l``), exposed here as :meth:`PowerLaw.series_about_one`.
 
-:func:`~contactvib._kernels.contact.force_array` (vectorised force with the flight switch) and
-the methods below are built from 1, 2 and 4; the DOP853 flow (:mod:`contactvib._kernels.flow`),
-the Taylor flow (:mod:`contactvib._kernels.taylor`), harmonic balance and the perturbation series
-call them and contain no law of their own. The kernels receive the law as the first entries of
-the parameter vector ``par = [m2, l, c, p, r]``. Tests: ``tests/model/test_contact_law.py``
-checks all four against each other and against scipy.
+Everything else is built from these: ``force_array`` (the vectorised force with the flight
+switch, :meth:`PowerLaw.force`), ``flow.acceleration``/``flow.jacobian_row``/``flow.rhs``, the
+Taylor flow ``taylor.series_prepared``, the harmonic-balance residual and the perturbation
+series contain no law of their own. The kernels receive the law as the first entries of the
+parameter vector ``par = [m2, l, c, p, r]``. ``tests/model/test_contact_law.py`` checks all four
+against each other, against a plain numpy formula and against scipy.
 """
 
 from __future__ import annotations
