@@ -167,12 +167,12 @@ def test_hb_perturbation_and_flow_agree_with_scipy(m2, l):
     # and the HB residual, re-evaluated on a fine grid with the plain formula, is small
     th = np.linspace(0.0, 2 * np.pi, 1001)
     X = sol.coefficients
-    k = np.arange(1, (X.size - 1) // 2 + 1)
-    x = X[0] + (X[1::2, None] * np.cos(k[:, None] * th) + X[2::2, None] * np.sin(k[:, None] * th)).sum(0)
-    xt = (k[:, None] * (-X[1::2, None] * np.sin(k[:, None] * th)
-                        + X[2::2, None] * np.cos(k[:, None] * th))).sum(0)
-    xtt = (-(k[:, None] ** 2) * (X[1::2, None] * np.cos(k[:, None] * th)
-                                 + X[2::2, None] * np.sin(k[:, None] * th))).sum(0)
+    k = np.arange(1, (X.size - 1) // 2 + 1)[:, None]
+    a, b = X[1::2, None], X[2::2, None]
+    C, S = np.cos(k * th), np.sin(k * th)
+    x = X[0] + (a * C + b * S).sum(0)
+    xt = (k * (b * C - a * S)).sum(0)
+    xtt = -(k * k * (a * C + b * S)).sum(0)
     f = _numpy_force(x, r * xt, m2, l, par[2])[0]
     resid = m2 * r * r * xtt + f - 1.0 - par[3] * np.cos(th)
     assert np.abs(resid).max() < 1e-10
