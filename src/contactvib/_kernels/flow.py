@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit
 
 from . import _dop853_coefficients as _co
+from .contact import force, force_partials
 
 A = np.ascontiguousarray(_co.A)
 B = np.ascontiguousarray(_co.B)
@@ -58,56 +59,23 @@ _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the cont
 
 
 @njit(cache=True)
-def _pow_ext(x, a):
-    """x^a for x > 0, continued oddly (−|x|^a) below zero; 1 for a = 0."""
-    if a == 1.0:  # integer exponents of the common laws, without a pow call
-        return x
-    if a == 2.0:
-        return x * abs(x)
-    if x > 0.0:
-        return x**a
-    if a == 0.0:
-        return 1.0
-    return -((-x) ** a)
-
-
-@njit(cache=True)
-def _dpow_ext(x, a):
-    """d/dx of :func:`_pow_ext`: a |x|^(a−1) (0 at x = 0 when a < 1, and for a = 0)."""
-    if a == 0.0:
-        return 0.0
-    if a == 1.0:
-        return 1.0
-    if a == 2.0:
-        return 2.0 * abs(x)
-    ax = abs(x)
-    if ax == 0.0:
-        if a > 1.0:
-            return 0.0
-        if a == 1.0:
-            return 1.0
-        return 0.0
-    return a * ax ** (a - 1.0)
-
-
-@njit(cache=True)
 def acceleration(contact, t, x, v, par):
-    """x'' of the given mode at (τ, x, x') [nondimensional]."""
+    """x'' of the given mode at (τ, x, x') [nondimensional]: [1 + p cos rτ − f(x, x')]/m2 in
+    contact, f the contact law (:func:`.contact.force`)."""
     f = 1.0 + par[3] * math.cos(par[4] * t)
     if contact:
-        f -= _pow_ext(x, par[0]) + par[2] * _pow_ext(x, par[1]) * v
+        f -= force(x, v, par[0], par[1], par[2])
     return f / par[0]
 
 
 @njit(cache=True)
 def jacobian_row(contact, x, v, par):
-    """(∂x''/∂x, ∂x''/∂x') of the given mode at (x, x') [nondimensional]."""
+    """(∂x''/∂x, ∂x''/∂x') of the given mode at (x, x') [nondimensional]: −(∂f/∂x, ∂f/∂v)/m2."""
     if not contact:
         return 0.0, 0.0
     m2 = par[0]
-    j21 = -(_dpow_ext(x, m2) + par[2] * _dpow_ext(x, par[1]) * v) / m2
-    j22 = -par[2] * _pow_ext(x, par[1]) / m2
-    return j21, j22
+    fx, fv = force_partials(x, v, m2, par[1], par[2])
+    return -fx / m2, -fv / m2
 
 
 @njit(cache=True)

@@ -8,7 +8,8 @@ the solution about ``τ0`` follow from a recurrence (automatic differentiation):
     a_k = [δ_k0 − (x^m2)_k − c (x^l v)_k + p γ_k] / m2     contact mode (x > 0)
     a_k = [δ_k0 + p γ_k] / m2                              flight mode  (x ≤ 0)
 
-with Cauchy products for the powers and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. A step of order
+with Cauchy products for the powers (the contact law's recurrence, :func:`.contact.series_contact`)
+and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. A step of order
 ``N`` has length ``h = SAFETY · min_{k=N−1,N} (tol·s / |c_k|)^(1/k)`` (Jorba & Zou 2005), ``c_k``
 the last coefficients of x and v and ``s = 1 + |x0|`` or ``1 + |v0|`` (``atol = rtol = tol``):
 no step is ever rejected. The step's polynomial is its own dense output. A crossing of
@@ -37,6 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .contact import series_contact
 from .flow import (REC_WIDTH, STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK,
                    STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS, _crosses, advance,
                    illinois_trial, illinois_update)
@@ -73,78 +75,71 @@ def _rotation(k, ct, st):
     return ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
 
 
-@njit(cache=True)
-def series(contact, t, x0, v0, par, N, X, V, W):
-    """Taylor coefficients X[0..N], V[0..N] of x and x' about τ = t.
+#: Row of the series work array (:func:`series_work`) that holds p r^k/k!; row 0 holds E_k and
+#: rows 1..MAX_EXPONENT + 1 the powers of x.
+FORCING_ROW = MAX_EXPONENT + 2
 
-    The damping term is a derivative, x^l x' = (x^(l+1))'/(l+1), so its k-th coefficient is
-    (k+1)/(l+1) (x^(l+1))_{k+1}, and only the powers of x are multiplied out (W[q] = x^q, work
-    array (MAX_EXPONENT + 2, N + 1)); X_{k+1} = V_k/(k+1) is known before a_k is needed.
-    For the paper's law (m2 = 2, l = 1) both terms come from the one series x²: about 80 ns for
-    order 14.
-    """
-    m2 = par[0]
-    c = par[2]
-    p = par[3]
+
+@njit(cache=True)
+def series_work(par, N):
+    """Work array of :func:`series_prepared`, with the forcing magnitudes p r^k/k! (k < N) that
+    do not depend on τ0 computed once: shape (MAX_EXPONENT + 3, N + 1)."""
+    W = np.empty((MAX_EXPONENT + 3, N + 1))  # every entry read is written first
+    fk = par[3]  # p r^k / k!
     r = par[4]
-    im2 = int(m2)
-    il = int(par[1])
-    inv_m2 = 1.0 / m2
+    for k in range(N):
+        W[FORCING_ROW, k] = fk
+        fk *= r * INV[k + 1]
+    return W
+
+
+@njit(cache=True, inline="always")
+def _excitation_series(t, r, N, F, E):
+    """E[k] = δ_k0 + F_k cos(rτ0 + kπ/2), k < N: Taylor coefficients of 1 + p cos(rτ) about
+    τ0 = t, with F_k = p r^k/k!."""
     ct = math.cos(r * t)
     st = math.sin(r * t)
+    mst = -st
+    mct = -ct
+    k = 0
+    while k + 4 <= N:  # the rotation's four cases unrolled (branch-free, vectorisable)
+        E[k] = F[k] * ct + 0.0
+        E[k + 1] = F[k + 1] * mst + 0.0
+        E[k + 2] = F[k + 2] * mct + 0.0
+        E[k + 3] = F[k + 3] * st + 0.0
+        k += 4
+    for j in range(k, N):
+        E[j] = F[j] * _rotation(j, ct, st) + 0.0
+    if N > 0:
+        E[0] = F[0] * ct + 1.0
+
+
+@njit(cache=True, inline="always")
+def series_prepared(contact, t, x0, v0, par, N, X, V, W):
+    """Taylor coefficients X[0..N], V[0..N] of x and x' about τ = t.
+
+    Flight: ``m2 x'' = E``; contact: the contact law's recurrence ``m2 x'' = E − f(x, x')``
+    (:func:`.contact.series_contact`, about 90 ns for order 14 for the paper's law), with E the
+    coefficients of 1 + p cos rτ. ``W``: work array from :func:`series_work` (same par, N).
+    """
+    m2 = par[0]
     X[0] = x0
     V[0] = v0
-    fk = p  # p r^k / k!
-    if not contact:  # flight: x'' = (1 + p cos rτ)/m2
-        for k in range(N):
-            g = _rotation(k, ct, st)
-            a = fk * g + (1.0 if k == 0 else 0.0)
-            X[k + 1] = V[k] * INV[k + 1]
-            V[k + 1] = a * inv_m2 * INV[k + 1]
-            fk *= r * INV[k + 1]
+    E = W[0]
+    _excitation_series(t, par[4], N, W[FORCING_ROW], E)
+    if contact:
+        series_contact(E, X, V, W, N, m2, par[1], par[2])
         return
-    if im2 == 2 and il == 1:  # x'' = (1 − x² − c x x' + p cos rτ)/2,  x x' = (x²)'/2
-        # (x²)_n = S + 2 x_0 x_n: the old terms S first, so that the newest coefficient
-        # x_n = v_{n−1}/n enters last and the recurrence's critical path is two operations
-        p_k = x0 * x0  # (x²)_k
-        for k in range(N):
-            n = k + 1
-            g = _rotation(k, ct, st)
-            s = 0.0
-            for j in range((n + 1) // 2 - 1, 0, -1):
-                s += X[j] * X[n - j]
-            s = 2.0 * s
-            if n % 2 == 0:
-                s += X[n // 2] * X[n // 2]
-            alpha = 0.5 * INV[n]
-            hc = 0.5 * c * n
-            A = alpha * (fk * g + (1.0 if k == 0 else 0.0) - p_k - hc * s)
-            B = alpha * hc * 2.0 * x0
-            xn = V[k] * INV[n]
-            X[n] = xn
-            V[n] = A - B * xn
-            fk *= r * INV[n]
-            p_k = s + 2.0 * x0 * xn
-        return
-    qmax = max(im2, il + 1)
-    W[1, 0] = x0
-    for q in range(2, qmax + 1):
-        W[q, 0] = W[q - 1, 0] * x0
-    for k in range(N):
-        g = _rotation(k, ct, st)
+    inv_m2 = 1.0 / m2
+    for k in range(N):  # flight: x'' = (1 + p cos rτ)/m2
         X[k + 1] = V[k] * INV[k + 1]
-        n = k + 1
-        W[1, n] = X[n]
-        for q in range(2, qmax + 1):
-            acc = 0.0
-            for j in range(n + 1):
-                acc += W[q - 1, j] * X[n - j]
-            W[q, n] = acc
-        a = fk * g + (1.0 if k == 0 else 0.0) - W[im2, k]
-        if c != 0.0:
-            a -= c * (k + 1) / (il + 1) * W[il + 1, k + 1]
-        V[k + 1] = a * inv_m2 * INV[k + 1]
-        fk *= r * INV[k + 1]
+        V[k + 1] = E[k] * inv_m2 * INV[k + 1]
+
+
+@njit(cache=True)
+def series(contact, t, x0, v0, par, N, X, V):
+    """:func:`series_prepared` with its own work array (for tests and single use)."""
+    series_prepared(contact, t, x0, v0, par, N, X, V, series_work(par, N))
 
 
 @njit(cache=True)
@@ -279,7 +274,7 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
     N = order_for(tol)
     X = np.empty(N + 1)
     V = np.empty(N + 1)
-    W = np.empty((MAX_EXPONENT + 2, N + 1))  # every entry read is written first
+    W = series_work(par, N)
     S = np.empty((2, N_SUB + 1))
     n_steps = 0
     n_events = 0
@@ -291,7 +286,7 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
         if n_steps >= max_steps:
             status = STATUS_MAX_STEPS
             break
-        series(contact, t, y[0], y[1], par, N, X, V, W)
+        series_prepared(contact, t, y[0], y[1], par, N, X, V, W)
         h = step_size(X, V, N, tol)
         remaining = t_end - t
         landing = h >= remaining

@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.model.contact_law import PowerLaw
 
 __all__ = ["HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError"]
 
@@ -128,23 +129,11 @@ class _AFT:
         return out
 
 
-def _force(x, xd, m2, l, c):
-    """Contact force f(x, x') and its partial derivatives (zero in flight)."""
-    on = x > 0.0
-    xp = np.where(on, x, 1.0)
-    pm = xp ** m2
-    pl = xp ** l
-    f = np.where(on, pm + c * pl * xd, 0.0)
-    fx = np.where(on, m2 * pm / xp + c * l * pl / xp * xd, 0.0)
-    fv = np.where(on, c * pl, 0.0)
-    return f, fx, fv
-
-
 def _residual(X, r, par, aft: _AFT, jac: bool = True):
     """HB residual (2H+1,), its Jacobian in X and its derivative in r."""
     m2, l, c, p = par
     x, xt = aft.synth(X)
-    f, fx, fv = _force(x, r * xt, m2, l, c)
+    f, fx, fv = PowerLaw(m2, l).force(x, r * xt, c)  # the contact law, 0 in flight
     R = m2 * r * r * aft.d2 * X + aft.project(f)
     R[0] -= 1.0
     R[1] -= p

@@ -58,6 +58,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.model.contact_law import PowerLaw
 from contactvib.steady.results import TimeHistory
 
 __all__ = ["PerturbationResult", "perturbation_series", "perturbation_curve", "linear_response", "steady_counterpart",
@@ -73,8 +74,10 @@ MAX_ORDER = 400
 def _series_terms(m2: float, l: float, zeta: float, r: float, order: int):
     """Two-sided harmonic amplitudes ``C[n, j]`` of ``uₙ`` (n = 0..order, j = 0..order).
 
-    ``uₙ(θ) = C[n,0] + 2 Re Σ_{j≥1} C[n,j] e^{ijθ}``; row 0 is zero (u₀ = 0).
+    ``uₙ(θ) = C[n,0] + 2 Re Σ_{j≥1} C[n,j] e^{ijθ}``; row 0 is zero (u₀ = 0). The powers
+    ``(1+u)^m2`` and ``(1+u)^l`` come from the contact law (:meth:`PowerLaw.series_about_one`).
     """
+    law = PowerLaw(m2, l)
     N = order
     M = 1 << int(math.ceil(math.log2(2 * N + 4)))  # samples: degree ≤ N needs M > 2N
     M = max(M, 16)
@@ -89,15 +92,13 @@ def _series_terms(m2: float, l: float, zeta: float, r: float, order: int):
     W[0] = 1.0
     D[0] = 1.0
     for n in range(1, N + 1):
-        k = np.arange(1, n)
-        # Miller recurrence without its k = n term (that one is α uₙ, still unknown)
+        # the law's series without their uₙ terms (Miller's recurrence: R, S involve orders < n)
+        R, S = law.series_about_one(u, W, D, n)
         if n > 1:
-            R = (((m2 + 1.0) * k - n)[:, None] * u[1:n] * W[n - 1:0:-1]).sum(axis=0) / n
-            S = (((l + 1.0) * k - n)[:, None] * u[1:n] * D[n - 1:0:-1]).sum(axis=0) / n
             damp = (D[1:n] * du[n - 1:0:-1]).sum(axis=0)
             rhs = -R / m2 - 2.0 * zeta * damp
         else:
-            R = S = rhs = np.zeros(M)
+            rhs = np.zeros(M)
         if n == 1:
             rhs = rhs + np.cos(theta) / m2
         F = np.fft.rfft(rhs) / M

@@ -24,6 +24,8 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
+from contactvib.model.contact_law import PowerLaw
+
 __all__ = ["ContactModel", "ParameterError", "PAPER_DEFAULTS", "check_finite", "check_range"]
 
 #: The paper's parameters (Section 2): SI units.
@@ -232,10 +234,19 @@ class ContactModel:
         return self.f_n0 / m
 
     # ----------------------------------------------------------------- forces
+    @property
+    def law(self) -> PowerLaw:
+        """The contact law ``f(x, v) = x^m2 + c x^l v`` of this model (:class:`PowerLaw`)."""
+        return PowerLaw(self.m2, self.l)
+
     def spring_force(self, y):
-        """Spring force F_s(y) = −S c_n y^m2 for y > 0, else 0 [N] (Eq. 2.3); y in m."""
+        """Spring force F_s(y) = −S c_n y^m2 for y > 0, else 0 [N] (Eq. 2.3); y in m.
+
+        Evaluated by the contact law: ``F_s = −Q f(y/y0, 0)`` since ``S c_n y0^m2 = Q``.
+        """
         y = np.asarray(y, dtype=float)
-        return np.where(y > 0, -self.S * self.c_n * np.abs(y) ** self.m2, 0.0)
+        f, _, _ = self.law.force(y / self.y0, 0.0, 0.0)
+        return -self.Q * f
 
     def conservative_force(self, y):
         """Conservative force F_k = F_s + Q [N] (Eq. 2.4); y in m."""
