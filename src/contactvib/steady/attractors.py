@@ -29,7 +29,8 @@ import numpy as np
 
 from contactvib._kernels.settle import (SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC,
                              settle_capture_many)
-from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.model import (CAPTURE_TOL_MAX, KMAX_SEARCH_MAX, ContactModel, Excitation,
+                              ParameterError, check_int, check_range)
 from contactvib.steady.results import AttractorSet
 from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
 
@@ -72,6 +73,20 @@ def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
     return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
 
 
+def _check_pair(model: ContactModel, excitation: Excitation) -> None:
+    """Refuse an excitation made for another model (its r = f_e/f_n0 and P_a/Q would be wrong)."""
+    if not isinstance(model, ContactModel):
+        raise ParameterError("model", model, "must be a ContactModel")
+    if not isinstance(excitation, Excitation):
+        raise ParameterError("excitation", excitation, "must be an Excitation (model.excitation(P_a/Q, f_e))")
+    if excitation.model != model:
+        mine, theirs = model.parameters(), excitation.model.parameters()
+        differ = ", ".join(k for k in mine if mine[k] != theirs[k])
+        raise ParameterError("excitation", f"P_a/Q = {excitation.pa_over_q:g} at {excitation.f_e:g} Hz",
+                             f"belongs to another model ({differ} differ): make it with "
+                             f"model.excitation(P_a/Q, f_e)")
+
+
 def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
                     seed: int = 0, kmax: int = 8, max_periods: int = 400,
                     seeds: bool = True, detect_tol: float = 1e-4,
@@ -85,7 +100,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     n_starts : int
         Random starts in the box (≥ 1).
     seed : int
-        Random seed of the box sample.
+        Random seed of the box sample (≥ 0).
     kmax : int
         Largest period searched, in excitation periods (1..64).
     max_periods : int
@@ -104,16 +119,14 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     -------
     AttractorSet
     """
-    n_starts = int(check_range("n_starts", n_starts, 1, True))
-    kmax = int(check_range("kmax", kmax, 1, True))
-    if kmax > 64:
-        raise ParameterError("kmax", kmax, "must be <= 64")
-    max_periods = int(check_range("max_periods", max_periods, 4 * kmax, True))
+    _check_pair(model, excitation)
+    n_starts = check_int("n_starts", n_starts, 1)
+    seed = check_int("seed", seed, 0)
+    kmax = check_int("kmax", kmax, 1, KMAX_SEARCH_MAX)
+    max_periods = check_int("max_periods", max_periods, 4 * kmax)
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
     rtol_transient = check_range("rtol_transient", rtol_transient, 0.0, False)
-    capture_tol = check_range("capture_tol", capture_tol, 0.0, True)
-    if capture_tol > 0.1:
-        raise ParameterError("capture_tol", capture_tol, "must be <= 0.1")
+    capture_tol = check_range("capture_tol", capture_tol, 0.0, True, upper=CAPTURE_TOL_MAX)
 
     Zb, phb = start_box(excitation, n_starts, seed)
     if seeds:
@@ -176,7 +189,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     return AttractorSet(
         attractors=attractors,
         fn0_hz=model.f_n0,
-        y0_um=model.y0 * 1e6,
+        y0_um=model.units.y_um,
         pa_over_q=excitation.pa_over_q,
         fe_hz=excitation.f_e,
         n_box=n_starts,
