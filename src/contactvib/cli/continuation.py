@@ -28,7 +28,7 @@ def _settings(fmin, fmax, max_points, app_max, rtol, pa_range=(0.0, 2.0)):
     from contactvib.continuation.shooting import ContinuationSettings
 
     lo, hi = _frequency_range(fmin, fmax)
-    n = _int("--max-points", max_points, 2, symbol="max_points")
+    n = _int("--max-points", max_points, 1, symbol="max_points")
     a = _number("--app-max", "app_max_um", app_max)
     r = _checked("--rtol", check_range, "rtol", rtol, SHOOTING_RTOL_RANGE[0], True,
                  upper=SHOOTING_RTOL_RANGE[1])
@@ -193,8 +193,8 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_sw
 
     found = find_attractors(model, model.excitation(p, fe))
     if n is not None and n >= len(found):
-        raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} of the "
-                         f"{len(found)} attractors found at {fe:g} Hz")
+        raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
+                         f"of the {len(found)} attractors found at {fe:g} Hz")
     msgs = []
     bset = continue_attractors(model, p, fe, n, s, switch=not no_switch, attractors=found,
                                log=msgs.append, parameter="P_a" if by_pa else "f_e")
