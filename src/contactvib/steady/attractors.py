@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib._kernels.settle import (SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC,
-                             settle_capture_many)
+from contactvib._kernels.settle import settle_capture_many
+from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
 from contactvib.model import (CAPTURE_TOL_MAX, KMAX_SEARCH_MAX, ContactModel, Excitation,
                               ParameterError, check_int, check_range)
 from contactvib.steady.results import AttractorSet
@@ -71,6 +71,40 @@ def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
     d_ab = np.min(np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2), axis=1)
     d_ba = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
     return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
+
+
+def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, status, period, _n_periods,
+                    residual, z_star, monodromy, tail) -> int:
+    """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
+    period, strobe or tail, z, M, res, hits, box) by the sameness rules; return the failures."""
+    n_failed = 0
+    for i in range(status.shape[0]):
+        if status[i] == SETTLE_CAPTURED:
+            g = groups[int(period[i])]
+        elif status[i] == SETTLE_PERIODIC:
+            k = int(period[i])
+            pts = strobe_points(excitation, z_star[i], k)
+            for g in groups:
+                if g["period"] == k and same_orbit(g["strobe"], pts):
+                    break
+            else:
+                g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
+                     "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
+                groups.append(g)
+        elif status[i] == SETTLE_NONPERIODIC:
+            for g in groups:
+                if g["period"] is None and _same_cloud(g["tail"], tail[i]):
+                    break
+            else:
+                g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
+                     "M": None, "res": np.inf, "hits": 0, "box": 0}
+                groups.append(g)
+        else:
+            n_failed += 1
+            continue
+        g["hits"] += 1
+        g["box"] += int(in_box[i])
+    return n_failed
 
 
 def _check_pair(model: ContactModel, excitation: Excitation) -> None:
@@ -141,35 +175,9 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
 
     def run(Z, ph, in_box, cap_pts, cap_id):
         nonlocal n_failed
-        status, period, _nper, residual, z_star, monodromy, tail = settle_capture_many(
-            Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient, RTOL_REFINE,
-            CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
-        for i in range(Z.shape[0]):
-            if status[i] == SETTLE_CAPTURED:
-                g = groups[int(period[i])]
-            elif status[i] == SETTLE_PERIODIC:
-                k = int(period[i])
-                pts = strobe_points(excitation, z_star[i], k)
-                for g in groups:
-                    if g["period"] == k and same_orbit(g["strobe"], pts):
-                        break
-                else:
-                    g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
-                         "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
-                    groups.append(g)
-            elif status[i] == SETTLE_NONPERIODIC:
-                for g in groups:
-                    if g["period"] is None and _same_cloud(g["tail"], tail[i]):
-                        break
-                else:
-                    g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
-                         "M": None, "res": np.inf, "hits": 0, "box": 0}
-                    groups.append(g)
-            else:
-                n_failed += 1
-                continue
-            g["hits"] += 1
-            g["box"] += int(in_box[i])
+        out = settle_capture_many(Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient,
+                                  RTOL_REFINE, CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
+        n_failed += _group_outcomes(groups, excitation, in_box, *out)
 
     no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
     run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),
