@@ -1,37 +1,9 @@
-"""The command line: JSON contract, bad input, figures."""
+"""The command line: JSON contract, figures (input errors: test_cli_errors.py)."""
 import json
-import subprocess
-import sys
 
 import pytest
 
 from contactvib.cli import main
-
-CMD = [sys.executable, "-m", "contactvib"]
-
-
-@pytest.mark.parametrize("args, message", [
-    (["--fe", "-5"], "contactvib: error: --fe (f_e) = -5: must be > 0 Hz"),
-    (["--fe", "0"], "contactvib: error: --fe (f_e) = 0: must be > 0 Hz"),
-    (["--pa", "nan"], "contactvib: error: --pa (P_a/Q) = nan: must be a finite number"),
-    (["--fe", "inf"], "contactvib: error: --fe (f_e) = inf: must be a finite number"),
-    (["--set", "M=-1"], "contactvib: error: --set M (M) = -1: must be > 0 kg"),
-    (["--set", "S=0"], "contactvib: error: --set S (S) = 0: must be > 0 m^2"),
-    (["--set", "m2=0.5"], "contactvib: error: --set m2 (m2) = 0.5: must be >= 1"),
-    (["--set", "l=-1"], "contactvib: error: --set l (l) = -1: must be >= 0"),
-    (["--set", "mass=1"], "contactvib: error: --set mass (mass) = 1: unknown parameter"),
-    (["--pa-newton", "-2"], "contactvib: error: --pa-newton (P_a) = -2: must be >= 0 N"),
-    (["--set", "l=0"], "contactvib: error: --set l=0 (h_n) = 3.5e+11: gives the damping ratio "
-                       "zeta = 8.02e+04 with l = 0: must give zeta <= 100"),
-])
-def test_bad_input_one_line(args, message):
-    """Bad input: one stderr line naming option, symbol, value and range; exit 2; no traceback."""
-    r = subprocess.run(CMD + ["attractors", *args], capture_output=True, text=True, timeout=60)
-    assert r.returncode == 2
-    assert r.stdout == ""
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    assert lines[0].startswith(message)
 
 
 def test_attractors_json_contract(capsys):

@@ -30,13 +30,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import STATUS_OK, STATUS_RECORD_FULL
 from .orbit import find_extrema, record_orbit
 from .shooting import state_scale, strobe_map
-
-STATUS_SINGULAR = 20
-STATUS_DIVERGED = 21
-STATUS_MAXITER = 22
+from .status import STATUS_DIVERGED, STATUS_MAXITER, STATUS_OK, STATUS_RECORD_FULL, STATUS_SINGULAR
 
 #: relative step of the central difference in the parameter (floor 1e-3 absolute)
 FD_REL = 1e-5

@@ -32,6 +32,8 @@ from numba import njit
 
 from . import _dop853_coefficients as _co
 from .contact import force, force_partials
+from .status import (STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK, STATUS_RECORD_FULL,  # noqa: F401
+                     STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS)
 
 A = np.ascontiguousarray(_co.A)
 B = np.ascontiguousarray(_co.B)
@@ -40,12 +42,6 @@ E3 = np.ascontiguousarray(_co.E3)
 E5 = np.ascontiguousarray(_co.E5)
 D = np.ascontiguousarray(_co.D)
 
-STATUS_OK = 0
-STATUS_MAX_STEPS = 1
-STATUS_STEP_TOO_SMALL = 2
-STATUS_RECORD_FULL = 3
-STATUS_TOO_MANY_EVENTS = 4
-STATUS_NONFINITE = 5
 
 #: Columns of a step record: t_old, h, contact flag, x_old, v_old, then F[0..6] for x and v.
 REC_T, REC_H, REC_MODE, REC_X, REC_V, REC_F = 0, 1, 2, 3, 4, 5

@@ -5,8 +5,8 @@ One trajectory is integrated period by period at a loose tolerance (the Taylor-s
 stroboscopic points are searched for the smallest ``k ≤ kmax`` with
 ``|P_n − P_{n−k}| < detect_tol · scale``; the candidate is then refined by Newton shooting
 (:func:`.shooting.newton_orbit`) at a tight tolerance and accepted only if it closes
-(``≤ close_tol``), is stable (all |Floquet multipliers| ≤ 1), and no proper divisor of ``k``
-closes too (the period reported is minimal). A refused candidate makes the detection ten times
+(``≤ close_tol``), is stable (all |Floquet multipliers| ≤ 1 + ``STABILITY_TOL``), and no
+proper divisor of ``k`` closes too (the period reported is minimal). A refused candidate makes the detection ten times
 stricter and the integration goes on. No candidate by ``max_periods`` means a non-periodic
 attractor (or a period above ``kmax``).
 
@@ -21,14 +21,11 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .flow import STATUS_OK, initial_mode
-from .shooting import MAX_STEPS_PER_PERIOD, floquet_abs_max, newton_orbit, state_scale, strobe_map
+from .flow import initial_mode
+from .shooting import (MAX_STEPS_PER_PERIOD, STABILITY_TOL, floquet_abs_max, newton_orbit,
+                       state_scale, strobe_map)
+from .status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, STATUS_OK
 from .taylor import advance_state
-
-SETTLE_PERIODIC = 0
-SETTLE_NONPERIODIC = 1
-SETTLE_FAILED = 2
-SETTLE_CAPTURED = 3
 
 
 
@@ -39,7 +36,7 @@ def _refine(z, k, par, rtol, close_tol, out_z, out_M):
     st, res = newton_orbit(z, k, par, rtol, rtol, close_tol, 12, out_z, out_M)
     if st != STATUS_OK:
         return False, k, res
-    if floquet_abs_max(out_M) > 1.0 + 1e-6:
+    if floquet_abs_max(out_M) > 1.0 + STABILITY_TOL:
         return False, k, res
     pz = np.empty(2)
     dummy = np.empty((0, 0))
@@ -52,7 +49,7 @@ def _refine(z, k, par, rtol, close_tol, out_z, out_M):
         if max(abs(pz[0] - out_z[0]), abs(pz[1] - out_z[1])) / sc < 1e-6:
             z2 = out_z.copy()
             st, res = newton_orbit(z2, d, par, rtol, rtol, close_tol, 12, out_z, out_M)
-            if st != STATUS_OK or floquet_abs_max(out_M) > 1.0 + 1e-6:
+            if st != STATUS_OK or floquet_abs_max(out_M) > 1.0 + STABILITY_TOL:
                 return False, k, res
             return True, d, res
     return True, k, res

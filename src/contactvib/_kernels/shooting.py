@@ -19,11 +19,12 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import REC_WIDTH, STATUS_OK, advance, initial_mode
+from .flow import REC_WIDTH, advance, initial_mode
+from .status import STATUS_NEWTON_DIVERGED, STATUS_NEWTON_MAXITER, STATUS_NEWTON_SINGULAR, STATUS_OK
 
-STATUS_NEWTON_DIVERGED = 10
-STATUS_NEWTON_SINGULAR = 11
-STATUS_NEWTON_MAXITER = 12
+#: Stability rule of every periodic orbit: stable when max |Floquet multiplier| ≤ 1 + STABILITY_TOL
+#: (the tolerance absorbs the error of the monodromy at a fold or a period doubling).
+STABILITY_TOL = 1e-6
 
 
 MAX_STEPS_PER_PERIOD = 2_000_000
@@ -141,6 +142,17 @@ def newton_orbit(z0, k, par, rtol, atol, tol, max_iter, out_z, out_M):
         z[0] += dz0
         z[1] += dz1
     return STATUS_NEWTON_MAXITER, residual
+
+
+def is_stable(floquet_abs_max):
+    """The stability rule: max |Floquet multiplier| ≤ 1 + :data:`STABILITY_TOL` [1].
+
+    ``floquet_abs_max`` is a number (returns a ``bool``) or an array (returns a bool array);
+    NaN is unstable. Compiled kernels compare with ``1.0 + STABILITY_TOL`` directly.
+    """
+    mu = np.asarray(floquet_abs_max, dtype=float)
+    stable = mu <= 1.0 + STABILITY_TOL
+    return bool(stable) if stable.ndim == 0 else stable
 
 
 @njit(cache=True)

@@ -30,10 +30,11 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .flow import STATUS_OK
+from .status import (ORIGIN_JUMP, ORIGIN_NEWTON, ORIGIN_START, STATUS_OK,  # noqa: F401
+                     STATUS_RECORD_FULL, STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL)
 from .orbit import find_extrema, record_orbit, sample_records
 from .settle import SETTLE_NONPERIODIC, SETTLE_PERIODIC, _refine, settle, settle_core
-from .shooting import floquet_abs_max, newton_orbit, newton_step, state_scale, strobe_map
+from .shooting import STABILITY_TOL, floquet_abs_max, newton_orbit, newton_step, state_scale, strobe_map
 
 #: Stored extrema per attractor point (periodic orbits need 2 × minima; clouds are truncated).
 EXT_MAX = 256
@@ -50,15 +51,6 @@ NP_LYAPUNOV = 64
 #: Transient limit when a non-periodic attractor is followed to the next frequency (the carried
 #: state already lies on the attractor; a periodic window is still detected within it).
 NP_FOLLOW = 100
-
-ORIGIN_NEWTON = 0
-ORIGIN_JUMP = 1
-ORIGIN_START = 2
-
-STOP_GRID_END = 0
-STOP_KNOWN = 1
-STOP_FAILED = 2
-STOP_TABLE_FULL = 3
 
 KIND_PERIODIC = 0
 KIND_NONPERIODIC = 1
@@ -105,7 +97,7 @@ def describe_point(z, n_per, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o
     cap = 256 * n_per
     while True:
         rec, z_end, t_flight, n_events, st = record_orbit(z, 0.0, n_per, par, rtol, cap)
-        if st == 3:  # STATUS_RECORD_FULL
+        if st == STATUS_RECORD_FULL:
             cap *= 4
             continue
         break
@@ -259,7 +251,7 @@ def continue_orbit(zg, k, par, rtol, close_tol, row, o_xmin, o_xmax, o_flight, o
             if step > QUICK_STEP:
                 continue
             quick = True
-        if floquet_abs_max(M) > 1.0 + 1e-6:
+        if floquet_abs_max(M) > 1.0 + STABILITY_TOL:
             return False, res
         if describe_point(z, k, par, rtol, row, o_xmin, o_xmax, o_flight, o_nmin, o_next, o_ext_t,
                           o_ext_x, o_ext_min, o_strobe, o_nstrobe, o_harm, zend) != STATUS_OK:
@@ -342,7 +334,7 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
             return 2 if have else 1
         par_s[4] = r_new
         st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, 8, oz, oM)
-        if (st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + 1e-6
+        if (st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + STABILITY_TOL
                 and (not have or stays_on_branch(oz, zg, zc))):
             zq[0] = zc[0]
             zq[1] = zc[1]

@@ -1,36 +1,67 @@
 """Shared argument parsing of the command line: one-line input errors, numbers, the model and the
-operating point, option groups. The checks themselves are the library's (``contactvib.model``):
-this module maps option names onto them."""
+operating point, option groups.
+
+The checks and their ranges are the library's (:mod:`contactvib.model.checks`, and the settings
+objects that use them); this module only maps option names onto the library's symbols and turns
+a :class:`~contactvib.model.ParameterError` into one line,
+``contactvib: error: --fe (f_e) = -5: must be > 0 Hz``. A new option is checked by calling the
+library check with the library's symbol (``_checked``), or by building the library object and
+naming the option of each symbol (``_mapped``); never by comparing numbers here.
+"""
 
 from __future__ import annotations
 
 import click
 
-from contactvib.model import PAPER_DEFAULTS, PARAMETER_UNITS, ContactModel, Excitation, ParameterError
+from contactvib.model import (KMAX_SEARCH_MAX, PAPER_DEFAULTS, PARAMETER_UNITS, ContactModel,
+                              Excitation, ParameterError, check_finite, check_frequency_range,
+                              check_int, check_pa_level, check_range)
+from contactvib.model.checks import format_number
 
 
 class InputError(Exception):
     """A user input error: printed as one line, no traceback, no usage banner."""
 
 
-def _checked(option: str, func, *args):
+def _error(option: str, e: ParameterError, names: dict[str, str] | None = None) -> InputError:
+    """The one-line message ``--fe (f_e) = -5: must be > 0 Hz`` of a library ParameterError."""
+    return InputError(f"{option} ({e.symbol}) = {_show(e.value)}: {e.allowed_with(names or {})}")
+
+
+def _checked(option: str, check, *args, names: dict[str, str] | None = None, **kwargs):
+    """``check(*args, **kwargs)``, a library check of the value of ``option``; a ParameterError
+    becomes an InputError naming ``option`` (and ``names[bound]`` for the bounds it refers to)."""
     try:
-        return func(*args)
+        return check(*args, **kwargs)
     except ParameterError as e:
-        raise InputError(f"{option} ({e.symbol}) = {_show(e.value)}: {e.allowed}") from None
+        raise _error(option, e, names) from None
+
+
+def _mapped(options: dict[str, str], call, *args, **kwargs):
+    """``call(*args, **kwargs)``, a library call that checks several values; a ParameterError
+    becomes an InputError naming the option of its symbol (``options[symbol]``)."""
+    try:
+        return call(*args, **kwargs)
+    except ParameterError as e:
+        raise _error(options.get(e.symbol, e.symbol), e, options) from None
 
 
 def _show(value) -> str:
     try:
-        return f"{float(value):g}"
+        return format_number(float(value))
     except (TypeError, ValueError):
         return str(value)
 
 
 def _number(option: str, symbol: str, text: str) -> float:
-    from contactvib.model import check_finite
-
+    """A finite number."""
     return _checked(option, check_finite, symbol, text)
+
+
+def _int(option: str, text: str, lower: int | None, upper: int | None = None,
+         symbol: str | None = None) -> int:
+    """An integer in ``lower..upper`` (the library's range); non-integers are refused."""
+    return _checked(option, check_int, symbol or option.lstrip("-"), text, lower, upper)
 
 
 def _model(settings: tuple[str, ...]) -> ContactModel:
@@ -48,55 +79,38 @@ def _model(settings: tuple[str, ...]) -> ContactModel:
             ContactModel(**{name: value})
         except ParameterError as e:
             if e.symbol == name:  # the parameter's own range; combinations are checked below
-                raise InputError(f"--set {name} ({e.symbol}) = {_show(e.value)}: {e.allowed}") from None
+                raise _error(f"--set {name}", e) from None
     # a combination out of range (the damping ratio) names every --set the user gave
     given = " ".join(f"--set {k}={_show(v)}" for k, v in overrides.items()) or "the paper's parameters"
     return _checked(given, ContactModel.from_overrides, overrides)
 
 
+#: Options of the operating point, by the library's symbol.
+_EXCITATION_OPTIONS = {"f_e": "--fe", "P_a/Q": "--pa", "P_a": "--pa-newton"}
+
+
 def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: str) -> Excitation:
-    fe_v = _number("--fe", "f_e", fe)
+    """The excitation of --pa or --pa-newton and --fe, checked by :class:`Excitation`."""
     if pa is not None and pa_newton is not None:
         raise InputError("--pa and --pa-newton: give one of them, not both")
     if pa_newton is not None:
-        p = _number("--pa-newton", "P_a", pa_newton)
-        if p < 0:
-            raise InputError(f"--pa-newton (P_a) = {_show(p)}: must be >= 0 N")
-        pa_q = p / model.Q
-    else:
-        pa_q = _number("--pa", "P_a/Q", pa if pa is not None else "0.65")
-        if pa_q < 0:
-            raise InputError(f"--pa (P_a/Q) = {_show(pa_q)}: must be >= 0 (multiple of Q = M g)")
-    if fe_v <= 0:
-        raise InputError(f"--fe (f_e) = {_show(fe_v)}: must be > 0 Hz")
-    return model.excitation(pa_q, fe_v)
+        return _mapped(_EXCITATION_OPTIONS, Excitation.from_newtons, model, pa_newton, fe)
+    return _mapped(_EXCITATION_OPTIONS, Excitation, model, "0.65" if pa is None else pa, fe)
 
 
 def _frequency_range(fmin: str, fmax: str) -> tuple[float, float]:
-    """--fmin/--fmax [Hz], checked: 0 < f_min < f_max."""
-    lo = _number("--fmin", "f_min", fmin)
-    hi = _number("--fmax", "f_max", fmax)
-    if lo <= 0:
-        raise InputError(f"--fmin (f_min) = {lo:g}: must be > 0 Hz")
-    if hi <= lo:
-        raise InputError(f"--fmax (f_max) = {hi:g}: must be > --fmin = {lo:g} Hz")
-    return lo, hi
+    """--fmin/--fmax [Hz], checked by :func:`contactvib.model.check_frequency_range`."""
+    return _mapped({"f_min": "--fmin", "f_max": "--fmax"}, check_frequency_range, fmin, fmax)
 
 
 def _pa_level(text: str, option: str = "--pa") -> float:
-    """A P_a level [Q] that must be > 0."""
-    v = _number(option, "P_a/Q", text)
-    if v <= 0:
-        raise InputError(f"{option} (P_a/Q) = {v:g}: must be > 0 (multiple of Q = M g)")
-    return v
+    """A P_a level [Q] > 0, checked by :func:`contactvib.model.check_pa_level`."""
+    return _checked(option, check_pa_level, text)
 
 
-def _int(option: str, text: str, lower: int, upper: int | None = None) -> int:
-    v = _number(option, option.lstrip("-"), text)
-    if v != int(v) or v < lower or (upper is not None and v > upper):
-        rng = f">= {lower}" if upper is None else f"in {lower}..{upper}"
-        raise InputError(f"{option} ({option.lstrip('-')}) = {_show(text)}: must be an integer {rng}")
-    return int(v)
+def _positive(option: str, symbol: str, text: str, unit: str = "") -> float:
+    """A number > 0 [unit]."""
+    return _checked(option, check_range, symbol, text, 0.0, False, unit)
 
 
 def _operating_point_options(f):
@@ -116,7 +130,7 @@ def _search_options(f):
     f = click.option("--no-seeds", is_flag=True, help="Skip the ballistic seeds (box starts only).")(f)
     f = click.option("--max-periods", default="400", show_default=True,
                      help="Transient limit per start [excitation periods].")(f)
-    f = click.option("--kmax", default="8", show_default=True, help="Largest period searched (1..64).")(f)
+    f = click.option("--kmax", default="8", show_default=True, help=f"Largest period searched (1..{KMAX_SEARCH_MAX}).")(f)
     f = click.option("--seed", default="0", show_default=True, help="Random seed of the start box.")(f)
     f = click.option("--starts", default="512", show_default=True, help="Random starts in the box.")(f)
     return f

@@ -11,33 +11,51 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, _frequency_range, _int, _model, _number, _pa_level
+from contactvib.cli.common import (InputError, _checked, _frequency_range, _int, _mapped, _model,
+                                   _number, _pa_level, _positive)
+from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, check_range
 
 __all__ = []
 
+#: Options of the continuation, by ContinuationSettings' symbols (and the range's bound names).
+_CONTINUATION_OPTIONS = {"fmin": "--fmin", "fmax": "--fmax", "f_min": "--fmin", "f_max": "--fmax",
+                         "max_points": "--max-points", "app_max_um": "--app-max", "rtol": "--rtol",
+                         "pa_min": "--pa-min", "pa_max": "--pa-max"}
+
 
 def _settings(fmin, fmax, max_points, app_max, rtol, pa_range=(0.0, 2.0)):
-    from contactvib.model import ParameterError
+    """ContinuationSettings of the options (the library checks them; we name the options)."""
     from contactvib.continuation.shooting import ContinuationSettings
 
     lo, hi = _frequency_range(fmin, fmax)
-    n = _int("--max-points", max_points, 2)
-    a = _number("--app-max", "A_pp,max", app_max)
-    if a <= 0:
-        raise InputError(f"--app-max (A_pp,max) = {a:g}: must be > 0 um")
-    r = _number("--rtol", "rtol", rtol)
-    if not (1e-14 <= r <= 1e-6):
-        raise InputError(f"--rtol (rtol) = {r:g}: must be in [1e-14, 1e-6]")
-    try:
-        return ContinuationSettings(fmin=lo, fmax=hi, pa_min=pa_range[0], pa_max=pa_range[1],
-                                    max_points=n, app_max_um=a, rtol=r, tol=max(100 * r, 1e-11))
-    except ParameterError as e:
-        raise InputError(f"{e.symbol} = {e.value}: {e.allowed}") from None
+    n = _int("--max-points", max_points, 1, symbol="max_points")
+    a = _number("--app-max", "app_max_um", app_max)
+    r = _checked("--rtol", check_range, "rtol", rtol, SHOOTING_RTOL_RANGE[0], True,
+                 upper=SHOOTING_RTOL_RANGE[1])
+    return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin=lo, fmax=hi,
+                   pa_min=pa_range[0], pa_max=pa_range[1], max_points=n, app_max_um=a, rtol=r,
+                   tol=max(100 * r, 1e-11))
+
+
+def _in_range(option: str, symbol: str, text_or_value, lo: float, hi: float, names: tuple[str, str],
+              unit: str = "") -> float:
+    """A value that must lie in [lo, hi], the range set by the options ``names``."""
+    return _checked(option, check_range, symbol, text_or_value, lo, True, unit, upper=hi,
+                    lower_name=names[0], upper_name=names[1], names=_CONTINUATION_OPTIONS)
+
+
+def _pa_range(pa_min: str, pa_max: str) -> tuple[float, float]:
+    """--pa-min < --pa-max, both P_a levels > 0 [Q]."""
+    lo = _pa_level(pa_min, "--pa-min")
+    hi = _checked("--pa-max", check_range, "P_a/Q", pa_max, lo, False, lower_name="pa_min",
+                  names=_CONTINUATION_OPTIONS)
+    return lo, hi
 
 
 def _continuation_options(f):
     f = click.option("--rtol", default="1e-12", show_default=True,
-                     help="Integrator tolerance of the shooting (1e-14..1e-6).")(f)
+                     help=f"Integrator tolerance of the shooting ({SHOOTING_RTOL_RANGE[0]:g}.."
+                          f"{SHOOTING_RTOL_RANGE[1]:g}).")(f)
     f = click.option("--app-max", default="2000", show_default=True, metavar="UM",
                      help="Amplitude bound: a branch stops when A_pp exceeds it [µm].")(f)
     f = click.option("--max-points", default="2000", show_default=True,
@@ -145,26 +163,22 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_sw
     if by_pa and dataset is not None:
         raise InputError("--dataset draws over a resonance graph in f_e: not with --parameter pa")
     ds = _open_dataset(dataset, [p])
-    fe = _number("--from-fe", "f_e", from_fe)
-    if fe <= 0:
-        raise InputError(f"--from-fe (f_e) = {fe:g}: must be > 0 Hz")
-    lo = _pa_level(pa_min, "--pa-min")
-    hi = _pa_level(pa_max, "--pa-max")
-    if by_pa and not lo < hi:
-        raise InputError(f"--pa-min (P_a/Q) = {lo:g}: must be < --pa-max = {hi:g}")
-    if by_pa and not lo <= p <= hi:
-        raise InputError(f"--pa (P_a/Q) = {p:g}: must lie in [--pa-min, --pa-max] = [{lo:g}, {hi:g}]")
+    fe = _positive("--from-fe", "f_e", from_fe, "Hz")
+    lo, hi = (_pa_range(pa_min, pa_max) if by_pa
+              else (_pa_level(pa_min, "--pa-min"), _pa_level(pa_max, "--pa-max")))
+    if by_pa:
+        _in_range("--pa", "P_a/Q", p, lo, hi, ("pa_min", "pa_max"))
     s = _settings(fmin, fmax, max_points, app_max, rtol, (lo, hi) if by_pa else (0.0, 2.0))
-    if not by_pa and not (s.fmin <= fe <= s.fmax):
-        raise InputError(f"--from-fe (f_e) = {fe:g}: must lie in [--fmin, --fmax] = [{s.fmin:g}, {s.fmax:g}] Hz")
+    if not by_pa:
+        _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
     from contactvib.steady.attractors import find_attractors
     from contactvib.continuation.diagram import continue_attractors
 
     found = find_attractors(model, model.excitation(p, fe))
     if n is not None and n >= len(found):
-        raise InputError(f"--attractor (N) = {n}: must be an index 0..{len(found) - 1} of the "
-                         f"{len(found)} attractors found at {fe:g} Hz")
+        raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
+                         f"of the {len(found)} attractors found at {fe:g} Hz")
     msgs = []
     bset = continue_attractors(model, p, fe, n, s, switch=not no_switch, attractors=found,
                                log=msgs.append, parameter="P_a" if by_pa else "f_e")
@@ -204,11 +218,8 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max
     if seed_fe is None:
         seeds = [f for f in DEFAULT_SEED_FE if s.fmin <= f <= s.fmax]
     else:
-        seeds = [_number("--seed-fe", "f_e", t) for t in seed_fe.split(",") if t.strip()]
-        for f in seeds:
-            if not (s.fmin <= f <= s.fmax):
-                raise InputError(f"--seed-fe (f_e) = {f:g}: must lie in [--fmin, --fmax] = "
-                                 f"[{s.fmin:g}, {s.fmax:g}] Hz")
+        seeds = [_in_range("--seed-fe", "f_e", t, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
+                 for t in seed_fe.split(",") if t.strip()]
     if not seeds:
         raise InputError("--seed-fe: no seed frequency inside [--fmin, --fmax]")
     from contactvib.continuation.branch import BranchSet
@@ -229,7 +240,8 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max
 
 
 @click.command()
-@click.option("--order", default="2", show_default=True, help="m of the 1/m resonance (1..8).")
+@click.option("--order", default="2", show_default=True,
+              help=f"m of the 1/m resonance (1..{EVOLUTION_ORDER_MAX}).")
 @click.option("--pa-min", default="0.3", show_default=True, metavar="Q", help="Lowest P_a [Q].")
 @click.option("--pa-max", default="0.9", show_default=True, metavar="Q", help="Highest P_a [Q].")
 @click.option("--levels", default="7", show_default=True,
@@ -242,12 +254,9 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max
 def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     """Two-parameter continuation of the folds and period doublings of the 1/m resonance."""
     model = _model(settings)
-    m = _int("--order", order, 1, 8)
-    lo = _pa_level(pa_min, "--pa-min")
-    hi = _pa_level(pa_max, "--pa-max")
-    if hi <= lo:
-        raise InputError(f"--pa-max (P_a/Q) = {hi:g}: must be > --pa-min = {lo:g}")
-    n = _int("--levels", levels, 2, 50)
+    m = _int("--order", order, 1, EVOLUTION_ORDER_MAX)
+    lo, hi = _pa_range(pa_min, pa_max)
+    n = _int("--levels", levels, 2, symbol="n_levels")
     from contactvib.continuation.evolution import evolution as run
     from contactvib.plotting.branches import evolution_figure
     from contactvib.plotting.figures import save_figure

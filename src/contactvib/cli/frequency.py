@@ -7,8 +7,9 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import (InputError, _excitation, _frequency_range, _int, _model, _number,
-                  _operating_point_options)
+from contactvib.cli.common import (_checked, _excitation, _frequency_range, _int, _model,
+                                   _operating_point_options, _positive)
+from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range
 
 _CONV_ORDERS_MAX = 80
 
@@ -27,8 +28,10 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     """Perturbation series of the steady state, its validity, and a comparison with the numerics."""
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
-    n = _int("--order", order, 1, 400)
-    from contactvib.frequency.perturbation import convergence_table, perturbation_series, steady_counterpart
+    from contactvib.frequency.perturbation import (MAX_ORDER, convergence_table, perturbation_series,
+                                                   steady_counterpart)
+
+    n = _int("--order", order, 1, MAX_ORDER)
 
     res = perturbation_series(model, exc, n, summation)
     if as_json and out is None:
@@ -91,7 +94,7 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
               help="Override a model parameter by its paper symbol (as for `attractors`).")
 @click.option("--harmonics", default="32", show_default=True, metavar="H",
-              help="Number of harmonics H (1..1024).")
+              help=f"Number of harmonics H (1..{HARMONICS_MAX}).")
 @click.option("--fmin", default="300", show_default=True, metavar="HZ", help="Lowest f_e [Hz].")
 @click.option("--fmax", default="2000", show_default=True, metavar="HZ", help="Highest f_e [Hz].")
 @click.option("--energy-tol", default="1e-8", show_default=True,
@@ -103,14 +106,10 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
     model = _model(settings)
-    pa_q = _number("--pa", "P_a/Q", pa)
-    if pa_q < 0:
-        raise InputError(f"--pa (P_a/Q) = {pa_q:g}: must be >= 0 (multiple of Q = M g)")
-    H = _int("--harmonics", harmonics, 1, 1024)
+    pa_q = _checked("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
+    H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
     f1, f2 = _frequency_range(fmin, fmax)
-    etol = _number("--energy-tol", "energy_tol", energy_tol)
-    if etol <= 0:
-        raise InputError(f"--energy-tol (energy_tol) = {etol:g}: must be > 0")
+    etol = _positive("--energy-tol", "energy_tol", energy_tol)
     from contactvib.frequency.harmonic_balance import hb_continuation
 
     branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol)),

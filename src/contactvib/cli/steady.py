@@ -6,17 +6,21 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import (_excitation, _int, _model, _number, _operating_point_options,
-                                   _search_options)
+from contactvib.cli.common import (_excitation, _int, _mapped, _model, _number,
+                                   _operating_point_options, _search_options)
+
+#: Options of the attractor search, by find_attractors' parameter names.
+_SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
+                   "max_periods": "--max-periods"}
 
 
 def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
+    """find_attractors with the search options (it checks them; we name the options)."""
     from contactvib.steady.attractors import find_attractors
 
-    kw = dict(n_starts=_int("--starts", starts, 1), seed=_int("--seed", seed, 0),
-              kmax=_int("--kmax", kmax, 1, 64), seeds=not no_seeds)
-    kw["max_periods"] = _int("--max-periods", max_periods, 4 * kw["kmax"])
-    return find_attractors(model, exc, **kw)
+    kw = {name: _number(option, name, text) for (name, option), text
+          in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax, max_periods))}
+    return _mapped(_SEARCH_OPTIONS, find_attractors, model, exc, seeds=not no_seeds, **kw)
 
 
 @click.command()
@@ -32,7 +36,7 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
         click.echo(result.to_json())
         return
     click.echo(f"P_a = {exc.pa_over_q:g} Q ({exc.P_a:.4g} N), f_e = {exc.f_e:g} Hz, "
-               f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.y0 * 1e6:.4f} um; "
+               f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
                f"{result.n_box} box starts + {result.n_seeds} seeds")
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
             f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}")
@@ -63,7 +67,7 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     if from_state is not None:
         y = _number("--from-state", "y", from_state[0])
         yd = _number("--from-state", "ydot", from_state[1])
-        n = _int("--periods", periods, 1)
+        n = _int("--periods", periods, 1, symbol="n_periods")
     from contactvib.plotting.figures import attractor_figure, history_figure, save_figure
     from contactvib.steady.simulate import attractor_history, simulate as run
 

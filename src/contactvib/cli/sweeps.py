@@ -11,7 +11,9 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, _frequency_range, _int, _model, _number, _pa_level
+from contactvib.cli.common import (InputError, _frequency_range, _int, _mapped, _model, _number,
+                                   _pa_level, _positive)
+from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX
 
 __all__: list = []
 
@@ -26,7 +28,8 @@ def _sweep_options(f):
         click.option("--starts", default="24", show_default=True,
                      help="Random starts per multi-start frequency (ballistic seeds are added)."),
         click.option("--seed", default="0", show_default=True, help="Random seed of the start boxes."),
-        click.option("--kmax", default="8", show_default=True, help="Largest period detected (1..16)."),
+        click.option("--kmax", default="8", show_default=True,
+                     help=f"Largest period detected (1..{KMAX_SWEEP_MAX})."),
         click.option("--workers", default=None, metavar="N",
                      help="Worker processes (default: one per CPU core, at most one per level)."),
         click.option("--resume", is_flag=True,
@@ -39,29 +42,28 @@ def _sweep_options(f):
     return f
 
 
+#: Options of the sweeps, by SweepSettings' symbols.
+_SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "--kmax",
+                  "multistart_per_octave": "--multistart-per-octave",
+                  "multistart_starts": "--starts", "seed": "--seed"}
+
+
 def _sweep_settings(fmin, fmax, df, per_octave, starts, seed, kmax):
-    from contactvib.model import ParameterError
+    """SweepSettings of the options: the frequency range and the integers are checked by the
+    library's checks, the rest by SweepSettings itself."""
     from contactvib.sweeps.sweep import SweepSettings
 
     lo, hi = _frequency_range(fmin, fmax)
-    step = _number("--df", "df", df)
-    if step <= 0:
-        raise InputError(f"--df (df) = {step:g}: must be > 0 Hz")
-    po = _number("--multistart-per-octave", "multistart_per_octave", per_octave)
-    if not 0 <= po <= 1000:
-        raise InputError(f"--multistart-per-octave (multistart_per_octave) = {po:g}: must be in [0, 1000]")
-    kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=step, multistart_per_octave=po,
+    kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=_positive("--df", "df", df, "Hz"),
+              multistart_per_octave=_number("--multistart-per-octave", "multistart_per_octave",
+                                            per_octave),
               multistart_starts=_int("--starts", starts, 0), seed=_int("--seed", seed, 0),
-              kmax=_int("--kmax", kmax, 1, 16))
-    try:
-        return SweepSettings(**kw)
-    except ParameterError as e:
-        opt = {"f_max": "--fmax", "df": "--df", "kmax": "--kmax"}.get(e.symbol, e.symbol)
-        raise InputError(f"{opt} ({e.symbol}) = {e.value}: {e.allowed}") from None
+              kmax=_int("--kmax", kmax, 1, KMAX_SWEEP_MAX))
+    return _mapped(_SWEEP_OPTIONS, SweepSettings, **kw)
 
 
 def _workers(text):
-    return None if text is None else _int("--workers", text, 1, 256)
+    return None if text is None else _int("--workers", text, 1, WORKERS_MAX)
 
 
 @click.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
@@ -105,9 +107,7 @@ def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax
 def query(dataset, pa, fe, as_json):
     """The attractors stored in a resonance dataset at one (P_a, f_e)."""
     p = _number("--pa", "P_a/Q", pa)
-    f = _number("--fe", "f_e", fe)
-    if f <= 0:
-        raise InputError(f"--fe (f_e) = {f:g}: must be > 0 Hz")
+    f = _positive("--fe", "f_e", fe, "Hz")
     path = Path(dataset)
     if not path.is_file():
         raise InputError(f"DATASET = {dataset}: no such file")

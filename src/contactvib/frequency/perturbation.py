@@ -375,7 +375,7 @@ def perturbation_series(model: ContactModel, excitation: Excitation, order: int 
     eps = excitation.pa_over_q
     r = excitation.r
     C = _series_terms(model.m2, model.l, model.zeta, r, N)
-    y0_um = model.y0 * 1e6
+    y0_um = model.units.y_um
     # term sizes: max over θ of |εⁿ uₙ| (sampled finely enough for degree n)
     Mf = 1 << int(math.ceil(math.log2(16 * (N + 1))))
     spec = np.zeros((N + 1, Mf // 2 + 1), complex)

@@ -1,12 +1,22 @@
-"""The oscillator: parameters, derived quantities, excitation, input checks, the contact law.
+"""The oscillator: parameters, derived quantities, excitation, units, input checks, the contact
+law.
 
 No kernels run here, except that :class:`PowerLaw` evaluates the compiled contact-law definition
 (``contactvib._kernels.contact``, imported on first use).
 """
 
+from contactvib.model.checks import (CAPTURE_TOL_MAX, EVOLUTION_ORDER_MAX, HARMONICS_MAX,
+                                     KMAX_SEARCH_MAX, KMAX_SWEEP_MAX, MULTISTART_PER_OCTAVE_MAX,
+                                     PA_NOTE, SHOOTING_RTOL_RANGE, ParameterError, check_choice,
+                                     check_finite, check_frequency_range, check_int,
+                                     check_pa_level, check_range, WORKERS_MAX)
 from contactvib.model.contact_law import PowerLaw
 from contactvib.model.oscillator import (PAPER_DEFAULTS, PARAMETER_UNITS, ZETA_MAX, ContactModel,
-                                         Excitation, ParameterError, check_finite, check_range)
+                                         Excitation)
+from contactvib.model.units import Units
 
-__all__ = ["ContactModel", "Excitation", "ParameterError", "PowerLaw", "PAPER_DEFAULTS",
-           "PARAMETER_UNITS", "ZETA_MAX", "check_finite", "check_range"]
+__all__ = ["ContactModel", "Excitation", "ParameterError", "PowerLaw", "PAPER_DEFAULTS", "PARAMETER_UNITS",
+           "ZETA_MAX", "Units", "check_finite", "check_range", "check_int", "check_choice",
+           "check_frequency_range", "check_pa_level", "PA_NOTE", "SHOOTING_RTOL_RANGE",
+           "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX",
+           "EVOLUTION_ORDER_MAX", "HARMONICS_MAX", "CAPTURE_TOL_MAX", "WORKERS_MAX"]

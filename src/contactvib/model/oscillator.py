@@ -24,9 +24,11 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
+from contactvib.model.checks import PA_NOTE, ParameterError, check_range
 from contactvib.model.contact_law import PowerLaw
+from contactvib.model.units import Units
 
-__all__ = ["ContactModel", "ParameterError", "PAPER_DEFAULTS", "check_finite", "check_range"]
+__all__ = ["ContactModel", "Excitation", "PAPER_DEFAULTS", "PARAMETER_UNITS", "ZETA_MAX"]
 
 #: The paper's parameters (Section 2): SI units.
 PAPER_DEFAULTS = {
@@ -66,55 +68,6 @@ _BOUNDS = {
 ZETA_MAX = 100.0
 
 
-class ParameterError(ValueError):
-    """A parameter is outside its allowed range.
-
-    Attributes
-    ----------
-    symbol : str
-        The paper's symbol of the parameter (``"m2"``, ``"f_e"``, ...).
-    value : float
-        The value that was given.
-    allowed : str
-        The allowed range in words, with units (``"must be > 0 Hz"``).
-    """
-
-    def __init__(self, symbol: str, value, allowed: str):
-        self.symbol = symbol
-        self.value = value
-        self.allowed = allowed
-        super().__init__(f"{symbol} = {_fmt(value)}: {allowed}")
-
-
-def _fmt(value) -> str:
-    try:
-        return f"{float(value):g}"
-    except (TypeError, ValueError):
-        return repr(value)
-
-
-def check_finite(symbol: str, value) -> float:
-    """Return ``value`` as a float; raise :class:`ParameterError` for non-numbers, NaN and ±inf."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(symbol, value, "must be a finite number") from None
-    if not math.isfinite(v):
-        raise ParameterError(symbol, value, "must be a finite number")
-    return v
-
-
-def check_range(symbol: str, value, lower: float, inclusive: bool, unit: str = "") -> float:
-    """Check ``value`` is finite and ``> lower`` (``>= lower`` if ``inclusive``)."""
-    v = check_finite(symbol, value)
-    ok = v >= lower if inclusive else v > lower
-    if not ok:
-        op = ">=" if inclusive else ">"
-        suffix = f" {unit}" if unit and unit != "1" else ""
-        raise ParameterError(symbol, value, f"must be {op} {lower:g}{suffix}")
-    return v
-
-
 @dataclass(frozen=True)
 class ContactModel:
     """Slider on a power-law rough contact (Kostek 2013, Eqs. 2.1–2.5); SI units.
@@ -139,7 +92,7 @@ class ContactModel:
     Examples
     --------
     >>> m = ContactModel()
-    >>> round(m.y0 * 1e6, 4), round(m.f_n0, 1)
+    >>> round(m.units.y_um, 4), round(m.f_n0, 1)
     (0.2254, 1485.0)
     """
 
@@ -228,6 +181,11 @@ class ContactModel:
         """Nondimensional damping coefficient c = 2 m2 ζ of the kernel equation [1]."""
         return 2.0 * self.m2 * self.zeta
 
+    @property
+    def units(self) -> Units:
+        """Factors from the kernels' x = y/y0, x' and τ = ω_n0 t to µm, mm/s and ms."""
+        return Units.of(self.y0, self.omega_n0)
+
     def superharmonic_frequencies(self, m_max: int = 6) -> np.ndarray:
         """Estimates f_n0/m [Hz] of the 1/m resonances, m = 1..m_max (Eq. 2.6)."""
         m = np.arange(1, int(m_max) + 1)
@@ -276,7 +234,9 @@ class Excitation:
     f_e: float
 
     def __post_init__(self):
-        object.__setattr__(self, "pa_over_q", check_range("P_a/Q", self.pa_over_q, 0.0, True))
+        if not isinstance(self.model, ContactModel):
+            raise ParameterError("model", self.model, "must be a ContactModel")
+        object.__setattr__(self, "pa_over_q", check_range("P_a/Q", self.pa_over_q, 0.0, True, PA_NOTE))
         object.__setattr__(self, "f_e", check_range("f_e", self.f_e, 0.0, False, "Hz"))
 
     @classmethod

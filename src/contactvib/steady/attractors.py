@@ -27,9 +27,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib._kernels.settle import (SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC,
-                             settle_capture_many)
-from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib._kernels.settle import settle_capture_many
+from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+from contactvib.model import (CAPTURE_TOL_MAX, KMAX_SEARCH_MAX, ContactModel, Excitation,
+                              ParameterError, check_int, check_range)
 from contactvib.steady.results import AttractorSet
 from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
 
@@ -72,6 +73,54 @@ def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
     return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
 
 
+def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, status, period, _n_periods,
+                    residual, z_star, monodromy, tail) -> int:
+    """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
+    period, strobe or tail, z, M, res, hits, box) by the sameness rules; return the failures."""
+    n_failed = 0
+    for i in range(status.shape[0]):
+        if status[i] == SETTLE_CAPTURED:
+            g = groups[int(period[i])]
+        elif status[i] == SETTLE_PERIODIC:
+            k = int(period[i])
+            pts = strobe_points(excitation, z_star[i], k)
+            for g in groups:
+                if g["period"] == k and same_orbit(g["strobe"], pts):
+                    break
+            else:
+                g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
+                     "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
+                groups.append(g)
+        elif status[i] == SETTLE_NONPERIODIC:
+            for g in groups:
+                if g["period"] is None and _same_cloud(g["tail"], tail[i]):
+                    break
+            else:
+                g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
+                     "M": None, "res": np.inf, "hits": 0, "box": 0}
+                groups.append(g)
+        else:
+            n_failed += 1
+            continue
+        g["hits"] += 1
+        g["box"] += int(in_box[i])
+    return n_failed
+
+
+def _check_pair(model: ContactModel, excitation: Excitation) -> None:
+    """Refuse an excitation made for another model (its r = f_e/f_n0 and P_a/Q would be wrong)."""
+    if not isinstance(model, ContactModel):
+        raise ParameterError("model", model, "must be a ContactModel")
+    if not isinstance(excitation, Excitation):
+        raise ParameterError("excitation", excitation, "must be an Excitation (model.excitation(P_a/Q, f_e))")
+    if excitation.model != model:
+        mine, theirs = model.parameters(), excitation.model.parameters()
+        differ = ", ".join(k for k in mine if mine[k] != theirs[k])
+        raise ParameterError("excitation", f"P_a/Q = {excitation.pa_over_q:g} at {excitation.f_e:g} Hz",
+                             f"belongs to another model ({differ} differ): make it with "
+                             f"model.excitation(P_a/Q, f_e)")
+
+
 def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
                     seed: int = 0, kmax: int = 8, max_periods: int = 400,
                     seeds: bool = True, detect_tol: float = 1e-4,
@@ -85,7 +134,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     n_starts : int
         Random starts in the box (≥ 1).
     seed : int
-        Random seed of the box sample.
+        Random seed of the box sample (≥ 0).
     kmax : int
         Largest period searched, in excitation periods (1..64).
     max_periods : int
@@ -104,16 +153,14 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     -------
     AttractorSet
     """
-    n_starts = int(check_range("n_starts", n_starts, 1, True))
-    kmax = int(check_range("kmax", kmax, 1, True))
-    if kmax > 64:
-        raise ParameterError("kmax", kmax, "must be <= 64")
-    max_periods = int(check_range("max_periods", max_periods, 4 * kmax, True))
+    _check_pair(model, excitation)
+    n_starts = check_int("n_starts", n_starts, 1)
+    seed = check_int("seed", seed, 0)
+    kmax = check_int("kmax", kmax, 1, KMAX_SEARCH_MAX)
+    max_periods = check_int("max_periods", max_periods, 4 * kmax)
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
     rtol_transient = check_range("rtol_transient", rtol_transient, 0.0, False)
-    capture_tol = check_range("capture_tol", capture_tol, 0.0, True)
-    if capture_tol > 0.1:
-        raise ParameterError("capture_tol", capture_tol, "must be <= 0.1")
+    capture_tol = check_range("capture_tol", capture_tol, 0.0, True, upper=CAPTURE_TOL_MAX)
 
     Zb, phb = start_box(excitation, n_starts, seed)
     if seeds:
@@ -128,35 +175,9 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
 
     def run(Z, ph, in_box, cap_pts, cap_id):
         nonlocal n_failed
-        status, period, _nper, residual, z_star, monodromy, tail = settle_capture_many(
-            Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient, RTOL_REFINE,
-            CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
-        for i in range(Z.shape[0]):
-            if status[i] == SETTLE_CAPTURED:
-                g = groups[int(period[i])]
-            elif status[i] == SETTLE_PERIODIC:
-                k = int(period[i])
-                pts = strobe_points(excitation, z_star[i], k)
-                for g in groups:
-                    if g["period"] == k and same_orbit(g["strobe"], pts):
-                        break
-                else:
-                    g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
-                         "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
-                    groups.append(g)
-            elif status[i] == SETTLE_NONPERIODIC:
-                for g in groups:
-                    if g["period"] is None and _same_cloud(g["tail"], tail[i]):
-                        break
-                else:
-                    g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
-                         "M": None, "res": np.inf, "hits": 0, "box": 0}
-                    groups.append(g)
-            else:
-                n_failed += 1
-                continue
-            g["hits"] += 1
-            g["box"] += int(in_box[i])
+        out = settle_capture_many(Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient,
+                                  RTOL_REFINE, CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
+        n_failed += _group_outcomes(groups, excitation, in_box, *out)
 
     no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
     run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),
@@ -176,7 +197,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     return AttractorSet(
         attractors=attractors,
         fn0_hz=model.f_n0,
-        y0_um=model.y0 * 1e6,
+        y0_um=model.units.y_um,
         pa_over_q=excitation.pa_over_q,
         fe_hz=excitation.f_e,
         n_box=n_starts,

@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
-from contactvib._kernels.flow import STATUS_OK, STATUS_RECORD_FULL
 from contactvib._kernels.orbit import find_extrema, record_orbit
 from contactvib._kernels.shooting import newton_orbit, strobe_map
+from contactvib._kernels.status import STATUS_OK, STATUS_RECORD_FULL, status_message
 from contactvib.model import ContactModel, Excitation
 from contactvib.steady.results import Attractor
 
@@ -33,13 +33,6 @@ class OrbitError(RuntimeError):
     """Shooting or integration of an orbit failed."""
 
 
-def _units(model: ContactModel):
-    y_um = model.y0 * 1e6
-    v_mm_s = model.y0 * model.omega_n0 * 1e3
-    t_ms = 1e3 / model.omega_n0
-    return y_um, v_mm_s, t_ms
-
-
 def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) -> np.ndarray:
     """The k stroboscopic points (nondimensional, shape (k, 2)) of the orbit through ``z``."""
     par = excitation.kernel_parameters()
@@ -50,7 +43,7 @@ def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) 
         pts[j] = cur
         st = strobe_map(cur, 1, par, rtol, rtol, nxt, np.empty((0, 0)))
         if st != STATUS_OK:
-            raise OrbitError(f"integration failed (status {st})")
+            raise OrbitError(f"integration failed ({status_message(st)})")
         cur = nxt.copy()
     return pts
 
@@ -77,7 +70,7 @@ def refine_orbit(excitation: Excitation, z, k: int, tol: float = CLOSE_TOL,
     out_M = np.empty((2, 2))
     st, res = newton_orbit(np.asarray(z, float), int(k), par, rtol, rtol, tol, max_iter, out_z, out_M)
     if st != STATUS_OK:
-        raise OrbitError(f"Newton shooting for a period-{k} orbit failed (status {st}, "
+        raise OrbitError(f"Newton shooting for a period-{k} orbit failed ({status_message(st)}, "
                          f"closure {res:.2e}); try another start")
     return out_z, out_M, res
 
@@ -105,7 +98,7 @@ def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE,
             cap *= 4
             continue
         if st != STATUS_OK:
-            raise OrbitError(f"integration failed (status {st})")
+            raise OrbitError(f"integration failed ({status_message(st)})")
         return rec, z_end, t_flight
 
 
@@ -117,7 +110,7 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
     k-period; for a non-periodic attractor over ``n_periods_nonperiodic`` periods.
     """
-    y_um, v_mm_s, t_ms = _units(model)
+    u = model.units
     n = period if period is not None else n_periods_nonperiodic
     rec, _z_end, t_flight = record(excitation, z, n)
     t_ext, x_ext, is_min = find_extrema(rec)
@@ -141,17 +134,17 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         period=period,
         kind=kind,
         minima_per_period=minima,
-        app_um=(xmax - xmin) * y_um,
-        ymin_um=xmin * y_um,
-        ymax_um=xmax * y_um,
+        app_um=(xmax - xmin) * u.y_um,
+        ymin_um=xmin * u.y_um,
+        ymax_um=xmax * u.y_um,
         loses_contact=bool(xmin < 0.0),
         contact_loss_fraction=float(t_flight / span),
         basin_fraction=float(basin_fraction),
         floquet_multipliers=np.asarray(multipliers, complex),
-        strobe_y_um=strobe[:, 0] * y_um,
-        strobe_ydot_mm_s=strobe[:, 1] * v_mm_s,
-        extrema_t_ms=t_ext * t_ms,
-        extrema_y_um=x_ext * y_um,
+        strobe_y_um=strobe[:, 0] * u.y_um,
+        strobe_ydot_mm_s=strobe[:, 1] * u.ydot_mm_s,
+        extrema_t_ms=t_ext * u.t_ms,
+        extrema_y_um=x_ext * u.y_um,
         extrema_is_min=np.asarray(is_min, bool),
         closure=float(closure),
         hits=int(hits),

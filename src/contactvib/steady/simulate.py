@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from contactvib._kernels.orbit import sample_records
-from contactvib.model import ContactModel, Excitation, check_finite, check_range
+from contactvib.model import ContactModel, Excitation, check_finite, check_int
 from contactvib.steady.results import Attractor, TimeHistory
 from contactvib.steady.orbits import record
 
@@ -18,12 +18,13 @@ def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
     T = excitation.tau_period
     tau = np.linspace(0.0, n_periods * T, n_periods * samples_per_period + 1)
     x, v, c = sample_records(rec, tau)
+    u = model.units
     return TimeHistory(
-        t_ms=tau / model.omega_n0 * 1e3,
-        y_um=x * model.y0 * 1e6,
-        ydot_mm_s=v * model.y0 * model.omega_n0 * 1e3,
+        t_ms=tau * u.t_ms,
+        y_um=x * u.y_um,
+        ydot_mm_s=v * u.ydot_mm_s,
         in_contact=x > 0.0,
-        y0_um=model.y0 * 1e6,
+        y0_um=u.y_um,
         fe_hz=excitation.f_e,
         pa_over_q=excitation.pa_over_q,
     )
@@ -37,11 +38,12 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     ``y_um`` defaults to the static deflection y0. The time history is sampled from the
     integrator's dense output (``samples_per_period`` points per excitation period).
     """
-    y_um = model.y0 * 1e6 if y_um is None else check_finite("y", y_um)
+    u = model.units
+    y_um = u.y_um if y_um is None else check_finite("y", y_um)
     ydot_mm_s = check_finite("ydot", ydot_mm_s)
-    n_periods = int(check_range("n_periods", n_periods, 1, True))
-    samples_per_period = int(check_range("samples_per_period", samples_per_period, 2, True))
-    z = np.array([y_um / (model.y0 * 1e6), ydot_mm_s / (model.y0 * model.omega_n0 * 1e3)])
+    n_periods = check_int("n_periods", n_periods, 1)
+    samples_per_period = check_int("samples_per_period", samples_per_period, 2)
+    z = np.array(u.state(y_um, ydot_mm_s))
     return _history(model, excitation, z, n_periods, samples_per_period, rtol)
 
 

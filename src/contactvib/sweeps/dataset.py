@@ -37,6 +37,8 @@ from fractions import Fraction
 
 import numpy as np
 
+from contactvib._kernels.status import (STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL,
+                                        status_message)
 from contactvib.model import ContactModel
 
 __all__ = ["dominant_ratio", "resonance_label", "smooth_labels", "attractor_type", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
@@ -50,9 +52,9 @@ FORMAT = "contactvib-resonance-1"
 #: scatters by about ±0.02 at the paper's attractors).
 LYAPUNOV_ZERO = 0.02
 
-STOP_REASONS = {0: "end of frequency grid", 1: "joined an attractor already traced this way",
-                2: "integration or Newton failure", 3: "attractor table full"}
-_ORIGINS = {0: "newton", 1: "jump", 2: "start"}
+#: Why a trace stopped, by trace stop code (the ``trace_stop`` strings of a dataset).
+STOP_REASONS = {code: status_message(code, "stop")
+                for code in (STOP_GRID_END, STOP_KNOWN, STOP_FAILED, STOP_TABLE_FULL)}
 
 
 def dominant_ratio(k: int, n_min: int, harmonics, loses_contact: bool, fe_hz: float,
@@ -216,9 +218,8 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
     rows = level["rows"]
     pa = level["pa_over_q"]
     f = level["f_hz"]
-    y_um = model.y0 * 1e6
-    v_mm_s = model.y0 * model.omega_n0 * 1e3
-    t_ms = 1e3 / model.omega_n0
+    u = model.units
+    y_um, v_mm_s, t_ms = u.y_um, u.ydot_mm_s, u.t_ms
     n = 0 if rows is None else rows["i"].size
     if n == 0:
         raise ValueError("no attractor was found on this level")
@@ -319,7 +320,7 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
                                                   for j in range(n)], dtype=object),
                                {"comment": "periodic / chaotic / quasi-periodic / long-period (attractor_type)"}),
             "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
-            "origin": ("point", np.array([_ORIGINS[int(o)] for o in rows["origin"]], dtype=object)),
+            "origin": ("point", np.array([status_message(o, "origin") for o in rows["origin"]], dtype=object)),
             "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
                                                         "sweep / perturbation seed / multi-start"}),
             "state_y_um": ("point", rows["z"][:, 0] * y_um, {"units": "um"}),
@@ -350,7 +351,7 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
             "trace_direction": ("trace", np.array([t[1] for t in tr], np.int64)),
             "trace_f_start_hz": ("trace", np.array([t[2] for t in tr]), {"units": "Hz"}),
             "trace_f_stop_hz": ("trace", np.array([t[3] for t in tr]), {"units": "Hz"}),
-            "trace_stop": ("trace", np.array([STOP_REASONS[t[4]] for t in tr], dtype=object)),
+            "trace_stop": ("trace", np.array([status_message(t[4], "stop") for t in tr], dtype=object)),
             "trace_root": ("trace", np.array([t[5] for t in tr], dtype=object)),
         },
         attrs={
@@ -358,7 +359,7 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
             "format": FORMAT,
             "model": json.dumps(model.parameters()),
             "fn0_hz": model.f_n0,
-            "y0_um": model.y0 * 1e6,
+            "y0_um": model.units.y_um,
             "settings": json.dumps(settings),
             "conventions": "y > 0 contact deflection, y < 0 gap; ragged extrema/strobe via *_start/*_count",
         },

@@ -13,7 +13,7 @@ import json
 import os
 from pathlib import Path
 
-from contactvib.model import ContactModel, ParameterError, check_finite
+from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
 from contactvib.sweeps.sweep import SweepSettings
 
 __all__ = ["resonance_dataset", "chunk_path"]
@@ -69,7 +69,8 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     resume : bool
         Reuse finished chunks of the same model and settings.
     workers : int or None
-        Processes (default: ``min(levels, CPU count)``); 1 runs in this process.
+        Processes, 1..``WORKERS_MAX`` (default: ``min(levels, CPU count)``); 1 runs in this
+        process.
     on_level : callable or None
         ``on_level(model, level_dataset)`` (picklable) run in the worker right after each level
         (in this process for resumed levels), e.g. to draw the level's figures while other
@@ -85,11 +86,11 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
 
     from contactvib.sweeps.dataset import merge_levels, write_atomic
 
+    if workers is not None:
+        workers = check_int("workers", workers, 1, WORKERS_MAX)
     levels = []
     for v in pa_levels:
-        v = check_finite("P_a/Q", v)
-        if v <= 0:
-            raise ParameterError("P_a/Q", v, "must be > 0 (multiple of Q = M g)")
+        v = check_pa_level(v)
         if any(abs(v - w) < 1e-9 for w in levels):
             continue
         levels.append(v)

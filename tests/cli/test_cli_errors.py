@@ -1,0 +1,230 @@
+"""Every command-line input error, in one place: one stderr line naming the option, the library's
+symbol, the value and the allowed range (the library's own check and words), exit status 2, no
+traceback, nothing written or computed."""
+import subprocess
+import sys
+
+import pytest
+
+from contactvib.cli import main
+from contactvib.model import (KMAX_SEARCH_MAX, ContactModel, Excitation, ParameterError,
+                              check_frequency_range, check_int, check_range)
+
+CMD = [sys.executable, "-m", "contactvib"]
+
+
+# ------------------------------------------------------------------ model and operating point
+
+@pytest.mark.parametrize("args, message", [
+    (["--fe", "-5"], "contactvib: error: --fe (f_e) = -5: must be > 0 Hz"),
+    (["--fe", "0"], "contactvib: error: --fe (f_e) = 0: must be > 0 Hz"),
+    (["--pa", "nan"], "contactvib: error: --pa (P_a/Q) = nan: must be a finite number"),
+    (["--fe", "inf"], "contactvib: error: --fe (f_e) = inf: must be a finite number"),
+    (["--set", "M=-1"], "contactvib: error: --set M (M) = -1: must be > 0 kg"),
+    (["--set", "S=0"], "contactvib: error: --set S (S) = 0: must be > 0 m^2"),
+    (["--set", "m2=0.5"], "contactvib: error: --set m2 (m2) = 0.5: must be >= 1"),
+    (["--set", "l=-1"], "contactvib: error: --set l (l) = -1: must be >= 0"),
+    (["--set", "mass=1"], "contactvib: error: --set mass (mass) = 1: unknown parameter"),
+    (["--pa-newton", "-2"], "contactvib: error: --pa-newton (P_a) = -2: must be >= 0 N"),
+    (["--set", "l=0"], "contactvib: error: --set l=0 (h_n) = 3.5e+11: gives the damping ratio "
+                       "zeta = 8.02e+04 with l = 0: must give zeta <= 100"),
+])
+def test_bad_input_one_line(args, message):
+    """Bad input: one stderr line naming option, symbol, value and range; exit 2; no traceback."""
+    r = subprocess.run(CMD + ["attractors", *args], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2
+    assert r.stdout == ""
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert lines[0].startswith(message)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["attractors", "--pa", "-1"],
+     "contactvib: error: --pa (P_a/Q) = -1: must be >= 0 (multiple of Q = M g)"),
+    (["attractors", "--pa", "0.5", "--pa-newton", "1"],
+     "contactvib: error: --pa and --pa-newton: give one of them, not both"),
+    (["attractors", "--starts", "16.7"],
+     "contactvib: error: --starts (n_starts) = 16.7: must be an integer >= 1"),
+    (["attractors", "--starts", "0"],
+     "contactvib: error: --starts (n_starts) = 0: must be an integer >= 1"),
+    (["attractors", "--kmax", "65"],
+     f"contactvib: error: --kmax (kmax) = 65: must be an integer in 1..{KMAX_SEARCH_MAX}"),
+    (["attractors", "--kmax", "2.5"],
+     f"contactvib: error: --kmax (kmax) = 2.5: must be an integer in 1..{KMAX_SEARCH_MAX}"),
+    (["attractors", "--max-periods", "10"],
+     "contactvib: error: --max-periods (max_periods) = 10: must be an integer >= 32"),
+    (["attractors", "--seed", "-1"], "contactvib: error: --seed (seed) = -1: must be an integer >= 0"),
+    (["attractors", "--starts", "abc"], "contactvib: error: --starts (n_starts) = abc: must be a finite number"),
+    (["simulate", "--from-state", "0.3", "0", "--periods", "2.5"],
+     "contactvib: error: --periods (n_periods) = 2.5: must be an integer >= 1"),
+    (["simulate", "--from-state", "0.3", "x"], "contactvib: error: --from-state (ydot) = x: must be a finite number"),
+])
+def test_steady_state_options(args, message, capsys, tmp_path):
+    """Options of `attractors`/`simulate`: find_attractors' own checks, named by option."""
+    assert main([*args, *(["--out", str(tmp_path / "x")] if args[0] == "simulate" else [])]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [message]
+    assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("args, check", [
+    (["--fe", "-5"], lambda: Excitation(ContactModel(), 0.65, -5)),
+    (["--pa", "-1"], lambda: Excitation(ContactModel(), -1, 360)),
+    (["--pa-newton", "-2"], lambda: Excitation.from_newtons(ContactModel(), -2, 360)),
+    (["--set", "m2=0.5"], lambda: ContactModel(m2=0.5)),
+])
+def test_cli_words_are_the_librarys(args, check, capsys):
+    """The CLI adds the option name; symbol, value and range are the library's ParameterError."""
+    with pytest.raises(ParameterError) as e:
+        check()
+    assert main(["attractors", *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(f"({e.value.symbol}) = {str(e.value).split(' = ', 1)[1]}")
+
+
+# ------------------------------------------------------------------ continuation
+
+@pytest.mark.parametrize("args, message", [
+    (["continue", "--from-fe", "-5"], "contactvib: error: --from-fe (f_e) = -5: must be > 0 Hz"),
+    (["continue", "--pa", "0"], "contactvib: error: --pa (P_a/Q) = 0: must be > 0"),
+    (["continue", "--fmin", "500", "--fmax", "400"], "contactvib: error: --fmax (f_max) = 400: must be > --fmin"),
+    (["continue", "--from-fe", "2500"], "contactvib: error: --from-fe (f_e) = 2500: must lie in"),
+    (["continue", "--rtol", "1e-3"], "contactvib: error: --rtol (rtol) = 0.001: must be in"),
+    (["bifurcations", "--pa", "0.5", "abc"], "contactvib: error: --pa (P_a/Q) = abc: must be a finite number"),
+    (["evolution", "--order", "9"], "contactvib: error: --order (order) = 9: must be an integer in 1..8"),
+    (["evolution", "--pa-min", "0.8", "--pa-max", "0.5"], "contactvib: error: --pa-max (P_a/Q) = 0.5: must be >"),
+])
+def test_cli_bad_input(args, message, capsys):
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(message)
+
+
+@pytest.mark.parametrize("args,message", [
+    # the one message of an ordered pair names the upper option, as --fmax does (it named
+    # --pa-min in `continue` and --pa-max in `evolution` before)
+    (["continue", "--parameter", "pa", "--pa-min", "0.7", "--pa-max", "0.6"],
+     "contactvib: error: --pa-max (P_a/Q) = 0.6: must be > --pa-min = 0.7"),
+    (["continue", "--parameter", "pa", "--pa", "0.65", "--pa-max", "0.5"],
+     "contactvib: error: --pa (P_a/Q) = 0.65: must lie in [--pa-min, --pa-max] = [0.05, 0.5]"),
+    (["continue", "--parameter", "pa", "--pa-min", "-1"],
+     "contactvib: error: --pa-min (P_a/Q) = -1: must be > 0"),
+    (["continue", "--parameter", "pa", "--dataset", "x.nc"],
+     "contactvib: error: --dataset draws over a resonance graph in f_e: not with --parameter pa"),
+])
+def test_cli_continue_in_pa_bad_input(args, message, capsys):
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(message)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["continue", "--rtol", "1e-16"], "contactvib: error: --rtol (rtol) = 1e-16: must be in [1e-15, 1e-6]"),
+    (["continue", "--app-max", "-1"], "contactvib: error: --app-max (app_max_um) = -1: must be > 0 µm"),
+    (["continue", "--attractor", "1.5"], "contactvib: error: --attractor (attractor) = 1.5: must be an integer >= 0"),
+    (["bifurcations", "--seed-fe", "500,2500"],
+     "contactvib: error: --seed-fe (f_e) = 2500: must lie in [--fmin, --fmax] = [30, 2000] Hz"),
+    (["evolution", "--levels", "1"], "contactvib: error: --levels (n_levels) = 1: must be an integer >= 2"),
+])
+def test_continuation_options(args, message, capsys):
+    assert main(args) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [message]
+
+
+def test_rtol_range_is_the_continuations(capsys):
+    """--rtol accepts exactly what ContinuationSettings accepts (it was [1e-14, 1e-6] before)."""
+    from contactvib import ContinuationSettings
+
+    for r in (1e-15, 1e-6):
+        ContinuationSettings(rtol=r, tol=max(100 * r, 1e-11))
+    for r in (1e-16, 1e-5):
+        with pytest.raises(ParameterError):
+            ContinuationSettings(rtol=r)
+        assert main(["continue", "--rtol", str(r)]) == 2
+        assert "--rtol (rtol)" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ frequency domain
+
+@pytest.mark.parametrize("args, message", [
+    (["perturbation", "--order", "0"], "contactvib: error: --order (order) = 0: must be an integer in 1..400"),
+    (["perturbation", "--fe", "-1"], "contactvib: error: --fe (f_e) = -1: must be > 0 Hz"),
+    (["hbm", "--pa", "-1"], "contactvib: error: --pa (P_a/Q) = -1: must be >= 0 (multiple of Q = M g)"),
+    (["hbm", "--harmonics", "2000"], "contactvib: error: --harmonics (harmonics) = 2000: must be an integer in 1..1024"),
+    (["hbm", "--energy-tol", "0"], "contactvib: error: --energy-tol (energy_tol) = 0: must be > 0"),
+    (["hbm", "--fmin", "0"], "contactvib: error: --fmin (f_min) = 0: must be > 0 Hz"),
+])
+def test_frequency_domain_options(args, message, capsys, tmp_path):
+    assert main([*args, "--out", str(tmp_path / "x")]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [message]
+    assert not (tmp_path / "x").exists()
+
+
+# ------------------------------------------------------------------ sweeps
+
+@pytest.mark.parametrize("args, needle", [
+    (["resonance", "--df", "0"], "--df (df) = 0: must be > 0 Hz"),
+    (["resonance", "--fmin", "300", "--fmax", "200"], "--fmax (f_max) = 200: must be > --fmin = 300 Hz"),
+    (["resonance", "--pa", "0.5", "-0.6"], "--pa (P_a/Q) = -0.6: must be > 0"),
+    (["resonance", "--workers", "0"], "--workers (workers) = 0: must be an integer in 1..256"),
+    (["resonance", "--kmax", "20"], "--kmax (kmax) = 20: must be an integer in 1..16"),
+    (["resonance", "--starts", "-2"], "--starts (starts) = -2"),
+    (["resonance", "--starts", "2.5"], "--starts (starts) = 2.5: must be an integer >= 0"),
+    (["resonance", "--multistart-per-octave", "-1"], "--multistart-per-octave"),
+    (["resonance", "--multistart-per-octave", "2000"], "--multistart-per-octave (multistart_per_octave) = 2000"),
+    (["resonance", "--fmin", "inf"], "--fmin (f_min) = inf"),
+    (["resonance", "--set", "m2=0.5"], "--set m2 (m2) = 0.5"),
+    (["resonance", "--pa", "0.5", "--bogus"], "--bogus"),
+    (["paper", "--df", "-1"], "--df (df) = -1: must be > 0 Hz"),
+    (["paper", "--df", "1e-5"], "--df (df)"),
+])
+def test_bad_sweep_input_is_one_line(tmp_path, capsys, args, needle):
+    assert main([*args, "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("contactvib: error: ") and needle in err, err
+    assert not (tmp_path / "x").exists()
+
+
+@pytest.fixture(scope="module")
+def small_dataset(tmp_path_factory):
+    """A resonance dataset of one level (0.65 Q) over 340–380 Hz, 2 Hz step."""
+    from contactvib.sweeps.resonance import resonance_dataset
+    from contactvib.sweeps.sweep import SweepSettings
+
+    out = tmp_path_factory.mktemp("res")
+    st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=2.0, multistart_per_octave=0)
+    resonance_dataset(ContactModel(), [0.65], st, out=out, workers=1, progress=False)
+    return out / "resonance.nc"
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--pa", "0.66", "--fe", "360"], "--pa (P_a/Q) = 0.66: not in the dataset"),
+    (["--pa", "0.65", "--fe", "2003"], "--fe (f_e) = 2003: no grid point within half a step"),
+    (["--pa", "0.65", "--fe", "-1"], "--fe (f_e) = -1: must be > 0 Hz"),
+    (["--pa", "nan", "--fe", "360"], "--pa (P_a/Q) = nan"),
+])
+def test_query_errors_are_one_line(small_dataset, capsys, args, needle):
+    assert main(["query", str(small_dataset), *args]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("contactvib: error: ") and needle in err, err
+
+
+def test_query_rejects_missing_and_foreign_files(tmp_path, capsys):
+    assert main(["query", str(tmp_path / "none.nc"), "--pa", "0.65", "--fe", "360"]) == 2
+    assert "no such file" in capsys.readouterr().err
+    bad = tmp_path / "bad.nc"
+    bad.write_text("not netcdf")
+    assert main(["query", str(bad), "--pa", "0.65", "--fe", "360"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not a readable NetCDF" in err
+
+
+def test_checks_used_by_the_cli_are_the_librarys():
+    """The CLI's range words come from contactvib.model.checks (no copy of a range here)."""
+    with pytest.raises(ParameterError, match=r"f_max = 200: must be > f_min = 300 Hz"):
+        check_frequency_range(300, 200)
+    with pytest.raises(ParameterError, match=r"must be an integer in 1\.\.16"):
+        check_int("kmax", 20, 1, 16)
+    with pytest.raises(ParameterError, match=r"must be in \[1e-15, 1e-6\]"):
+        check_range("rtol", 1e-3, 1e-15, True, upper=1e-6)
