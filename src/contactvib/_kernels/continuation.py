@@ -15,6 +15,10 @@ parameter column by central differences of the map. The excitation period ``T = 
 The null vector of the 2×3 Jacobian (the branch tangent) has the ``q``-component
 ``det(M − I)`` (up to a factor): it changes sign at a fold.
 
+Also here, for the engine's small problems (n + 1 ≤ 8 unknowns): the bordered Newton step and
+the bordered null vector by Gaussian elimination (:func:`bordered_newton_step`,
+:func:`null_vector`); larger ones (harmonic balance) use LAPACK.
+
 References
 ----------
 H. B. Keller, *Lectures on Numerical Methods in Bifurcation Problems*, Springer (1987), Ch. 4.
@@ -79,6 +83,92 @@ def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
     out_J[0, 2] = (pp[0] - pm[0]) / (2.0 * h)
     out_J[1, 2] = (pp[1] - pm[1]) / (2.0 * h)
     return STATUS_OK
+
+
+@njit(cache=True)
+def _gauss(A, y, out):
+    """Solve ``A x = y`` in place (A, y overwritten) by Gaussian elimination with partial
+    pivoting into ``out``; False if singular or not finite."""
+    n = A.shape[0]
+    for c in range(n):
+        p = c
+        for i in range(c + 1, n):
+            if abs(A[i, c]) > abs(A[p, c]):
+                p = i
+        if A[p, c] == 0.0 or not math.isfinite(A[p, c]):
+            return False
+        if p != c:
+            for j in range(n):
+                tmp = A[c, j]
+                A[c, j] = A[p, j]
+                A[p, j] = tmp
+            tmp = y[c]
+            y[c] = y[p]
+            y[p] = tmp
+        for i in range(c + 1, n):
+            f = A[i, c] / A[c, c]
+            for j in range(c, n):
+                A[i, j] -= f * A[c, j]
+            y[i] -= f * y[c]
+    for i in range(n - 1, -1, -1):
+        acc = y[i]
+        for j in range(i + 1, n):
+            acc -= A[i, j] * out[j]
+        out[i] = acc / A[i, i]
+    return True
+
+
+@njit(cache=True)
+def bordered_newton_step(J, F, bord, cons, w, out_d):
+    """Newton step of a pseudo-arclength corrector (small dense systems, any size n)::
+
+        [ J    ] d = −[ F    ]        J: (n, n+1) Jacobian, F: (n,) residual,
+        [ bordᵀ]      [ cons ]        bord = τ w: the hyperplane's normal
+
+    Returns the scaled step ``max |w_i d_i|`` (NaN if the system is singular).
+    """
+    n1 = J.shape[1]
+    A = np.empty((n1, n1))
+    y = np.empty(n1)
+    for i in range(n1 - 1):
+        for j in range(n1):
+            A[i, j] = J[i, j]
+        y[i] = -F[i]
+    for j in range(n1):
+        A[n1 - 1, j] = bord[j]
+    y[n1 - 1] = -cons
+    if not _gauss(A, y, out_d):
+        return math.nan
+    step = 0.0
+    for i in range(n1):
+        step = max(step, abs(out_d[i] * w[i]))
+    return step
+
+
+@njit(cache=True)
+def null_vector(J, w, direction, out_t):
+    """Unit null vector of ``J W⁻¹`` (J: (n, n+1)) with ``direction · t > 0``, from
+    ``[J W⁻¹; directionᵀ] t = [0; 1]``; returns False if that system is singular."""
+    n1 = J.shape[1]
+    A = np.empty((n1, n1))
+    y = np.zeros(n1)
+    for i in range(n1 - 1):
+        for j in range(n1):
+            A[i, j] = J[i, j] / w[j]
+    for j in range(n1):
+        A[n1 - 1, j] = direction[j]
+    y[n1 - 1] = 1.0
+    if not _gauss(A, y, out_t):
+        return False
+    nrm = 0.0
+    for i in range(n1):
+        nrm += out_t[i] * out_t[i]
+    nrm = math.sqrt(nrm)
+    if nrm == 0.0 or not math.isfinite(nrm):
+        return False
+    for i in range(n1):
+        out_t[i] /= nrm
+    return True
 
 
 @njit(cache=True)

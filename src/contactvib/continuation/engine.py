@@ -41,6 +41,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from contactvib._kernels.continuation import bordered_newton_step, null_vector
 from contactvib.continuation.bifurcations import locate_zero
 
 __all__ = ["Problem", "Point", "Event", "EngineStop", "CorrectorSettings", "StepControl",
@@ -52,6 +53,8 @@ STATUS_SINGULAR = 20
 STATUS_DIVERGED = 21
 STATUS_MAXITER = 22
 STATUS_TURN = -1
+#: problems with at most this many unknowns are solved by the compiled small dense solvers
+SMALL = 8
 
 
 @dataclass(frozen=True)
@@ -226,28 +229,28 @@ def correct(problem: Problem, u_pred, u_prev, tau, w, ds, cs: CorrectorSettings)
     """
     u = np.array(u_pred, float)
     bord = tau * w
-    n = u.size
-    A = np.empty((n, n))
-    b = np.empty(n)
+    small = u.size <= SMALL
+    d = np.empty(u.size)
     for it in range(cs.max_iter + 1):
         st, F, J, data = problem.residual_jacobian(u)
         if st != STATUS_OK:
             return st, None
         res = problem.residual_norm(u, F)
-        cons = float(np.dot(bord, u - u_prev)) - ds
+        cons = float(bord @ (u - u_prev)) - ds
         if it >= cs.min_iter and res <= cs.tol and abs(cons) <= cs.cons_tol:
             return STATUS_OK, Point(u.copy(), J, data, res, it + 1)
         if it == cs.max_iter:
             break
-        A[:-1] = J
-        A[-1] = bord
-        b[:-1] = -F
-        b[-1] = -cons
-        try:
-            d = np.linalg.solve(A, b)
-        except np.linalg.LinAlgError:
-            return STATUS_SINGULAR, None
-        step = float(np.max(np.abs(d * w)))
+        if small:
+            step = bordered_newton_step(J, F, bord, cons, w, d)
+            if step != step:  # NaN: singular
+                return STATUS_SINGULAR, None
+        else:
+            try:
+                d = np.linalg.solve(np.vstack([J, bord]), -np.append(F, cons))
+            except np.linalg.LinAlgError:
+                return STATUS_SINGULAR, None
+            step = float(np.abs(d * w).max())
         if not math.isfinite(step) or step > cs.max_step:
             return STATUS_DIVERGED, None
         u = u + d
@@ -260,6 +263,9 @@ def tangent(J: np.ndarray, w: np.ndarray, direction: np.ndarray) -> np.ndarray |
     """Unit null vector of ``J W⁻¹`` (scaled unknowns) with a positive component along the unit
     vector ``direction``: ``[J W⁻¹; directionᵀ] t = [0; 1]``, normalised. None when singular."""
     n = J.shape[1]
+    if n <= SMALL:
+        t = np.empty(n)
+        return t if null_vector(J, w, direction, t) else None
     A = np.empty((n, n))
     A[:-1] = J / w[None, :]
     A[-1] = direction
