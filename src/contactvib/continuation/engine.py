@@ -327,6 +327,32 @@ class _Direction:
                 out.append(kind)
         return out
 
+    def step(self, a: Point, tau, w, ds):
+        """Predictor and corrector from ``a`` along the scaled unit tangent ``tau``; the new
+        tangent, rejected (``STATUS_TURN``) when it turned by more than ``max_turn``."""
+        st, b = correct(self.p, a.u + ds * tau / w, a.u, tau, w, ds, self.cs)
+        if st != STATUS_OK:
+            return st, None, None
+        tau_new = tangent(b.J, w, tau)
+        if tau_new is None:
+            return STATUS_SINGULAR, None, None
+        if (math.acos(min(1.0, float(np.dot(tau_new, tau)))) > self.sc.max_turn
+                and ds > 2.0 * self.sc.ds_min):
+            return STATUS_TURN, None, None
+        return STATUS_OK, b, tau_new
+
+    def stop_at_bound(self, points, events, b: Point, crossed) -> Run:
+        """``b`` left a bound: events outside dropped, the last point by ``bound_action``."""
+        bound, side = crossed
+        events = [e for e in events if not _crossed(self.p.bounds, e.point.u)]
+        if self.sc.bound_action == "fix":
+            c = self.at_bound(points[-1], b, bound)
+            if c is not None:
+                points.append(c)
+        elif self.sc.bound_action == "append":
+            points.append(b)
+        return Run(points, events, EngineStop("bound", detail=(bound.name, side)))
+
     def at_bound(self, a: Point, b: Point, bound: Bound):
         """The point on the bound between a and b, corrected at the fixed unknown."""
         lim = bound.lo if b.u[bound.index] < bound.lo else bound.hi
@@ -375,15 +401,7 @@ def continue_branch(problem: Problem, start: Point, direction, cs: CorrectorSett
         tau = _unit(a.tangent * w)
         if sc.dq_max < math.inf:
             ds = min(ds, sc.dq_max * w[-1] / max(abs(tau[-1]), 1e-300))
-        st, b = correct(problem, a.u + ds * tau / w, a.u, tau, w, ds, cs)
-        tau_new = None
-        if st == STATUS_OK:
-            tau_new = tangent(b.J, w, tau)
-            if tau_new is None:
-                st = STATUS_SINGULAR
-            elif (math.acos(min(1.0, float(np.dot(tau_new, tau)))) > sc.max_turn
-                  and ds > 2.0 * sc.ds_min):
-                st = STATUS_TURN
+        st, b, tau_new = eng.step(a, tau, w, ds)
         if st != STATUS_OK:
             n_fail += 1
             ds *= 0.5
@@ -408,15 +426,7 @@ def continue_branch(problem: Problem, start: Point, direction, cs: CorrectorSett
                     events.append(Event(kind, len(points) - 1, found[1], found[0], (a, b)))
         crossed = early or _crossed(problem.bounds, b.u)
         if crossed:
-            bound, side = crossed
-            events = [e for e in events if not _crossed(problem.bounds, e.point.u)]
-            if sc.bound_action == "fix":
-                c = eng.at_bound(a, b, bound)
-                if c is not None:
-                    points.append(c)
-            elif sc.bound_action == "append":
-                points.append(b)
-            return Run(points, events, EngineStop("bound", detail=(bound.name, side)))
+            return eng.stop_at_bound(points, events, b, crossed)
         points.append(b)
         if sc.detect_loop and _closed(points, t_start, problem, ds):
             return Run(points, events, EngineStop("loop"))
