@@ -119,17 +119,24 @@ def _gauss(A, y, out):
 
 
 @njit(cache=True)
-def bordered_newton_step(J, F, bord, cons, w, out_d):
+def bordered_newton_step(J, F, bord, u, u_prev, ds, w, out_u):
     """Newton step of a pseudo-arclength corrector (small dense systems, any size n)::
 
-        [ J    ] d = −[ F    ]        J: (n, n+1) Jacobian, F: (n,) residual,
-        [ bordᵀ]      [ cons ]        bord = τ w: the hyperplane's normal
+        N = bord · (u − u_prev) − ds                  (bord = τ w: the hyperplane's normal)
+        [ J    ] d = −[ F ]         J: (n, n+1) Jacobian, F: (n,) residual
+        [ bordᵀ]      [ N ]
 
-    Returns the scaled step ``max |w_i d_i|`` (NaN if the system is singular).
+    ``out_u = u + d``. Returns ``(N, max |w_i d_i|)``; the step is NaN when the system is
+    singular (``out_u`` undefined then).
     """
     n1 = J.shape[1]
+    cons = 0.0
+    for i in range(n1):
+        cons += bord[i] * (u[i] - u_prev[i])
+    cons -= ds
     A = np.empty((n1, n1))
     y = np.empty(n1)
+    d = np.empty(n1)
     for i in range(n1 - 1):
         for j in range(n1):
             A[i, j] = J[i, j]
@@ -137,12 +144,13 @@ def bordered_newton_step(J, F, bord, cons, w, out_d):
     for j in range(n1):
         A[n1 - 1, j] = bord[j]
     y[n1 - 1] = -cons
-    if not _gauss(A, y, out_d):
-        return math.nan
+    if not _gauss(A, y, d):
+        return cons, math.nan
     step = 0.0
     for i in range(n1):
-        step = max(step, abs(out_d[i] * w[i]))
-    return step
+        step = max(step, abs(d[i] * w[i]))
+        out_u[i] = u[i] + d[i]
+    return cons, step
 
 
 @njit(cache=True)

@@ -230,30 +230,32 @@ def correct(problem: Problem, u_pred, u_prev, tau, w, ds, cs: CorrectorSettings)
     u = np.array(u_pred, float)
     bord = tau * w
     small = u.size <= SMALL
-    d = np.empty(u.size)
     for it in range(cs.max_iter + 1):
         st, F, J, data = problem.residual_jacobian(u)
         if st != STATUS_OK:
             return st, None
         res = problem.residual_norm(u, F)
-        cons = float(bord @ (u - u_prev)) - ds
+        if small:  # N and the Newton step in one compiled call (the step unused if converged)
+            u_new = np.empty(u.size)
+            cons, step = bordered_newton_step(J, F, bord, u, u_prev, ds, w, u_new)
+        else:
+            cons = float(bord @ (u - u_prev)) - ds
         if it >= cs.min_iter and res <= cs.tol and abs(cons) <= cs.cons_tol:
-            return STATUS_OK, Point(u.copy(), J, data, res, it + 1)
+            return STATUS_OK, Point(u, J, data, res, it + 1)
         if it == cs.max_iter:
             break
-        if small:
-            step = bordered_newton_step(J, F, bord, cons, w, d)
-            if step != step:  # NaN: singular
-                return STATUS_SINGULAR, None
-        else:
+        if not small:
             try:
                 d = np.linalg.solve(np.vstack([J, bord]), -np.append(F, cons))
             except np.linalg.LinAlgError:
                 return STATUS_SINGULAR, None
             step = float(np.abs(d * w).max())
+            u_new = u + d
+        if step != step:  # NaN: singular
+            return STATUS_SINGULAR, None
         if not math.isfinite(step) or step > cs.max_step:
             return STATUS_DIVERGED, None
-        u = u + d
+        u = u_new
         if not problem.admissible(u):
             return STATUS_DIVERGED, None
     return STATUS_MAXITER, None
