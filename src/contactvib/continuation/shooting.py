@@ -2,12 +2,13 @@
 
 A period-k orbit is a zero of ``G(z; q) = P^k(z; q) − z`` (stroboscopic map at phase 0, shooting
 with the monodromy from the variational equations integrated through contact loss and
-re-contact, :mod:`contactvib._kernels.continuation`). The branch through a seed is followed by
-an Euler predictor along the tangent and a Newton corrector on the pseudo-arclength hyperplane,
-in scaled unknowns (relative change of the state and of the parameter), with an adaptive step:
-grown after easy corrections, halved after a failed one or a tangent turning by more than
-``max_turn``. Every accepted point gets its Floquet multipliers (stability), its extrema over the
-orbit (A_pp, y_min, y_max, from the dense output) and the test functions of
+re-contact, :mod:`contactvib._kernels.continuation`): :class:`OrbitProblem`. The branch
+through a seed is followed by the one continuation engine (:mod:`.engine`: Euler predictor along
+the tangent, bordered Newton corrector on the pseudo-arclength hyperplane, in scaled unknowns —
+relative change of the state and of the parameter — and an adaptive step: grown after easy
+corrections, halved after a failed one or a tangent turning by more than ``max_turn``). Every
+accepted point gets its Floquet multipliers (stability), its extrema over the orbit (A_pp,
+y_min, y_max, from the dense output) and the test functions of
 :mod:`.bifurcations`; sign changes are located on the branch.
 
 A continuation never stops silently: each direction ends with a :class:`~.branch.Stop` that says

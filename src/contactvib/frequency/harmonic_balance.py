@@ -16,7 +16,8 @@ is evaluated on ``n_time`` equispaced samples and projected back on the 2H+1 har
 (AFT, numpy FFT). Newton's method uses the exact AFT Jacobian
 ``∂R̂/∂X = m2 r² D² + T[f_x] + r T[f_x'] D_θ``, where T[g] is the matrix of multiplication by g
 projected on the harmonics, built from g's Fourier coefficients (G_{j−k} ± G_{j+k}), and the
-branch is followed in f_e by pseudo-arclength continuation (tangent predictor, bordered Newton
+branch is followed in f_e by the pseudo-arclength engine of
+:mod:`contactvib.continuation.engine` (:class:`HBProblem`; tangent predictor, bordered Newton
 corrector, step-size control). Stability: the monodromy matrix of one shooting period from the
 HB orbit point (x(0), x'(0)) (:func:`contactvib._kernels.shooting.strobe_map`), its largest
 |multiplier| < 1.
