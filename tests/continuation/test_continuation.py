@@ -78,7 +78,7 @@ def test_multipliers_match_finite_difference_monodromy():
         strobe_map(zm, 1, par, 1e-13, 1e-13, om, NONE)
         J[:, j] = (op - om) / (2 * h)
     mu_fd = np.sort_complex(np.linalg.eigvals(J))
-    mu = np.sort_complex(b.multipliers[i])
+    mu = np.sort_complex(b.floquet_multipliers[i])
     assert np.max(np.abs(mu_fd - mu)) < 1e-6
     assert np.max(np.abs(mu)) > 1.0
 
@@ -101,7 +101,7 @@ def test_linear_limit_resonance_curve_and_multipliers():
     for i in (0, len(b) // 2, len(b) - 1):
         T = 2 * math.pi / r[i]
         expected = np.sort_complex(np.exp(lam * T))
-        assert np.max(np.abs(np.sort_complex(b.multipliers[i]) - expected)) < 1e-6
+        assert np.max(np.abs(np.sort_complex(b.floquet_multipliers[i]) - expected)) < 1e-6
 
 
 @pytest.fixture(scope="module")
@@ -125,7 +125,7 @@ def test_fold_within_one_step_of_the_up_sweep_jump(lower_branch_065):
     """An up-sweep carried state to state (0.5 Hz steps) jumps within one step of the fold."""
     exc, seed = lower_branch_065
     b, fold = _fold(exc, seed, 1e-12)
-    assert abs(fold.multipliers - 1).min() < 1e-7  # one multiplier is +1 there
+    assert abs(fold.floquet_multipliers - 1).min() < 1e-7  # one multiplier is +1 there
     df = 0.5
     z = seed.state.copy()
     f = 1030.0
@@ -173,7 +173,7 @@ def test_period_doubling_of_the_half_resonance_at_070():
     assert pds, "period doubling of the 1/2 resonance not found"
     upper = max(pds, key=lambda sp: sp.fe_hz)
     assert 470.0 < upper.fe_hz < 620.0
-    assert np.min(np.abs(upper.multipliers + 1.0)) < 1e-7
+    assert np.min(np.abs(upper.floquet_multipliers + 1.0)) < 1e-7
     parent = [b for b in bs if b.branch == upper.branch][0]
     f1 = upper.fe_hz + 15.0
     e1 = MODEL.excitation(0.70, f1)
@@ -214,8 +214,8 @@ def test_branch_netcdf_roundtrip(tmp_path, primary_1930):
     p = tmp_path / "b.nc"
     b.to_netcdf(p)
     ds = xr.open_dataset(p)
-    assert ds["fe"].attrs["units"] == "Hz" and ds["app"].attrs["units"] == "um"
-    np.testing.assert_allclose(ds["app"].values, b.app_um)
+    assert ds["fe_hz"].attrs["units"] == "Hz" and ds["app_um"].attrs["units"] == "um"
+    np.testing.assert_allclose(ds["app_um"].values, b.app_um)
     sp = json.loads(ds.attrs["special_points"])
     assert {d["type"] for d in sp} <= {"fold", "period-doubling", "neimark-sacker", "grazing"}
     ds.close()
@@ -265,7 +265,7 @@ def test_cli_continue_json_contract(tmp_path, capsys):
     files = sorted(out.glob("branch_*.nc"))
     assert len(files) == 1 and (out / "branches_pa0.65_fe1930.png").stat().st_size > 10_000
     with xr.open_dataset(files[0]) as ds:
-        assert ds["fe"].min() == pytest.approx(1500.0) and ds["fe"].max() == pytest.approx(2000.0)
+        assert ds["fe_hz"].min() == pytest.approx(1500.0) and ds["fe_hz"].max() == pytest.approx(2000.0)
 
 
 @pytest.fixture(scope="module")

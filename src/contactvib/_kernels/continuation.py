@@ -1,21 +1,23 @@
-"""Pseudo-arclength corrector for periodic orbits of the stroboscopic map (compiled, pure).
+"""Residual and Jacobian of periodic orbits of the stroboscopic map, orbit extrema (compiled, pure).
 
 Unknowns ``u = (x, x', q)``: the orbit point at phase 0 (nondimensional, :mod:`.flow`) and one
 parameter ``q = par[ip]`` (``ip = 4``: the frequency ratio ``r = f_e/f_n0``; ``ip = 3``: the
 amplitude ``p = P_a/Q``). Equations::
 
     G(u) = P^k(z; q) − z = 0                                   (2 equations)
-    N(u) = τ · W (u − u_prev) − Δs = 0                          (pseudo-arclength, 1 equation)
 
-with ``W = diag(w)`` the scaling of the unknowns (``1/max(1,|x|,|x'|)`` for the state,
-``1/|q|`` for the parameter: arclength measures relative change) and ``τ`` the unit tangent in
-scaled coordinates. The Jacobian of ``G`` is ``[M − I | ∂P^k/∂q]``: the monodromy ``M`` from the
-variational equations (:func:`.shooting.strobe_map`, saltation at the contact events) and the
+(the pseudo-arclength equation, predictor, corrector and step control are those of the one
+engine, :mod:`contactvib.continuation.engine`). The Jacobian of ``G`` is ``[M − I | ∂P^k/∂q]``:
+the monodromy ``M`` from the variational equations (:func:`.shooting.strobe_map`, saltation at the contact events) and the
 parameter column by central differences of the map. The excitation period ``T = 2π/r`` depends on
 ``r``; the finite difference of the whole map ``P(z; r) = φ(2π/r; z, r)`` includes that.
 
-The null vector of the 2×3 Jacobian (the branch tangent) is the cross product of its rows; its
-``q``-component is ``det(M − I)`` (times the scaling): it changes sign at a fold.
+The null vector of the 2×3 Jacobian (the branch tangent) has the ``q``-component
+``det(M − I)`` (up to a factor): it changes sign at a fold.
+
+Also here, for the engine's small problems (n + 1 ≤ 8 unknowns): the bordered Newton step and
+the bordered null vector by Gaussian elimination (:func:`bordered_newton_step`,
+:func:`null_vector`); larger ones (harmonic balance) use LAPACK.
 
 References
 ----------
@@ -31,8 +33,8 @@ import numpy as np
 from numba import njit
 
 from .orbit import find_extrema, record_orbit
-from .shooting import state_scale, strobe_map
-from .status import STATUS_DIVERGED, STATUS_MAXITER, STATUS_OK, STATUS_RECORD_FULL, STATUS_SINGULAR
+from .shooting import strobe_map
+from .status import STATUS_OK, STATUS_RECORD_FULL
 
 #: relative step of the central difference in the parameter (floor 1e-3 absolute)
 FD_REL = 1e-5
@@ -84,114 +86,97 @@ def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
 
 
 @njit(cache=True)
-def tangent(J, w, out_t):
-    """Unit null vector of ``J W⁻¹`` (scaled coordinates) into ``out_t``; returns its norm."""
-    a0 = J[0, 0] / w[0]
-    a1 = J[0, 1] / w[1]
-    a2 = J[0, 2] / w[2]
-    b0 = J[1, 0] / w[0]
-    b1 = J[1, 1] / w[1]
-    b2 = J[1, 2] / w[2]
-    t0 = a1 * b2 - a2 * b1
-    t1 = a2 * b0 - a0 * b2
-    t2 = a0 * b1 - a1 * b0
-    nrm = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-    if nrm == 0.0 or not math.isfinite(nrm):
-        return 0.0
-    out_t[0] = t0 / nrm
-    out_t[1] = t1 / nrm
-    out_t[2] = t2 / nrm
-    return nrm
-
-
-@njit(cache=True)
-def solve3(A, b, out):
-    """Solve a 3×3 system by Gaussian elimination with partial pivoting; False if singular."""
-    M = A.copy()
-    y = b.copy()
-    for c in range(3):
+def _gauss(A, y, out):
+    """Solve ``A x = y`` in place (A, y overwritten) by Gaussian elimination with partial
+    pivoting into ``out``; False if singular or not finite."""
+    n = A.shape[0]
+    for c in range(n):
         p = c
-        for i in range(c + 1, 3):
-            if abs(M[i, c]) > abs(M[p, c]):
+        for i in range(c + 1, n):
+            if abs(A[i, c]) > abs(A[p, c]):
                 p = i
-        if M[p, c] == 0.0 or not math.isfinite(M[p, c]):
+        if A[p, c] == 0.0 or not math.isfinite(A[p, c]):
             return False
         if p != c:
-            for j in range(3):
-                tmp = M[c, j]
-                M[c, j] = M[p, j]
-                M[p, j] = tmp
+            for j in range(n):
+                tmp = A[c, j]
+                A[c, j] = A[p, j]
+                A[p, j] = tmp
             tmp = y[c]
             y[c] = y[p]
             y[p] = tmp
-        for i in range(c + 1, 3):
-            f = M[i, c] / M[c, c]
-            for j in range(c, 3):
-                M[i, j] -= f * M[c, j]
+        for i in range(c + 1, n):
+            f = A[i, c] / A[c, c]
+            for j in range(c, n):
+                A[i, j] -= f * A[c, j]
             y[i] -= f * y[c]
-    for i in range(2, -1, -1):
+    for i in range(n - 1, -1, -1):
         acc = y[i]
-        for j in range(i + 1, 3):
-            acc -= M[i, j] * out[j]
-        out[i] = acc / M[i, i]
+        for j in range(i + 1, n):
+            acc -= A[i, j] * out[j]
+        out[i] = acc / A[i, i]
     return True
 
 
 @njit(cache=True)
-def correct(u_pred, u_prev, tau, w, ds, k, par, ip, rtol, tol, max_iter, out_u, out_J, out_M):
-    """Newton corrector onto the branch on the hyperplane ``τ·W(u − u_prev) = ds``.
+def bordered_newton_step(J, F, bord, u, u_prev, ds, w, out_u):
+    """Newton step of a pseudo-arclength corrector (small dense systems, any size n)::
 
-    ``ds = 0`` with ``τ = (0, 0, 1)`` and ``u_prev = u_pred`` fixes ``q`` (natural parameter).
-    Converged when ``|G|∞ ≤ tol · max(1, |z|∞)`` and the last scaled Newton step ≤ 1e-3 ... on
-    return ``out_u``, ``out_J`` and ``out_M`` hold the last iterate, its Jacobian and monodromy.
+        N = bord · (u − u_prev) − ds                  (bord = τ w: the hyperplane's normal)
+        [ J    ] d = −[ F ]         J: (n, n+1) Jacobian, F: (n,) residual
+        [ bordᵀ]      [ N ]
 
-    Returns
-    -------
-    status : int
-        ``STATUS_OK`` or a flow / ``STATUS_*`` code.
-    iterations : int
-        Jacobian evaluations used.
+    ``out_u = u + d``. Returns ``(N, max |w_i d_i|)``; the step is NaN when the system is
+    singular (``out_u`` undefined then).
     """
-    u = u_pred.copy()
-    G = np.empty(2)
-    A = np.empty((3, 3))
-    b = np.empty(3)
-    d = np.empty(3)
-    for it in range(max_iter + 1):
-        st = residual_jacobian(u, k, par, ip, rtol, G, out_J, out_M)
-        if st != STATUS_OK:
-            return st, it + 1
-        for i in range(3):
-            out_u[i] = u[i]
-        sc = state_scale(u[0], u[1])
-        res = max(abs(G[0]), abs(G[1])) / sc
-        cons = 0.0
-        for i in range(3):
-            cons += tau[i] * w[i] * (u[i] - u_prev[i])
-        cons -= ds
-        if res <= tol and abs(cons) <= 1e-9:
-            return STATUS_OK, it + 1
-        if it == max_iter:
-            break
-        for i in range(2):
-            for j in range(3):
-                A[i, j] = out_J[i, j]
-            b[i] = -G[i]
-        for j in range(3):
-            A[2, j] = tau[j] * w[j]
-        b[2] = -cons
-        if not solve3(A, b, d):
-            return STATUS_SINGULAR, it + 1
-        step = 0.0
-        for i in range(3):
-            step = max(step, abs(d[i] * w[i]))
-        if not math.isfinite(step) or step > 1.0:
-            return STATUS_DIVERGED, it + 1
-        for i in range(3):
-            u[i] += d[i]
-        if u[2] <= 0.0 and ip == 4:
-            return STATUS_DIVERGED, it + 1
-    return STATUS_MAXITER, max_iter + 1
+    n1 = J.shape[1]
+    cons = 0.0
+    for i in range(n1):
+        cons += bord[i] * (u[i] - u_prev[i])
+    cons -= ds
+    A = np.empty((n1, n1))
+    y = np.empty(n1)
+    d = np.empty(n1)
+    for i in range(n1 - 1):
+        for j in range(n1):
+            A[i, j] = J[i, j]
+        y[i] = -F[i]
+    for j in range(n1):
+        A[n1 - 1, j] = bord[j]
+    y[n1 - 1] = -cons
+    if not _gauss(A, y, d):
+        return cons, math.nan
+    step = 0.0
+    for i in range(n1):
+        step = max(step, abs(d[i] * w[i]))
+        out_u[i] = u[i] + d[i]
+    return cons, step
+
+
+@njit(cache=True)
+def null_vector(J, w, direction, out_t):
+    """Unit null vector of ``J W⁻¹`` (J: (n, n+1)) with ``direction · t > 0``, from
+    ``[J W⁻¹; directionᵀ] t = [0; 1]``; returns False if that system is singular."""
+    n1 = J.shape[1]
+    A = np.empty((n1, n1))
+    y = np.zeros(n1)
+    for i in range(n1 - 1):
+        for j in range(n1):
+            A[i, j] = J[i, j] / w[j]
+    for j in range(n1):
+        A[n1 - 1, j] = direction[j]
+    y[n1 - 1] = 1.0
+    if not _gauss(A, y, out_t):
+        return False
+    nrm = 0.0
+    for i in range(n1):
+        nrm += out_t[i] * out_t[i]
+    nrm = math.sqrt(nrm)
+    if nrm == 0.0 or not math.isfinite(nrm):
+        return False
+    for i in range(n1):
+        out_t[i] /= nrm
+    return True
 
 
 @njit(cache=True)

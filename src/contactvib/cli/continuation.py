@@ -133,7 +133,7 @@ def _summary(bset, parameter="f_e"):
             at = (f"f_e = {sp.fe_hz:12.6f} Hz" if parameter == "f_e"
                   else f"P_a = {sp.pa_over_q:10.6f} Q")
             click.echo(f"    {sp.type:<16} {at}  A_pp = {sp.app_um:10.5g} um  "
-                       f"|mu| = {', '.join(f'{abs(m):.4f}' for m in sp.multipliers)}")
+                       f"|mu| = {', '.join(f'{abs(m):.4f}' for m in sp.floquet_multipliers)}")
 
 
 @click.command("continue")

@@ -36,7 +36,7 @@ class SpecialPoint:
         Period of the branch it lies on [excitation periods] (before any doubling).
     branch : str
         Id of that branch.
-    multipliers : ndarray of complex, shape (2,)
+    floquet_multipliers : ndarray of complex, shape (2,)
         Floquet multipliers there.
     state : ndarray, shape (2,)
         Nondimensional orbit point (x, x') at phase 0.
@@ -53,7 +53,7 @@ class SpecialPoint:
     app_um: float
     period: int
     branch: str
-    multipliers: np.ndarray = field(repr=False)
+    floquet_multipliers: np.ndarray = field(repr=False)
     state: np.ndarray = field(repr=False)
     test_value: float = 0.0
     bracket: tuple = (np.nan, np.nan)
@@ -96,7 +96,7 @@ class Branch:
         Excitation frequency [Hz] and amplitude [Q] of each point.
     app_um, ymin_um, ymax_um : ndarray (n,)
         Peak-to-peak amplitude and extrema of y over the orbit [µm].
-    multipliers : ndarray of complex (n, 2)
+    floquet_multipliers : ndarray of complex (n, 2)
         Floquet multipliers.
     stable : ndarray of bool (n,)
         All |multipliers| < 1.
@@ -104,7 +104,7 @@ class Branch:
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0.
     contact_loss_fraction : ndarray (n,)
         Fraction of the period with y < 0.
-    minima : ndarray of int (n,)
+    minima_per_period : ndarray of int (n,)
         Local minima of y over the period-k orbit.
     arclength : ndarray (n,)
         Scaled pseudo-arclength (relative units) from the first point.
@@ -124,11 +124,11 @@ class Branch:
     app_um: np.ndarray
     ymin_um: np.ndarray
     ymax_um: np.ndarray
-    multipliers: np.ndarray
+    floquet_multipliers: np.ndarray
     stable: np.ndarray
     state: np.ndarray
     contact_loss_fraction: np.ndarray
-    minima: np.ndarray
+    minima_per_period: np.ndarray
     arclength: np.ndarray
     special: list = field(default_factory=list)
     stops: list = field(default_factory=list)
@@ -143,33 +143,36 @@ class Branch:
     @property
     def floquet_abs_max(self) -> np.ndarray:
         """Largest |multiplier| at each point [1]."""
-        return np.max(np.abs(self.multipliers), axis=1)
+        return np.max(np.abs(self.floquet_multipliers), axis=1)
 
     def to_xarray(self):
-        """The branch as an :class:`xarray.Dataset` (dimension ``point``), units in attrs."""
+        """The branch as an :class:`xarray.Dataset` (dimension ``point``), units in attrs.
+
+        Variables: fe_hz, pa_over_q, app_um, ymin_um, ymax_um, floquet_re, floquet_im, stable,
+        state_x, state_xdot, contact_loss_fraction, minima_per_period, arclength.
+        """
         import xarray as xr
 
-        n = len(self)
-        pt = np.arange(n)
+        mu = self.floquet_multipliers
         ds = xr.Dataset(
             {
-                "fe": ("point", self.fe_hz, {"units": "Hz", "long_name": "excitation frequency f_e"}),
-                "pa": ("point", self.pa_over_q, {"units": "Q", "long_name": "excitation amplitude P_a/Q"}),
-                "app": ("point", self.app_um, {"units": "um", "long_name": "peak-to-peak amplitude A_pp"}),
-                "ymin": ("point", self.ymin_um, {"units": "um", "long_name": "minimum of y (y < 0: gap)"}),
-                "ymax": ("point", self.ymax_um, {"units": "um", "long_name": "maximum of y"}),
-                "mu_re": (("point", "multiplier"), self.multipliers.real,
-                          {"units": "1", "long_name": "Floquet multipliers, real part"}),
-                "mu_im": (("point", "multiplier"), self.multipliers.imag,
-                          {"units": "1", "long_name": "Floquet multipliers, imaginary part"}),
+                "fe_hz": ("point", self.fe_hz, {"units": "Hz", "long_name": "excitation frequency f_e"}),
+                "pa_over_q": ("point", self.pa_over_q, {"units": "Q", "long_name": "excitation amplitude P_a/Q"}),
+                "app_um": ("point", self.app_um, {"units": "um", "long_name": "peak-to-peak amplitude A_pp"}),
+                "ymin_um": ("point", self.ymin_um, {"units": "um", "long_name": "minimum of y (y < 0: gap)"}),
+                "ymax_um": ("point", self.ymax_um, {"units": "um", "long_name": "maximum of y"}),
+                "floquet_re": (("point", "multiplier"), mu.real,
+                               {"units": "1", "long_name": "Floquet multipliers, real part"}),
+                "floquet_im": (("point", "multiplier"), mu.imag,
+                               {"units": "1", "long_name": "Floquet multipliers, imaginary part"}),
                 "stable": ("point", self.stable.astype(np.int8), {"units": "1", "long_name": "stable (1) / unstable (0)"}),
-                "x": ("point", self.state[:, 0], {"units": "y0", "long_name": "orbit point y/y0 at phase 0"}),
-                "xdot": ("point", self.state[:, 1], {"units": "y0 omega_n0", "long_name": "orbit point dy/dt/(y0 omega_n0) at phase 0"}),
+                "state_x": ("point", self.state[:, 0], {"units": "y0", "long_name": "orbit point y/y0 at phase 0"}),
+                "state_xdot": ("point", self.state[:, 1], {"units": "y0 omega_n0", "long_name": "orbit point dy/dt/(y0 omega_n0) at phase 0"}),
                 "contact_loss_fraction": ("point", self.contact_loss_fraction, {"units": "1"}),
-                "minima": ("point", self.minima.astype(np.int32), {"units": "1", "long_name": "minima of y per period-k orbit"}),
+                "minima_per_period": ("point", self.minima_per_period.astype(np.int32), {"units": "1", "long_name": "minima of y per period-k orbit"}),
                 "arclength": ("point", self.arclength, {"units": "1", "long_name": "scaled pseudo-arclength"}),
             },
-            coords={"point": pt, "multiplier": [0, 1]},
+            coords={"point": np.arange(len(self)), "multiplier": [0, 1]},
             attrs={"branch": self.branch, "period": int(self.period), "parameter": self.parameter,
                    "parent": self.parent or "", "fn0_hz": float(self.fn0_hz), "y0_um": float(self.y0_um),
                    "special_points": json.dumps([s.to_dict() for s in self.special]),
@@ -181,6 +184,51 @@ class Branch:
     def to_netcdf(self, path) -> None:
         """Write :meth:`to_xarray` to a NetCDF file."""
         self.to_xarray().to_netcdf(path)
+
+    @classmethod
+    def from_xarray(cls, ds) -> "Branch":
+        """The branch of a :meth:`to_xarray` dataset; the names written before the one naming
+        scheme (fe, pa, app, ymin, ymax, mu_re/mu_im, x/xdot, minima) are read too. Special points
+        come back without multipliers and state (the file keeps their JSON entries only)."""
+        def col(name):
+            for n in (name, _OLD_NAMES.get(name)):
+                if n is not None and n in ds.variables:
+                    return np.asarray(ds[n].values)
+            raise KeyError(f"branch file has no variable {name!r}")
+
+        mu = col("floquet_re") + 1j * col("floquet_im")
+        attrs = ds.attrs
+        specials = [SpecialPoint(type=d["type"], fe_hz=d["fe_hz"], pa_over_q=d["pa_over_q"],
+                                 app_um=d["app_um"], period=d["period"], branch=d["branch"],
+                                 floquet_multipliers=np.full(2, np.nan, complex),
+                                 state=np.full(2, np.nan))
+                    for d in json.loads(attrs.get("special_points", "[]"))]
+        stops = [Stop(d["fe_hz"], d["pa_over_q"], d["reason"], d["branch"])
+                 for d in json.loads(attrs.get("stops", "[]"))]
+        return cls(branch=str(attrs.get("branch", "")), period=int(attrs.get("period", 1)),
+                   parameter=str(attrs.get("parameter", "f_e")), fe_hz=col("fe_hz"),
+                   pa_over_q=col("pa_over_q"), app_um=col("app_um"), ymin_um=col("ymin_um"),
+                   ymax_um=col("ymax_um"), floquet_multipliers=mu, stable=col("stable").astype(bool),
+                   state=np.column_stack([col("state_x"), col("state_xdot")]),
+                   contact_loss_fraction=col("contact_loss_fraction"),
+                   minima_per_period=col("minima_per_period").astype(int), arclength=col("arclength"),
+                   special=specials, stops=stops, parent=attrs.get("parent") or None,
+                   fn0_hz=float(attrs.get("fn0_hz", np.nan)), y0_um=float(attrs.get("y0_um", np.nan)),
+                   settings=json.loads(attrs.get("settings", "{}")))
+
+    @classmethod
+    def from_netcdf(cls, path) -> "Branch":
+        """Read a branch file written by :meth:`to_netcdf` (new or old variable names)."""
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            return cls.from_xarray(ds.load())
+
+
+#: variable names of branch files written before the one naming scheme (read, never written)
+_OLD_NAMES = {"fe_hz": "fe", "pa_over_q": "pa", "app_um": "app", "ymin_um": "ymin",
+              "ymax_um": "ymax", "floquet_re": "mu_re", "floquet_im": "mu_im", "state_x": "x",
+              "state_xdot": "xdot", "minima_per_period": "minima"}
 
 
 @dataclass
@@ -211,17 +259,17 @@ class BranchSet:
         import xarray as xr
 
         sp = self.special_points
-        mu = np.array([s.multipliers for s in sp], complex).reshape(-1, 2)
+        mu = np.array([s.floquet_multipliers for s in sp], complex).reshape(-1, 2)
         return xr.Dataset(
             {
                 "type": ("special", np.array([s.type for s in sp], dtype=object)),
-                "fe": ("special", np.array([s.fe_hz for s in sp], float), {"units": "Hz"}),
-                "pa": ("special", np.array([s.pa_over_q for s in sp], float), {"units": "Q"}),
-                "app": ("special", np.array([s.app_um for s in sp], float), {"units": "um"}),
+                "fe_hz": ("special", np.array([s.fe_hz for s in sp], float), {"units": "Hz"}),
+                "pa_over_q": ("special", np.array([s.pa_over_q for s in sp], float), {"units": "Q"}),
+                "app_um": ("special", np.array([s.app_um for s in sp], float), {"units": "um"}),
                 "period": ("special", np.array([s.period for s in sp], np.int32)),
                 "branch": ("special", np.array([s.branch for s in sp], dtype=object)),
-                "mu_re": (("special", "multiplier"), mu.real),
-                "mu_im": (("special", "multiplier"), mu.imag),
+                "floquet_re": (("special", "multiplier"), mu.real),
+                "floquet_im": (("special", "multiplier"), mu.imag),
             },
             coords={"special": np.arange(len(sp)), "multiplier": [0, 1]},
         )

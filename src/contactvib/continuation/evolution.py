@@ -30,9 +30,11 @@ from contactvib._kernels.flow import STATUS_OK
 from contactvib._kernels.shooting import strobe_map
 from contactvib.model import ContactModel, ParameterError, check_range
 from contactvib.continuation.bifurcations import fold_test, pd_test
+from contactvib.continuation.engine import (Bound, CorrectorSettings, Point, StepControl,
+                                            continue_branch, correct)
 from contactvib.continuation.shooting import ContinuationSettings
 
-__all__ = ["evolution", "EvolutionResult", "Curve", "continue_codim1"]
+__all__ = ["evolution", "EvolutionResult", "Curve", "continue_codim1", "Codim1Problem"]
 
 _H = {"fold": fold_test, "period-doubling": pd_test}
 
@@ -90,14 +92,34 @@ def _w(U):
     return np.array([1 / s, 1 / s, 1 / max(abs(U[2]), 1e-3), 1 / max(abs(U[3]), 1e-3)])
 
 
-class _Codim1:
-    def __init__(self, par0, kind, rtol):
+class Codim1Problem:
+    """The minimally extended system of a fold or period doubling as a continuation problem.
+
+    Unknowns ``U = (x, x', r, p)``; residual ``(P(z; r, p) − z, h(z; r, p))`` with
+    ``h = det(M − I)`` (fold) or ``det(M + I)`` (period doubling); Jacobian ``[M − I | ∂P/∂r |
+    ∂P/∂p]`` (:func:`contactvib._kernels.continuation.residual_jacobian`, ∂P/∂p by central
+    differences) with ``∂h/∂U`` by central differences of the monodromy. Convergence: relative
+    closure ≤ tol and ``|h| ≤ 1e-9`` (the residual norm weights h by ``tol / 1e-9``). Stops at
+    the P_a and f_e bounds (the point outside is kept). Measurement: A_pp [µm] of the orbit.
+    """
+
+    test_names = ()
+    fold_tests = ()
+    h_tol = 1e-9
+
+    def __init__(self, model: ContactModel, par0, kind, rtol, pa_range, fe_range, tol=1e-10):
         self.par = par0.copy()
+        self.par0 = par0.copy()
         self.kind = kind
         self.h = _H[kind]
         self.rtol = rtol
+        self.tol = tol
+        self.y_um = model.y0 * 1e6
+        fn0 = model.f_n0
+        self.bounds = (Bound(3, pa_range[0], pa_range[1], "P_a"),
+                       Bound(2, fe_range[0] / fn0, fe_range[1] / fn0, "f_e"))
 
-    def F_J(self, U):
+    def residual_jacobian(self, U):
         par = self.par
         par[4], par[3] = U[2], U[3]
         G = np.empty(2)
@@ -105,8 +127,21 @@ class _Codim1:
         M = np.empty((2, 2))
         st = residual_jacobian(U[:3].copy(), 1, par, 4, self.rtol, G, J, M)
         if st != STATUS_OK:
-            return None
-        # ∂G/∂p by central differences
+            return st, None, None, None
+        Gp = self._dG_dp(U)
+        dh = self._dh(U)
+        if Gp is None or dh is None:
+            return 1, None, None, None
+        par[4], par[3] = U[2], U[3]
+        Jf = np.zeros((3, 4))
+        Jf[:2, :3] = J
+        Jf[:2, 3] = Gp
+        Jf[2] = dh
+        return STATUS_OK, np.array([G[0], G[1], self.h(M)]), Jf, M
+
+    def _dG_dp(self, U):
+        """∂P/∂p by central differences."""
+        par = self.par
         hp = 1e-5 * max(abs(U[3]), 1e-3)
         outs = []
         for sgn in (1, -1):
@@ -116,7 +151,11 @@ class _Codim1:
                 return None
             outs.append(o)
         par[3] = U[3]
-        Gp = (outs[0] - outs[1]) / (2 * hp)
+        return (outs[0] - outs[1]) / (2 * hp)
+
+    def _dh(self, U):
+        """∂h/∂U by central differences of the monodromy."""
+        par = self.par
         dh = np.empty(4)
         for i in range(4):
             step = 1e-6 * max(1.0, abs(U[i])) if i < 2 else 1e-6 * max(abs(U[i]), 1e-3)
@@ -131,42 +170,33 @@ class _Codim1:
                     return None
                 vals.append(self.h(MM))
             dh[i] = (vals[0] - vals[1]) / (2 * step)
-        par[4], par[3] = U[2], U[3]
-        Fv = np.array([G[0], G[1], self.h(M)])
-        Jf = np.zeros((3, 4))
-        Jf[:2, :3] = J
-        Jf[:2, 3] = Gp
-        Jf[2] = dh
-        return Fv, Jf, M
+        return dh
 
-    def correct(self, Upred, U0, tau, w, ds, max_iter=10, tol=1e-10):
-        U = Upred.copy()
-        for _ in range(max_iter):
-            out = self.F_J(U)
-            if out is None:
-                return None
-            Fv, Jf, M = out
-            cons = float(np.dot(tau, w * (U - U0)) - ds)
-            sc = max(1.0, abs(U[0]), abs(U[1]))
-            if max(abs(Fv[0]), abs(Fv[1])) / sc <= tol and abs(Fv[2]) <= 1e-9 and abs(cons) < 1e-9:
-                return U, Jf, M
-            A = np.vstack([Jf, tau * w])
-            try:
-                d = np.linalg.solve(A, -np.concatenate([Fv, [cons]]))
-            except np.linalg.LinAlgError:
-                return None
-            if not np.all(np.isfinite(d)) or np.max(np.abs(d * w)) > 0.5:
-                return None
-            U = U + d
-            if U[2] <= 0 or U[3] < 0:
-                return None
+    def residual_norm(self, U, F):
+        sc = max(1.0, abs(U[0]), abs(U[1]))
+        return max(max(abs(F[0]), abs(F[1])) / sc, abs(F[2]) * self.tol / self.h_tol)
+
+    def weights(self, U):
+        return _w(U)
+
+    def admissible(self, U):
+        return U[2] > 0 and U[3] >= 0
+
+    def measure(self, U, J, M, residual):
+        """A_pp [µm] of the orbit (NaN when its record fails)."""
+        par = self.par0.copy()
+        par[4], par[3] = U[2], U[3]
+        xmin, xmax, _f, _n, st = orbit_range(U[:2].copy(), 1, par, self.rtol)
+        return (xmax - xmin) * self.y_um if st == STATUS_OK else math.nan
+
+    def tests(self, pt):
+        return {}
+
+    def check(self, pt):
         return None
 
-
-def _null(Jf, w):
-    Js = Jf / w[None, :]
-    _u, _s, vt = np.linalg.svd(Js)
-    return vt[-1]
+    def check_step(self, a, b):
+        return None
 
 
 def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: float, state,
@@ -175,67 +205,37 @@ def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: flo
                     rtol: float = 1e-11) -> Curve:
     """Follow a fold or period-doubling point of a period-1 branch in the (f_e, P_a) plane.
 
-    Both directions from the point; stops at the P_a and f_e bounds, after ``max_points`` per
-    direction, or when the step falls below 1e-6 (Newton failure).
+    Both directions from the point (:func:`.engine.continue_branch` on :class:`Codim1Problem`,
+    step ×1.5 after every accepted step); stops at the P_a and f_e bounds, after ``max_points``
+    per direction, or when the step falls below 1e-6 (Newton failure).
     """
     if kind not in _H:
         raise ParameterError("kind", kind, "must be 'fold' or 'period-doubling'")
     par0 = model.excitation(pa_over_q, fe_hz).kernel_parameters()
-    eng = _Codim1(par0, kind, rtol)
+    prob = Codim1Problem(model, par0, kind, rtol, (pa_min, pa_max), (fmin, fmax))
+    cs = CorrectorSettings(tol=prob.tol, max_iter=9, cons_tol=1e-9, max_step=0.5)
+    sc = StepControl(ds0=ds0, ds_min=1e-6, ds_max=ds_max, growth=((1 << 30, 1.5),),
+                     max_points=max_points, bound_action="append")
     fn0 = model.f_n0
     U0 = np.array([state[0], state[1], fe_hz / fn0, pa_over_q])
-    w = _w(U0)
     # converge the point on the hyperplane P_a = const
-    out = eng.correct(U0, U0, np.array([0, 0, 0, 1.0]), w, 0.0)
-    if out is None:
+    st, start = correct(prob, U0, U0, np.array([0, 0, 0, 1.0]), _w(U0), 0.0, cs)
+    if st != STATUS_OK:
         return Curve(kind, np.array([fe_hz]), np.array([pa_over_q]), np.array([np.nan]),
                      ["the point did not converge"])
-    U0, J0, _M = out
-    halves = []
-    stops = []
+    halves, stops = [], []
     for sgn in (1.0, -1.0):
-        U, J = U0.copy(), J0
-        tprev = None
-        pts = [U.copy()]
-        ds = ds0
-        reason = "maximum number of points reached"
-        while len(pts) < max_points:
-            w = _w(U)
-            t = _null(J, w)
-            if tprev is None:
-                t = t * (sgn if t[3] >= 0 else -sgn)
-            elif np.dot(t, tprev * w) < 0:
-                t = -t
-            res = eng.correct(U + ds * t / w, U, t, w, ds)
-            if res is None:
-                ds *= 0.5
-                if ds < 1e-6:
-                    reason = "step too small: Newton failure"
-                    break
-                continue
-            U, J, _M = res
-            tprev = t / w
-            tprev = tprev / np.linalg.norm(tprev * _w(U))
-            pts.append(U.copy())
-            if not (pa_min <= U[3] <= pa_max):
-                reason = "P_a range reached"
-                break
-            if not (fmin <= U[2] * fn0 <= fmax):
-                reason = "f_e range reached"
-                break
-            ds = min(ds * 1.5, ds_max)
-        halves.append(pts)
-        stops.append(reason)
+        first = Point(start.u.copy(), start.J, start.data, start.residual)
+        run = continue_branch(prob, first, np.array([0.0, 0.0, 0.0, sgn]), cs, sc)
+        halves.append(run.points)
+        stops.append(_STOP_TEXT.get(run.stop.code, "") or f"{run.stop.detail[0]} range reached")
     pts = halves[1][::-1] + halves[0][1:]
-    P = np.array(pts)
-    app = []
-    y_um = model.y0 * 1e6
-    for U in P:
-        par = par0.copy()
-        par[4], par[3] = U[2], U[3]
-        xmin, xmax, _f, _n, st = orbit_range(U[:2].copy(), 1, par, rtol)
-        app.append((xmax - xmin) * y_um if st == STATUS_OK else math.nan)
-    return Curve(kind, P[:, 2] * fn0, P[:, 3], np.array(app), stops)
+    P = np.array([p.u for p in pts])
+    return Curve(kind, P[:, 2] * fn0, P[:, 3], np.array([p.record for p in pts]), stops)
+
+
+_STOP_TEXT = {"max_points": "maximum number of points reached",
+              "step_min": "step too small: Newton failure", "bound": ""}
 
 
 def _minima(model, sp):

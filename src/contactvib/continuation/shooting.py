@@ -2,12 +2,13 @@
 
 A period-k orbit is a zero of ``G(z; q) = P^k(z; q) − z`` (stroboscopic map at phase 0, shooting
 with the monodromy from the variational equations integrated through contact loss and
-re-contact, :mod:`contactvib._kernels.continuation`). The branch through a seed is followed by
-an Euler predictor along the tangent and a Newton corrector on the pseudo-arclength hyperplane,
-in scaled unknowns (relative change of the state and of the parameter), with an adaptive step:
-grown after easy corrections, halved after a failed one or a tangent turning by more than
-``max_turn``. Every accepted point gets its Floquet multipliers (stability), its extrema over the
-orbit (A_pp, y_min, y_max, from the dense output) and the test functions of
+re-contact, :mod:`contactvib._kernels.continuation`): :class:`OrbitProblem`. The branch
+through a seed is followed by the one continuation engine (:mod:`.engine`: Euler predictor along
+the tangent, bordered Newton corrector on the pseudo-arclength hyperplane, in scaled unknowns —
+relative change of the state and of the parameter — and an adaptive step: grown after easy
+corrections, halved after a failed one or a tangent turning by more than ``max_turn``). Every
+accepted point gets its Floquet multipliers (stability), its extrema over the orbit (A_pp,
+y_min, y_max, from the dense output) and the test functions of
 :mod:`.bifurcations`; sign changes are located on the branch.
 
 A continuation never stops silently: each direction ends with a :class:`~.branch.Stop` that says
@@ -27,23 +28,26 @@ R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer (20
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from contactvib._kernels.continuation import correct, orbit_range, tangent
+from contactvib._kernels.continuation import orbit_range, residual_jacobian
 from contactvib._kernels.flow import STATUS_OK
 from contactvib._kernels.shooting import strobe_map
 from contactvib.model import ContactModel, Excitation, ParameterError, check_range
-from contactvib.continuation.bifurcations import fold_test, locate_zero, ns_test, pd_test
+from contactvib.continuation.bifurcations import fold_test, ns_test, pd_test
 from contactvib.continuation.branch import Branch, SpecialPoint, Stop
+from contactvib.continuation.engine import (Bound, CorrectorSettings, EngineStop, Point, StepControl,
+                                            continue_branch, correct)
 
-__all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "ContinuationError"]
+__all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "ContinuationError",
+           "OrbitProblem", "OrbitRecord"]
 
 _IP = {"f_e": 4, "P_a": 3}
 _STATUS_TEXT = {1: "integrator step limit", 2: "integrator step too small", 5: "non-finite state",
-                20: "singular Jacobian", 21: "Newton diverged", 22: "Newton did not converge"}
+                20: "singular Jacobian", 21: "Newton diverged", 22: "Newton did not converge",
+                -1: "tangent turned too fast"}
 
 
 class ContinuationError(RuntimeError):
@@ -135,63 +139,109 @@ def _passes_zero(d_prev: np.ndarray, d: np.ndarray, z: np.ndarray) -> bool:
     return bool(small and float(np.dot(d_prev, d)) < -0.866 * na * nb)
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v)
+@dataclass(frozen=True)
+class OrbitRecord:
+    """Measurements of one periodic orbit on a branch (:meth:`OrbitProblem.measure`).
+
+    ``xmin``, ``xmax``: extrema of x = y/y0 over the orbit [y0]; ``flight``: fraction of the
+    period with x ≤ 0; ``minima_per_period``: local minima of x over the period-k orbit;
+    ``floquet_multipliers``: eigenvalues of the monodromy matrix M.
+    """
+
+    fe_hz: float
+    pa_over_q: float
+    floquet_multipliers: np.ndarray
+    xmin: float
+    xmax: float
+    flight: float
+    minima_per_period: int
 
 
-class _Engine:
-    """One branch, one direction at a time (internal)."""
+class OrbitProblem:
+    """Period-k orbits of the stroboscopic map as a continuation problem (:mod:`.engine`).
+
+    Unknowns ``u = (x, x', q)``, residual ``G(u) = P^k(z; q) − z`` and Jacobian
+    ``[M − I | ∂P^k/∂q]`` from :func:`contactvib._kernels.continuation.residual_jacobian`
+    (``data`` = the monodromy M), scaling ``1/max(1, |x|, |x'|)`` for the state and ``1/|q|`` for
+    the parameter, test functions of :mod:`.bifurcations`, stops at the amplitude bound and (with
+    ``merge_check``) where a period-k branch merges onto the period-k/2 branch.
+    """
+
+    test_names = ("fold", "period-doubling", "neimark-sacker", "grazing")
+    fold_tests = ("fold",)
 
     def __init__(self, model: ContactModel, excitation: Excitation, k: int, parameter: str,
-                 settings: ContinuationSettings, branch_id: str):
-        self.model = model
+                 settings: ContinuationSettings, merge_check: bool = False):
         self.k = int(k)
         self.parameter = parameter
         self.ip = _IP[parameter]
         self.s = settings
-        self.branch_id = branch_id
         self.par = excitation.kernel_parameters().copy()
         self.y_um = model.y0 * 1e6
         self.fn0 = model.f_n0
         if parameter == "f_e":
-            self.qmin, self.qmax = settings.fmin / self.fn0, settings.fmax / self.fn0
+            lo, hi = settings.fmin / self.fn0, settings.fmax / self.fn0
         else:
-            self.qmin, self.qmax = settings.pa_min, settings.pa_max
-        self.J = np.empty((2, 3))
-        self.M = np.empty((2, 2))
+            lo, hi = settings.pa_min, settings.pa_max
+        self.bounds = (Bound(2, lo, hi, parameter),)
+        self.merge_check = merge_check
+        self.prev_d = None
+        self.merge_state = None
+        self.corrector = CorrectorSettings(tol=settings.tol, max_iter=settings.max_iter,
+                                           cons_tol=1e-9, max_step=1.0)
+        self.steps = StepControl(ds0=settings.ds0, ds_min=settings.ds_min, ds_max=settings.ds_max,
+                                 max_turn=settings.max_turn, max_failures=settings.max_failures,
+                                 max_points=settings.max_points, locate_tol=settings.locate_tol,
+                                 detect_loop=True, bound_action="fix")
 
-    # ------------------------------------------------------------------ helpers
-    def fe_pa(self, u):
-        par = self.par.copy()
-        par[self.ip] = u[2]
-        return par[4] * self.fn0, par[3]
+    # ------------------------------------------------------------------ engine protocol
+    def residual_jacobian(self, u):
+        G, J, M = np.empty(2), np.empty((2, 3)), np.empty((2, 2))
+        st = residual_jacobian(u, self.k, self.par, self.ip, self.s.rtol, G, J, M)
+        return st, G, J, M
 
-    def correct(self, u_pred, u_prev, tau, w, ds):
-        out_u = np.empty(3)
-        J = np.empty((2, 3))
-        M = np.empty((2, 2))
-        st, its = correct(u_pred, u_prev, tau, w, ds, self.k, self.par, self.ip, self.s.rtol,
-                          self.s.tol, self.s.max_iter, out_u, J, M)
-        return st, its, out_u, J, M
+    def residual_norm(self, u, G):
+        return max(abs(G[0]), abs(G[1])) / max(1.0, abs(u[0]), abs(u[1]))
 
-    def fix_q(self, u_guess):
-        """Natural-parameter Newton at q = u_guess[2]."""
-        w = _weights(u_guess)
-        tau = np.array([0.0, 0.0, 1.0])
-        return self.correct(u_guess.copy(), u_guess.copy(), tau, w, 0.0)
+    def weights(self, u):
+        return _weights(u)
 
-    def measure(self, u, J, M):
-        """Point record: multipliers, extrema, test functions."""
+    def admissible(self, u):
+        return self.ip != 4 or u[2] > 0.0
+
+    def measure(self, u, J, M, residual) -> OrbitRecord | None:
         par = self.par.copy()
         par[self.ip] = u[2]
         xmin, xmax, flight, n_min, st = orbit_range(u[:2].copy(), self.k, par, self.s.rtol)
-        mu = np.linalg.eigvals(M)
-        fe, pa = self.fe_pa(u)
-        return {"u": u.copy(), "J": J.copy(), "M": M.copy(), "mu": mu, "xmin": xmin, "xmax": xmax,
-                "flight": flight, "n_min": n_min, "fe": fe, "pa": pa,
-                "fold": fold_test(M), "period-doubling": pd_test(M), "neimark-sacker": ns_test(M),
-                "grazing": xmin, "ok": st == STATUS_OK}
+        if st != STATUS_OK:
+            return None
+        return OrbitRecord(par[4] * self.fn0, par[3], np.linalg.eigvals(M), xmin, xmax, flight,
+                           n_min)
 
+    def tests(self, pt: Point) -> dict:
+        M = pt.data
+        return {"fold": fold_test(M), "period-doubling": pd_test(M), "neimark-sacker": ns_test(M),
+                "grazing": pt.record.xmin}
+
+    def check(self, pt: Point):
+        app = (pt.record.xmax - pt.record.xmin) * self.y_um
+        if app > self.s.app_max_um:
+            return f"amplitude bound reached (A_pp = {app:.4g} um > {self.s.app_max_um:g} um)"
+        return None
+
+    def check_step(self, a: Point, b: Point):
+        if not self.merge_check:
+            return None
+        d = self.sub_distance(b.u)
+        if d is not None and self.prev_d is not None and _passes_zero(self.prev_d, d, b.u[:2]):
+            za = a.u[:2]
+            self.merge_state = 0.5 * (za + za + self.prev_d)  # the period-k/2 orbit, a seed
+            return (f"merges with the period-{self.k // 2} branch "
+                    f"(period doubling near f_e = {b.record.fe_hz:.6g} Hz)")
+        self.prev_d = d
+        return None
+
+    # ------------------------------------------------------------------ helpers
     def sub_distance(self, u):
         """P^(k/2)(z) − z for even k (None otherwise): flips sign when a period-k branch
         passes through the period-doubling point of the period-k/2 branch."""
@@ -205,181 +255,66 @@ class _Engine:
             return None
         return out - u[:2]
 
-    def special(self, kind, pt, value, bracket):
-        return SpecialPoint(type=kind, fe_hz=pt["fe"], pa_over_q=pt["pa"],
-                            app_um=(pt["xmax"] - pt["xmin"]) * self.y_um, period=self.k,
-                            branch=self.branch_id, multipliers=pt["mu"], state=pt["u"][:2].copy(),
+    def fix_q(self, u_guess):
+        """Natural-parameter Newton at q = u_guess[2]: (status, Point or None)."""
+        return correct(self, u_guess.copy(), u_guess.copy(), np.array([0.0, 0.0, 1.0]),
+                       _weights(u_guess), 0.0, self.corrector)
+
+    def run(self, start: Point, t_dir, branch_id: str):
+        """One direction: (points, specials, stop)."""
+        self.prev_d, self.merge_state = None, None
+        out = continue_branch(self, start, t_dir, self.corrector, self.steps)
+        specials = [self.special(e.kind, e.point, e.value, (e.bracket[0].record.fe_hz,
+                                                            e.bracket[1].record.fe_hz), branch_id)
+                    for e in out.events]
+        last = out.points[-1].record
+        return out.points, specials, Stop(last.fe_hz, last.pa_over_q, self.stop_text(out.stop),
+                                          branch_id, self.merge_state)
+
+    def stop_text(self, stop: EngineStop) -> str:
+        if stop.code == "max_points":
+            return "maximum number of points reached"
+        if stop.code == "max_failures":
+            return f"step too small: {stop.failures} rejected steps (Newton or tangent failures)"
+        if stop.code == "step_min":
+            why = _STATUS_TEXT.get(stop.status, f"status {stop.status}")
+            return f"step too small: Newton failure ({why})"
+        if stop.code == "measure_failed":
+            return "step too small: orbit record failed"
+        if stop.code == "bound":
+            name, side = stop.detail
+            return f"{name} range reached ({side} bound)"
+        if stop.code == "loop":
+            return ISOLA_STOP
+        return str(stop.detail)
+
+    def special(self, kind, pt: Point, value, bracket, branch_id) -> SpecialPoint:
+        r = pt.record
+        return SpecialPoint(type=kind, fe_hz=r.fe_hz, pa_over_q=r.pa_over_q,
+                            app_um=(r.xmax - r.xmin) * self.y_um, period=self.k, branch=branch_id,
+                            floquet_multipliers=r.floquet_multipliers, state=pt.u[:2].copy(),
                             test_value=float(value), bracket=bracket)
 
-    def locate(self, kind, a, b, tau_a, w_a, ds):
-        """Locate the zero of test ``kind`` between accepted points a (σ = 0) and b (σ = ds)."""
-        fa, fb = a[kind], b[kind]
-
-        def f(sig):
-            st, _its, u, J, M = self.correct(a["u"] + sig * tau_a / w_a, a["u"], tau_a, w_a, sig)
-            if st != STATUS_OK:
-                return None
-            pt = self.measure(u, J, M)
-            val = pt[kind]
-            if not math.isfinite(val):
-                return None
-            return val, pt
-
-        found = locate_zero(f, 0.0, ds, fa, fb, self.s.locate_tol)
-        if found is None:
-            return None
-        _s, val, pt = found
-        return self.special(kind, pt, val, (a["fe"], b["fe"]))
-
-    # ------------------------------------------------------------------ one direction
-    def run(self, u0, J0, M0, t_dir, first_ds=None, merge_check=False):
-        """Continue from the converged point ``u0`` along the unscaled direction ``t_dir``.
-
-        Returns (points, specials, stop).
-        """
-        s = self.s
-        p0 = self.measure(u0, J0, M0)
-        points = [p0]
-        specials = []
-        w = _weights(u0)
-        tau = np.empty(3)
-        if tangent(J0, w, tau) == 0.0 or first_ds is not None:
-            tau = _unit(t_dir * w)
-        elif np.dot(tau, t_dir * w) < 0:
-            tau = -tau
-        t_u = tau / w  # unscaled direction, re-normalised in the scaled metric at each step
-        t_start = t_u.copy()
-        p0["tq"] = float(t_u[2])
-        ds = first_ds if first_ds is not None else s.ds0
-        prev_d = None
-        merge_state = None
-        stop = None
-        n_fail = 0
-        while stop is None:
-            a = points[-1]
-            if len(points) >= s.max_points:
-                stop = "maximum number of points reached"
-                break
-            w = _weights(a["u"])
-            tau = _unit(t_u * w)
-            st, its, u, J, M = self.correct(a["u"] + ds * tau / w, a["u"], tau, w, ds)
-            tau_new = np.empty(3)
-            ok = st == STATUS_OK and tangent(J, w, tau_new) > 0.0
-            if ok:
-                if np.dot(tau_new, tau) < 0:
-                    tau_new = -tau_new
-                turn = math.acos(min(1.0, float(np.dot(tau_new, tau))))
-                if turn > s.max_turn and ds > s.ds_min * 2:
-                    ok = False
-                    st = -1
-            if not ok:
-                n_fail += 1
-                ds *= 0.5
-                if n_fail > s.max_failures:
-                    stop = f"step too small: {n_fail} rejected steps (Newton or tangent failures)"
-                    break
-                if ds < s.ds_min:
-                    why = _STATUS_TEXT.get(st, "tangent turned too fast" if st == -1 else f"status {st}")
-                    stop = f"step too small: Newton failure ({why})"
-                continue
-            b = self.measure(u, J, M)
-            if not b["ok"]:
-                ds *= 0.5
-                if ds < s.ds_min:
-                    stop = "step too small: orbit record failed"
-                continue
-            if merge_check:
-                d = self.sub_distance(u)
-                if d is not None and prev_d is not None and _passes_zero(prev_d, d, u[:2]):
-                    stop = (f"merges with the period-{self.k // 2} branch "
-                            f"(period doubling near f_e = {b['fe']:.6g} Hz)")
-                    # the period-k/2 orbit there, for seeding that branch
-                    za = a["u"][:2]
-                    merge_state = 0.5 * (za + za + prev_d)
-                    break
-                prev_d = d
-            # --- special points between a and b
-            new = []
-            b["tq"] = float(np.dot(tau_new / w, [0.0, 0.0, 1.0]))
-            if a["tq"] * b["tq"] < 0 and a["fold"] * b["fold"] < 0:
-                new.append("fold")
-            for kind in ("period-doubling", "neimark-sacker", "grazing"):
-                fa, fb = a[kind], b[kind]
-                if math.isfinite(fa) and math.isfinite(fb) and fa * fb < 0:
-                    new.append(kind)
-            for kind in new:
-                sp = self.locate(kind, a, b, tau, w, ds)
-                if sp is not None:
-                    specials.append((len(points) - 1, sp))
-            # --- bounds
-            q = u[2]
-            if q < self.qmin or q > self.qmax:
-                bound = self.qmin if q < self.qmin else self.qmax
-                frac = (bound - a["u"][2]) / (q - a["u"][2])
-                guess = a["u"] + frac * (u - a["u"])
-                guess[2] = bound
-                st2, _i, u2, J2, M2 = self.fix_q(guess)
-                specials = [(i, sp) for i, sp in specials if self._inside(sp)]
-                if st2 == STATUS_OK:
-                    c = self.measure(u2, J2, M2)
-                    c["tq"] = b["tq"]
-                    points.append(c)
-                name = "f_e" if self.parameter == "f_e" else "P_a"
-                stop = f"{name} range reached ({'lower' if bound == self.qmin else 'upper'} bound)"
-                break
-            points.append(b)
-            # --- a closed branch (isola) comes back to its first point: stop after one loop
-            #     (close to it, and passing it in the direction the branch left it)
-            if len(points) > 8:
-                wb = _weights(u)
-                d0 = float(np.linalg.norm((u - points[0]["u"]) * wb))
-                same_way = float(np.dot(_unit(tau_new / w * wb), _unit(t_start * wb))) > 0.9
-                if (d0 < 1.5 * ds and same_way
-                        and float(np.linalg.norm((a["u"] - points[0]["u"]) * wb)) >= d0):
-                    stop = ISOLA_STOP
-                    break
-            app = (b["xmax"] - b["xmin"]) * self.y_um
-            if app > s.app_max_um:
-                stop = f"amplitude bound reached (A_pp = {app:.4g} um > {s.app_max_um:g} um)"
-                break
-            t_u = tau_new / w
-            if its <= 2:
-                ds = min(ds * 2.0, s.ds_max)
-            elif its <= 3:
-                ds = min(ds * 1.5, s.ds_max)
-            elif its <= 5:  # keep growing slowly: a step cut far down must not stay there
-                ds = min(ds * 1.2, s.ds_max)
-            else:
-                ds = max(ds / 1.5, s.ds_min)
-        last = points[-1]
-        return points, [sp for _i, sp in specials], Stop(last["fe"], last["pa"], stop, self.branch_id,
-                                                          merge_state)
-
-    def _inside(self, sp):
-        q = sp.fe_hz / self.fn0 if self.parameter == "f_e" else sp.pa_over_q
-        return self.qmin <= q <= self.qmax
-
-    # ------------------------------------------------------------------ assemble
-    def branch(self, points, specials, stops, parent=None, settings=None) -> Branch:
+    def branch(self, points, specials, stops, branch_id, parent=None, settings=None) -> Branch:
+        """The points of one or two directions as a :class:`~.branch.Branch`."""
         n = len(points)
-        u = np.array([p["u"] for p in points]).reshape(n, 3)
-        xmin = np.array([p["xmin"] for p in points])
-        xmax = np.array([p["xmax"] for p in points])
-        mu = np.array([p["mu"] for p in points], complex).reshape(n, 2)
-        w = [_weights(p["u"]) for p in points]
+        u = np.array([p.u for p in points]).reshape(n, 3)
+        rec = [p.record for p in points]
+        xmin = np.array([r.xmin for r in rec])
+        xmax = np.array([r.xmax for r in rec])
+        mu = np.array([r.floquet_multipliers for r in rec], complex).reshape(n, 2)
         arc = np.zeros(n)
         for i in range(1, n):
-            arc[i] = arc[i - 1] + float(np.linalg.norm((u[i] - u[i - 1]) * w[i - 1]))
-        specials = sorted(specials, key=lambda sp: sp.fe_hz)
+            arc[i] = arc[i - 1] + float(np.linalg.norm((u[i] - u[i - 1]) * _weights(u[i - 1])))
         return Branch(
-            branch=self.branch_id, period=self.k, parameter=self.parameter,
-            fe_hz=np.array([p["fe"] for p in points]), pa_over_q=np.array([p["pa"] for p in points]),
+            branch=branch_id, period=self.k, parameter=self.parameter,
+            fe_hz=np.array([r.fe_hz for r in rec]), pa_over_q=np.array([r.pa_over_q for r in rec]),
             app_um=(xmax - xmin) * self.y_um, ymin_um=xmin * self.y_um, ymax_um=xmax * self.y_um,
-            multipliers=mu, stable=np.max(np.abs(mu), axis=1) < 1.0, state=u[:, :2].copy(),
-            contact_loss_fraction=np.array([p["flight"] for p in points]),
-            minima=np.array([p["n_min"] for p in points], int), arclength=arc,
-            special=specials, stops=stops, parent=parent, fn0_hz=self.fn0, y0_um=self.y_um,
-            settings=settings or {})
+            floquet_multipliers=mu, stable=np.max(np.abs(mu), axis=1) < 1.0, state=u[:, :2].copy(),
+            contact_loss_fraction=np.array([r.flight for r in rec]),
+            minima_per_period=np.array([r.minima_per_period for r in rec], int), arclength=arc,
+            special=sorted(specials, key=lambda sp: sp.fe_hz), stops=stops, parent=parent,
+            fn0_hz=self.fn0, y0_um=self.y_um, settings=settings or {})
 
 
 def _check_common(excitation, state, period, parameter, direction):
@@ -434,21 +369,22 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     """
     settings = settings or ContinuationSettings()
     k, z = _check_common(excitation, state, period, parameter, direction)
-    eng = _Engine(model, excitation, k, parameter, settings, branch_id)
-    q0 = eng.par[eng.ip]
-    if not (eng.qmin <= q0 <= eng.qmax):
+    prob = OrbitProblem(model, excitation, k, parameter, settings, merge_check=k % 2 == 0)
+    q0 = prob.par[prob.ip]
+    bound = prob.bounds[0]
+    if not (bound.lo <= q0 <= bound.hi):
         lo, hi = (settings.fmin, settings.fmax) if parameter == "f_e" else (settings.pa_min, settings.pa_max)
         val = excitation.f_e if parameter == "f_e" else excitation.pa_over_q
         raise ParameterError(parameter, val, f"seed must lie in the continuation range [{lo:g}, {hi:g}]")
-    u0 = np.array([z[0], z[1], q0])
-    st, _its, u, J, M = eng.fix_q(u0)
+    st, start = prob.fix_q(np.array([z[0], z[1], q0]))
     if st != STATUS_OK:
         raise ContinuationError(f"the seed does not converge to a period-{k} orbit at "
                                 f"f_e = {excitation.f_e:g} Hz ({_STATUS_TEXT.get(st, st)})")
     dirs = {"both": (-1, 1), "down": (-1,), "up": (1,), -1: (-1,), 1: (1,)}[direction]
     parts = []
     for sgn in dirs:
-        parts.append(eng.run(u, J, M, np.array([0.0, 0.0, float(sgn)]), merge_check=k % 2 == 0))
+        first = Point(start.u.copy(), start.J, start.data, start.residual, start.iterations)
+        parts.append(prob.run(first, np.array([0.0, 0.0, float(sgn)]), branch_id))
         if parts[-1][2].reason == ISOLA_STOP:  # the loop is complete: no second direction
             break
     if len(parts) == 2:
@@ -459,7 +395,7 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     else:
         points, specials, stop = parts[0]
         stops = [stop]
-    return eng.branch(points, specials, stops, settings=asdict(settings))
+    return prob.branch(points, specials, stops, branch_id, settings=asdict(settings))
 
 
 def switch_period_doubling(model: ContactModel, special: SpecialPoint,
@@ -484,33 +420,30 @@ def switch_period_doubling(model: ContactModel, special: SpecialPoint,
     exc = model.excitation(special.pa_over_q, special.fe_hz)
     k2 = 2 * int(special.period)
     bid = branch_id or f"{special.branch}.pd{special.fe_hz:.0f}"
-    eng = _Engine(model, exc, k2, parameter, settings, bid)
-    q_star = eng.par[eng.ip]
+    prob = OrbitProblem(model, exc, k2, parameter, settings, merge_check=True)
+    q_star = prob.par[prob.ip]
     # eigenvector of the multiplier closest to −1 (of the period-k monodromy)
-    eng_k = _Engine(model, exc, int(special.period), parameter, settings, special.branch)
-    st, _its, u_star, _J, M = eng_k.fix_q(np.array([special.state[0], special.state[1], q_star]))
+    prob_k = OrbitProblem(model, exc, int(special.period), parameter, settings)
+    st, pk = prob_k.fix_q(np.array([special.state[0], special.state[1], q_star]))
     if st != STATUS_OK:
         raise ContinuationError("the period-doubling point could not be re-converged")
-    vals, vecs = np.linalg.eig(M)
+    u_star = pk.u
+    vals, vecs = np.linalg.eig(pk.data)
     e = np.real(vecs[:, int(np.argmin(np.abs(vals + 1.0)))])
     t_dir = np.array([e[0], e[1], 0.0])
     w = _weights(u_star)
-    tau = _unit(t_dir * w)
+    tau = t_dir * w / np.linalg.norm(t_dir * w)
     for _ in range(8):
-        st, _its, u, J, M2 = eng.correct(u_star + ds * tau / w, u_star, tau, w, ds)
+        st, pt = correct(prob, u_star + ds * tau / w, u_star, tau, w, ds, prob.corrector)
         if st == STATUS_OK:
-            d = eng.sub_distance(u)
-            if d is not None and np.max(np.abs(d)) / max(1.0, np.max(np.abs(u[:2]))) > 1e-3 * ds:
+            d = prob.sub_distance(pt.u)
+            if d is not None and np.max(np.abs(d)) / max(1.0, np.max(np.abs(pt.u[:2]))) > 1e-3 * ds:
                 break
         ds *= 0.5
     else:
         raise ContinuationError(f"no period-{k2} branch found at the period doubling "
                                 f"f_e = {special.fe_hz:.6g} Hz")
-    # direction of the first step away from the point along the new branch
-    tn = np.empty(3)
-    tangent(J, _weights(u), tn)
-    tdir = tn / _weights(u)
-    if np.dot(tdir * w, tau) < 0:
-        tdir = -tdir
-    points, specials, stop = eng.run(u, J, M2, tdir, merge_check=True)
-    return eng.branch(points, specials, [stop], parent=special.branch, settings=asdict(settings))
+    # the first step leaves the point along the new branch, away from (z*, q*) along (e, 0)
+    points, specials, stop = prob.run(pt, t_dir, bid)
+    return prob.branch(points, specials, [stop], bid, parent=special.branch,
+                       settings=asdict(settings))

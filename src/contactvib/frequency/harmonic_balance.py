@@ -16,7 +16,8 @@ is evaluated on ``n_time`` equispaced samples and projected back on the 2H+1 har
 (AFT, numpy FFT). Newton's method uses the exact AFT Jacobian
 ``∂R̂/∂X = m2 r² D² + T[f_x] + r T[f_x'] D_θ``, where T[g] is the matrix of multiplication by g
 projected on the harmonics, built from g's Fourier coefficients (G_{j−k} ± G_{j+k}), and the
-branch is followed in f_e by pseudo-arclength continuation (tangent predictor, bordered Newton
+branch is followed in f_e by the pseudo-arclength engine of
+:mod:`contactvib.continuation.engine` (:class:`HBProblem`; tangent predictor, bordered Newton
 corrector, step-size control). Stability: the monodromy matrix of one shooting period from the
 HB orbit point (x(0), x'(0)) (:func:`contactvib._kernels.shooting.strobe_map`), its largest
 |multiplier| < 1.
@@ -36,97 +37,18 @@ E. L. Allgower, K. Georg, *Introduction to Numerical Continuation Methods*, SIAM
 
 from __future__ import annotations
 
-import json
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
+from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
+from contactvib.frequency.aft import AFT as _AFT
+from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, _eval, _extrema, _top_fraction
 from contactvib.model import ContactModel, Excitation, ParameterError, check_range
 from contactvib.model.contact_law import PowerLaw
 
-__all__ = ["HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError"]
-
-
-class HBError(RuntimeError):
-    """Harmonic-balance Newton did not converge."""
-
-
-class _AFT:
-    """AFT on n_time samples of θ ∈ [0, 2π) for H harmonics, FFT only (no dense products).
-
-    The Jacobian of the projected product ``P(g · basis_k)`` is assembled from the Fourier
-    coefficients G_m of g (|m| ≤ 2H) by index arithmetic: cos kθ and sin kθ map onto
-    G_{j−k} ± G_{j+k}. (Dense synthesis/projection matrices would need BLAS products with an
-    n_time-long inner dimension, which collapse when the machine's cores are oversubscribed.)
-    """
-
-    def __init__(self, H: int, n_time: int):
-        self.H = H
-        self.n = n_time
-        k = np.arange(1, H + 1)
-        d2 = np.zeros(2 * H + 1)
-        d2[1::2] = -(k ** 2)
-        d2[2::2] = -(k ** 2)
-        self.d2 = d2
-        self.k = k
-        j = np.arange(0, H + 1)[:, None]
-        kk = np.arange(1, H + 1)[None, :]
-        self.jm = j - kk   # indices j − k, in −H..H−1
-        self.jp = j + kk   # indices j + k, in 2..2H
-        self.j = np.arange(0, H + 1)
-
-    def synth(self, X):
-        """Samples of x and x_θ from [a0, a1, b1, ...]."""
-        H, n = self.H, self.n
-        C = np.zeros(n // 2 + 1, complex)
-        C[0] = X[0]
-        C[1:H + 1] = 0.5 * (X[1::2] - 1j * X[2::2])
-        x = np.fft.irfft(C * n, n)
-        xt = np.fft.irfft(1j * np.arange(n // 2 + 1) * C * n, n)
-        return x, xt
-
-    def project(self, f):
-        """[a0, a1, b1, ...] of the samples f (harmonics ≤ H)."""
-        F = np.fft.rfft(f) / self.n
-        out = np.empty(2 * self.H + 1)
-        out[0] = F[0].real
-        out[1::2] = 2.0 * F[1:self.H + 1].real
-        out[2::2] = -2.0 * F[1:self.H + 1].imag
-        return out
-
-    def product_matrix(self, g):
-        """Matrix of X ↦ P(g · x) on the real coefficient vector."""
-        H = self.H
-        F = np.fft.rfft(g) / self.n
-
-        def G(m):
-            v = F[np.abs(m)]
-            return np.where(m < 0, np.conj(v), v)
-
-        Gm, Gp = G(self.jm), G(self.jp)  # shape (H+1, H)
-        S, D = Gm + Gp, Gm - Gp
-        T = np.empty((2 * H + 1, 2 * H + 1))
-        G0 = F[: H + 1]
-        T[0, 0] = G0[0].real
-        T[1::2, 0] = 2.0 * G0[1:].real
-        T[2::2, 0] = -2.0 * G0[1:].imag
-        # columns of cos kθ
-        T[0, 1::2] = S[0].real / 2.0
-        T[1::2, 1::2] = S[1:].real
-        T[2::2, 1::2] = -S[1:].imag
-        # columns of sin kθ
-        T[0, 2::2] = D[0].imag / 2.0
-        T[1::2, 2::2] = D[1:].imag
-        T[2::2, 2::2] = D[1:].real
-        return T
-
-    def times_derivative(self, T):
-        """T @ D_θ, with D_θ the derivative on the coefficient vector (a_k' = k b_k, b_k' = −k a_k)."""
-        out = np.zeros_like(T)
-        out[:, 1::2] = -self.k * T[:, 2::2]
-        out[:, 2::2] = self.k * T[:, 1::2]
-        return out
+__all__ = ["HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
+           "HBProblem"]
 
 
 def _residual(X, r, par, aft: _AFT, jac: bool = True):
@@ -143,110 +65,6 @@ def _residual(X, r, par, aft: _AFT, jac: bool = True):
     J[np.diag_indices_from(J)] += m2 * r * r * aft.d2
     dr = 2.0 * m2 * r * aft.d2 * X + aft.project(fv * xt)
     return R, J, dr
-
-
-@dataclass(frozen=True)
-class HBSolution:
-    """One harmonic-balance periodic solution.
-
-    Attributes
-    ----------
-    fe_hz, pa_over_q : float
-        Excitation frequency [Hz] and amplitude [Q].
-    harmonics : int
-        Number of harmonics H.
-    app_um, ymin_um, ymax_um : float
-        Peak-to-peak amplitude and extrema of y [µm] (from the series sampled on 64 H points
-        and refined by Newton on x_θ).
-    loses_contact : bool
-        y_min < 0.
-    top_energy_fraction : float
-        Share of the AC energy Σ_{k≥1}(a_k²+b_k²) held by the harmonics k > 3H/4 [1].
-    residual : float
-        Max-norm of the HB residual at the solution [1, units of Q].
-    floquet_multipliers : ndarray of complex
-        Eigenvalues of the one-period monodromy from the HB orbit point (empty if not computed).
-    closure : float
-        Relative closure |P(z) − z|∞ / max(1, |z|∞) of one shooting period from the HB point.
-    coefficients : ndarray (2H+1,)
-        [a0, a1, b1, ..., aH, bH] of x = y/y0.
-    """
-
-    fe_hz: float
-    pa_over_q: float
-    harmonics: int
-    app_um: float
-    ymin_um: float
-    ymax_um: float
-    loses_contact: bool
-    top_energy_fraction: float
-    residual: float
-    floquet_multipliers: np.ndarray
-    closure: float
-    y0_um: float
-    coefficients: np.ndarray = field(repr=False)
-
-    @property
-    def stable(self) -> bool | None:
-        """All |multipliers| < 1 (None if not computed)."""
-        if self.floquet_multipliers.size == 0:
-            return None
-        return bool(np.max(np.abs(self.floquet_multipliers)) < 1.0)
-
-    @property
-    def harmonics_um(self) -> np.ndarray:
-        """One-sided amplitudes of the k·f_e components of y [µm]; k = 0: mean shift ⟨y⟩ − y0."""
-        X = self.coefficients
-        a = np.hypot(X[1::2], X[2::2]) * self.y0_um
-        return np.concatenate([[(X[0] - 1.0) * self.y0_um], a])
-
-
-def _eval(X, th, deriv=0):
-    H = (X.size - 1) // 2
-    k = np.arange(1, H + 1)
-    a, b = X[1::2], X[2::2]
-    ang = np.outer(np.atleast_1d(th), k)
-    if deriv == 0:
-        return X[0] + np.cos(ang) @ a + np.sin(ang) @ b
-    if deriv == 1:
-        return np.cos(ang) @ (k * b) - np.sin(ang) @ (k * a)
-    return -(np.cos(ang) @ (k * k * a) + np.sin(ang) @ (k * k * b))
-
-
-def _extrema(X):
-    """(x_min, x_max) of the series: samples on 64 H points (zero-padded inverse FFT), then
-    Newton on x_θ = 0 inside the sampling bracket."""
-    H = (X.size - 1) // 2
-    n = max(1024, 64 * H)
-    C = np.zeros(n // 2 + 1, complex)
-    C[0] = X[0]
-    C[1:H + 1] = 0.5 * (X[1::2] - 1j * X[2::2])
-    s = np.fft.irfft(C * n, n)
-    out = []
-    for i in (int(np.argmin(s)), int(np.argmax(s))):
-        t = 2.0 * math.pi * i / n
-        for _ in range(20):
-            d2 = _eval(X, t, 2)[0]
-            if d2 == 0.0:
-                break
-            step = _eval(X, t, 1)[0] / d2
-            if abs(step) > 2.0 * math.pi / n:  # stay in the bracket (corner of a contact orbit)
-                break
-            t -= step
-            if abs(step) < 1e-14:
-                break
-        out.append(float(_eval(X, t)[0]))
-    lo, hi = min(out[0], float(s.min())), max(out[1], float(s.max()))
-    return lo, hi
-
-
-def _top_fraction(X):
-    H = (X.size - 1) // 2
-    e = X[1::2] ** 2 + X[2::2] ** 2
-    tot = e.sum()
-    if tot == 0.0:
-        return 0.0
-    return float(e[int(math.floor(0.75 * H)):].sum() / tot)
 
 
 def _check_harmonics(harmonics, n_time):
@@ -351,64 +169,6 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
                      model.y0 * 1e6)
 
 
-@dataclass(frozen=True)
-class HBBranch:
-    """A branch of HB solutions continued in f_e, stored column by column.
-
-    Attributes
-    ----------
-    fe_hz, app_um, ymin_um, ymax_um : ndarray
-        Excitation frequency [Hz], peak-to-peak amplitude and extrema of y [µm] per point.
-    floquet_abs_max : ndarray
-        Largest |Floquet multiplier| per point [1] (NaN if not computed).
-    stable : ndarray of bool
-    loses_contact : ndarray of bool
-    top_energy_fraction : ndarray
-        Energy share of the top quarter of the harmonics [1].
-    pa_over_q : float
-    harmonics : int
-    stop_reason : str
-        Why the continuation ended.
-    solutions : list of HBSolution
-    """
-
-    fe_hz: np.ndarray
-    app_um: np.ndarray
-    ymin_um: np.ndarray
-    ymax_um: np.ndarray
-    floquet_abs_max: np.ndarray
-    stable: np.ndarray
-    loses_contact: np.ndarray
-    top_energy_fraction: np.ndarray
-    pa_over_q: float
-    harmonics: int
-    stop_reason: str
-    solutions: list = field(repr=False)
-
-    def __len__(self):
-        return self.fe_hz.size
-
-    def to_dict(self) -> dict:
-        """The JSON contract of ``contactvib hbm --json``."""
-        return {
-            "pa_over_q": float(self.pa_over_q),
-            "harmonics": int(self.harmonics),
-            "stop_reason": self.stop_reason,
-            "units": {"fe_hz": "Hz", "app_um": "um", "ymin_um": "um", "ymax_um": "um"},
-            "points": [
-                {"fe_hz": float(f), "app_um": float(a), "ymin_um": float(lo), "ymax_um": float(hi),
-                 "stable": bool(s), "floquet_abs_max": float(mu) if np.isfinite(mu) else None,
-                 "loses_contact": bool(g), "top_energy_fraction": float(e)}
-                for f, a, lo, hi, s, mu, g, e in zip(
-                    self.fe_hz, self.app_um, self.ymin_um, self.ymax_um, self.stable,
-                    self.floquet_abs_max, self.loses_contact, self.top_energy_fraction)
-            ],
-        }
-
-    def to_json(self, **kwargs) -> str:
-        return json.dumps(self.to_dict(), **kwargs)
-
-
 def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
                     harmonics: int = 32, n_time: int | None = None, ds: float = 0.02,
                     ds_min: float = 1e-6, ds_max: float = 0.5, df_max: float = 5.0,
@@ -454,6 +214,12 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     Returns
     -------
     HBBranch
+
+    Notes
+    -----
+    :func:`contactvib.continuation.engine.continue_branch` on :class:`HBProblem`: Newton with at
+    least one step and at most 12 Jacobians, step ×1.5 after ≤ 4 Jacobians, halved after a
+    failure, capped so that f_e moves at most ``df_max``.
     """
     pa_over_q = check_range("P_a/Q", pa_over_q, 0.0, True)
     fmin = check_range("fmin", fmin, 0.0, False, "Hz")
@@ -469,8 +235,6 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     H, n_time = _check_harmonics(harmonics, n_time)
     aft = _AFT(H, n_time)
     fn0 = model.f_n0
-    par = (model.m2, model.l, model.damping_coefficient, pa_over_q)
-    y0_um = model.y0 * 1e6
     f0 = fmax if from_fmax else fmin
     if f_start is not None:
         f0 = check_range("f_start", f_start, 0.0, False, "Hz")
@@ -478,77 +242,28 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
             raise ParameterError("f_start", f_start, f"must be in [{fmin:g}, {fmax:g}] Hz")
     first = hb_solve(model, model.excitation(pa_over_q, f0), H, start=start, n_time=n_time,
                      tol=tol, stability=False)
-    X = first.coefficients.copy()
-    r = f0 / fn0
-    rmin, rmax = fmin / fn0, fmax / fn0
-    n = 2 * H + 2
-    # initial tangent: into the range
-    _, J, dr = _residual(X, r, par, aft)
-    t = np.append(np.linalg.solve(J, -dr), 1.0) * (-1.0 if from_fmax else 1.0)
-    t /= np.linalg.norm(t)
-    sols = [_solution(model, pa_over_q, f0, X, par, aft, first.residual, stability, y0_um)]
-    reason = ""
-    while True:
-        if len(sols) >= max_points:
-            reason = f"stopped after max_points = {max_points} points"
-            break
-        if sols[-1].top_energy_fraction > energy_tol:
-            s = sols[-1]
-            reason = (f"stopped at {s.fe_hz:.1f} Hz: the top quarter of the {H} harmonics holds "
-                      f"{s.top_energy_fraction:.1e} of the energy (> {energy_tol:g}); the orbit "
-                      f"{'loses contact' if s.loses_contact else 'is too sharp'} and needs more "
-                      "harmonics")
-            break
-        Y = np.append(X, r)
-        accepted = False
-        ds = min(ds, dr_max / max(abs(t[-1]), 1e-300))
-        while ds >= ds_min:
-            Yp = Y + ds * t
-            Z = Yp.copy()
-            ok = False
-            for it in range(12):
-                R, J, dr = _residual(Z[:-1], Z[-1], par, aft)
-                res = float(np.max(np.abs(R)))
-                if res <= tol and it > 0:
-                    ok = True
-                    break
-                if not np.isfinite(res):
-                    break
-                A = np.empty((n, n))
-                A[:-1, :-1] = J
-                A[:-1, -1] = dr
-                A[-1] = t
-                rhs = np.append(-R, -(t @ (Z - Yp)))
-                try:
-                    dZ = np.linalg.solve(A, rhs)
-                except np.linalg.LinAlgError:
-                    break
-                Z = Z + dZ
-            if ok:
-                accepted = True
-                break
-            ds *= 0.5
-        if not accepted:
-            reason = (f"stopped at {r * fn0:.1f} Hz: the corrector failed at the smallest step "
-                      f"ds_min = {ds_min:g}")
-            break
-        # new tangent, oriented along the old one
-        _, J, dr = _residual(Z[:-1], Z[-1], par, aft)
-        A = np.empty((n, n))
-        A[:-1, :-1] = J
-        A[:-1, -1] = dr
-        A[-1] = t
-        tn = np.linalg.solve(A, np.append(np.zeros(n - 1), 1.0))
-        tn /= np.linalg.norm(tn)
-        if tn @ t < 0:
-            tn = -tn
-        X, r, t = Z[:-1], Z[-1], tn
-        if it <= 3:
-            ds = min(ds * 1.5, ds_max)
-        if r > rmax or r < rmin:
-            reason = f"left the range at {fmax if r > rmax else fmin:g} Hz"
-            break
-        sols.append(_solution(model, pa_over_q, r * fn0, X, par, aft, res, stability, y0_um))
+    prob = HBProblem(model, pa_over_q, aft, (fmin, fmax), energy_tol, stability)
+    u0 = np.append(first.coefficients, f0 / fn0)
+    prob.f_exact = (u0[-1], f0)  # the first point's f_e as given, not r f_n0
+    st, F, J, data = prob.residual_jacobian(u0)
+    start_pt = Point(u0, J, data, first.residual)
+    cs = CorrectorSettings(tol=tol, max_iter=11, min_iter=1, cons_tol=math.inf, max_step=math.inf)
+    sc = StepControl(ds0=ds, ds_min=ds_min, ds_max=ds_max, growth=((4, 1.5),), shrink=1.0,
+                     dq_max=dr_max, max_points=max_points, bound_action="drop")
+    e_r = np.zeros(u0.size)
+    e_r[-1] = -1.0 if from_fmax else 1.0  # initial tangent: into the range
+    run = continue_branch(prob, start_pt, e_r, cs, sc)
+    sols = [p.record for p in run.points]
+    stop = run.stop
+    if stop.code == "max_points":
+        reason = f"stopped after max_points = {max_points} points"
+    elif stop.code == "bound":
+        reason = f"left the range at {fmax if stop.detail[1] == 'upper' else fmin:g} Hz"
+    elif stop.code == "problem":
+        reason = stop.detail
+    else:
+        reason = (f"stopped at {sols[-1].fe_hz:.1f} Hz: the corrector failed at the smallest step "
+                  f"ds_min = {ds_min:g}")
     mu = np.array([np.max(np.abs(s.floquet_multipliers)) if s.floquet_multipliers.size else np.nan
                    for s in sols])
     return HBBranch(
@@ -558,6 +273,67 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
         loses_contact=np.array([s.loses_contact for s in sols]),
         top_energy_fraction=np.array([s.top_energy_fraction for s in sols]),
         pa_over_q=pa_over_q, harmonics=H, stop_reason=reason, solutions=sols)
+
+
+class HBProblem:
+    """Harmonic balance in f_e as a continuation problem (:mod:`contactvib.continuation.engine`).
+
+    Unknowns ``u = (X, r)``: the 2H+1 coefficients of x = y/y0 and r = f_e/f_n0; residual the HB
+    residual R(X, r) of :func:`_residual` (units of Q), Jacobian ``[∂R/∂X | ∂R/∂r]``; unscaled
+    (weights 1); residual norm max |R|; measurements an :class:`HBSolution`; stop when the top
+    quarter of the harmonics holds more than ``energy_tol`` of the AC energy; f_e bound
+    ``[fmin, fmax]`` (the point outside is dropped).
+    """
+
+    test_names = ()
+    fold_tests = ()
+
+    def __init__(self, model, pa_over_q, aft, f_range, energy_tol, stability):
+        self.model, self.pa, self.aft = model, pa_over_q, aft
+        self.par = (model.m2, model.l, model.damping_coefficient, pa_over_q)
+        self.fn0 = model.f_n0
+        self.y0_um = model.y0 * 1e6
+        self.energy_tol, self.stability = energy_tol, stability
+        n = 2 * aft.H + 2
+        self.w = np.ones(n)
+        self.f_exact = (math.nan, math.nan)
+        self.bounds = (Bound(n - 1, f_range[0] / self.fn0, f_range[1] / self.fn0, "f_e"),)
+
+    def residual_jacobian(self, u):
+        R, J, dr = _residual(u[:-1], u[-1], self.par, self.aft)
+        Jf = np.empty((R.size, u.size))
+        Jf[:, :-1] = J
+        Jf[:, -1] = dr
+        return 0, R, Jf, None
+
+    def residual_norm(self, u, F):
+        return float(np.max(np.abs(F)))
+
+    def weights(self, u):
+        return self.w
+
+    def admissible(self, u):
+        return True
+
+    def measure(self, u, J, data, residual) -> HBSolution:
+        fe = self.f_exact[1] if u[-1] == self.f_exact[0] else u[-1] * self.fn0
+        return _solution(self.model, self.pa, fe, u[:-1].copy(), self.par, self.aft,
+                         residual, self.stability, self.y0_um)
+
+    def tests(self, pt):
+        return {}
+
+    def check(self, pt):
+        s = pt.record
+        if s.top_energy_fraction <= self.energy_tol:
+            return None
+        return (f"stopped at {s.fe_hz:.1f} Hz: the top quarter of the {s.harmonics} harmonics holds "
+                f"{s.top_energy_fraction:.1e} of the energy (> {self.energy_tol:g}); the orbit "
+                f"{'loses contact' if s.loses_contact else 'is too sharp'} and needs more "
+                "harmonics")
+
+    def check_step(self, a, b):
+        return None
 
 
 def coefficients_from_orbit(excitation: Excitation, z, harmonics: int) -> np.ndarray:
