@@ -42,17 +42,15 @@ from typing import Any, Protocol
 import numpy as np
 
 from contactvib._kernels.continuation import bordered_newton_step, null_vector
+from contactvib._kernels.status import (STATUS_DIVERGED, STATUS_MAXITER, STATUS_OK, STATUS_SINGULAR,
+                                        STATUS_TANGENT_TURNED)
 from contactvib.continuation.bifurcations import locate_zero
 
 __all__ = ["Problem", "Point", "Event", "EngineStop", "CorrectorSettings", "StepControl",
            "Bound", "correct", "tangent", "continue_branch", "STATUS_OK", "STATUS_SINGULAR",
            "STATUS_DIVERGED", "STATUS_MAXITER", "STATUS_TURN"]
 
-STATUS_OK = 0
-STATUS_SINGULAR = 20
-STATUS_DIVERGED = 21
-STATUS_MAXITER = 22
-STATUS_TURN = -1
+STATUS_TURN = STATUS_TANGENT_TURNED
 #: problems with at most this many unknowns are solved by the compiled small dense solvers
 SMALL = 8
 

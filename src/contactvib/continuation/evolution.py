@@ -26,9 +26,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib._kernels.continuation import orbit_range, residual_jacobian
-from contactvib._kernels.flow import STATUS_OK
+from contactvib._kernels.status import STATUS_OK
 from contactvib._kernels.shooting import strobe_map
-from contactvib.model import ContactModel, ParameterError, check_range
+from contactvib.model import EVOLUTION_ORDER_MAX, ContactModel, ParameterError, check_int, check_range
 from contactvib.continuation.bifurcations import fold_test, pd_test
 from contactvib.continuation.engine import (Bound, CorrectorSettings, Point, StepControl,
                                             continue_branch, correct)
@@ -114,7 +114,7 @@ class Codim1Problem:
         self.h = _H[kind]
         self.rtol = rtol
         self.tol = tol
-        self.y_um = model.y0 * 1e6
+        self.y_um = model.units.y_um
         fn0 = model.f_n0
         self.bounds = (Bound(3, pa_range[0], pa_range[1], "P_a"),
                        Bound(2, fe_range[0] / fn0, fe_range[1] / fn0, "f_e"))
@@ -262,12 +262,10 @@ def evolution(model: ContactModel, order: int, pa_min: float = 0.3, pa_max: floa
     """
     from contactvib.continuation.diagram import bifurcation_diagram
 
-    m = int(check_range("order", order, 1, True))
-    if m != order or m > 8:
-        raise ParameterError("order", order, "must be an integer in 1..8")
+    m = check_int("order", order, 1, EVOLUTION_ORDER_MAX)
     pa_min = check_range("pa_min", pa_min, 0.0, False)
     pa_max = check_range("pa_max", pa_max, pa_min, False)
-    n_levels = int(check_range("n_levels", n_levels, 2, True))
+    n_levels = check_int("n_levels", n_levels, 2)
     settings = settings or ContinuationSettings(fmin=30.0, fmax=2000.0, max_points=600)
     log = log or (lambda msg: None)
     fn0 = model.f_n0

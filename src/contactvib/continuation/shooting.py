@@ -33,9 +33,11 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from contactvib._kernels.continuation import orbit_range, residual_jacobian
-from contactvib._kernels.flow import STATUS_OK
+from contactvib._kernels.shooting import is_stable
+from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib._kernels.shooting import strobe_map
-from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.model import (SHOOTING_RTOL_RANGE, ContactModel, Excitation, ParameterError,
+                              check_range)
 from contactvib.continuation.bifurcations import fold_test, ns_test, pd_test
 from contactvib.continuation.branch import Branch, SpecialPoint, Stop
 from contactvib.continuation.engine import (Bound, CorrectorSettings, EngineStop, Point, StepControl,
@@ -45,9 +47,6 @@ __all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "
            "OrbitProblem", "OrbitRecord"]
 
 _IP = {"f_e": 4, "P_a": 3}
-_STATUS_TEXT = {1: "integrator step limit", 2: "integrator step too small", 5: "non-finite state",
-                20: "singular Jacobian", 21: "Newton diverged", 22: "Newton did not converge",
-                -1: "tangent turned too fast"}
 
 
 class ContinuationError(RuntimeError):
@@ -111,9 +110,7 @@ class ContinuationSettings:
         check_range("ds_max", self.ds_max, self.ds0, True)
         check_range("max_points", self.max_points, 1, True)
         check_range("app_max_um", self.app_max_um, 0.0, False, "µm")
-        check_range("rtol", self.rtol, 1e-15, True)
-        if self.rtol > 1e-6:
-            raise ParameterError("rtol", self.rtol, "must be <= 1e-6")
+        check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
         check_range("tol", self.tol, 0.0, False)
         check_range("max_iter", self.max_iter, 1, True)
         check_range("max_turn", self.max_turn, 0.0, False, "rad")
@@ -177,7 +174,7 @@ class OrbitProblem:
         self.ip = _IP[parameter]
         self.s = settings
         self.par = excitation.kernel_parameters().copy()
-        self.y_um = model.y0 * 1e6
+        self.y_um = model.units.y_um
         self.fn0 = model.f_n0
         if parameter == "f_e":
             lo, hi = settings.fmin / self.fn0, settings.fmax / self.fn0
@@ -277,7 +274,7 @@ class OrbitProblem:
         if stop.code == "max_failures":
             return f"step too small: {stop.failures} rejected steps (Newton or tangent failures)"
         if stop.code == "step_min":
-            why = _STATUS_TEXT.get(stop.status, f"status {stop.status}")
+            why = status_message(stop.status)
             return f"step too small: Newton failure ({why})"
         if stop.code == "measure_failed":
             return "step too small: orbit record failed"
@@ -310,7 +307,7 @@ class OrbitProblem:
             branch=branch_id, period=self.k, parameter=self.parameter,
             fe_hz=np.array([r.fe_hz for r in rec]), pa_over_q=np.array([r.pa_over_q for r in rec]),
             app_um=(xmax - xmin) * self.y_um, ymin_um=xmin * self.y_um, ymax_um=xmax * self.y_um,
-            floquet_multipliers=mu, stable=np.max(np.abs(mu), axis=1) < 1.0, state=u[:, :2].copy(),
+            floquet_multipliers=mu, stable=is_stable(np.max(np.abs(mu), axis=1)), state=u[:, :2].copy(),
             contact_loss_fraction=np.array([r.flight for r in rec]),
             minima_per_period=np.array([r.minima_per_period for r in rec], int), arclength=arc,
             special=sorted(specials, key=lambda sp: sp.fe_hz), stops=stops, parent=parent,
@@ -379,7 +376,7 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     st, start = prob.fix_q(np.array([z[0], z[1], q0]))
     if st != STATUS_OK:
         raise ContinuationError(f"the seed does not converge to a period-{k} orbit at "
-                                f"f_e = {excitation.f_e:g} Hz ({_STATUS_TEXT.get(st, st)})")
+                                f"f_e = {excitation.f_e:g} Hz ({status_message(st)})")
     dirs = {"both": (-1, 1), "down": (-1,), "up": (1,), -1: (-1,), 1: (1,)}[direction]
     parts = []
     for sgn in dirs:

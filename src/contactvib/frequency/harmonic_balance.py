@@ -41,10 +41,12 @@ import math
 
 import numpy as np
 
+from contactvib._kernels.shooting import is_stable
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
 from contactvib.frequency.aft import AFT as _AFT
 from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, _eval, _extrema, _top_fraction
-from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.model import (HARMONICS_MAX, ContactModel, Excitation, ParameterError, check_int,
+                              check_range)
 from contactvib.model.contact_law import PowerLaw
 
 __all__ = ["HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
@@ -68,13 +70,7 @@ def _residual(X, r, par, aft: _AFT, jac: bool = True):
 
 
 def _check_harmonics(harmonics, n_time):
-    try:
-        h = float(harmonics)
-    except (TypeError, ValueError):
-        raise ParameterError("harmonics", harmonics, "must be an integer in 1..1024") from None
-    if not math.isfinite(h) or h != int(h) or not 1 <= h <= 1024:
-        raise ParameterError("harmonics", harmonics, "must be an integer in 1..1024")
-    H = int(h)
+    H = check_int("harmonics", harmonics, 1, HARMONICS_MAX)
     if n_time is None:
         n_time = max(64, 1 << int(math.ceil(math.log2(8 * H + 1))))
     n_time = int(check_range("n_time", n_time, 4 * H + 2, True))
@@ -100,7 +96,7 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
     mult = np.empty(0, complex)
     closure = math.nan
     if stability:
-        from contactvib._kernels.flow import STATUS_OK
+        from contactvib._kernels.status import STATUS_OK
         from contactvib._kernels.shooting import state_scale, strobe_map
 
         r = fe / model.f_n0
@@ -166,7 +162,7 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
     par = (model.m2, model.l, model.damping_coefficient, excitation.pa_over_q)
     X, res, _ = _newton(X, excitation.r, par, aft, tol, max_iter)
     return _solution(model, excitation.pa_over_q, excitation.f_e, X, par, aft, res, stability,
-                     model.y0 * 1e6)
+                     model.units.y_um)
 
 
 def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
@@ -269,7 +265,7 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     return HBBranch(
         fe_hz=np.array([s.fe_hz for s in sols]), app_um=np.array([s.app_um for s in sols]),
         ymin_um=np.array([s.ymin_um for s in sols]), ymax_um=np.array([s.ymax_um for s in sols]),
-        floquet_abs_max=mu, stable=mu < 1.0,
+        floquet_abs_max=mu, stable=is_stable(mu),
         loses_contact=np.array([s.loses_contact for s in sols]),
         top_energy_fraction=np.array([s.top_energy_fraction for s in sols]),
         pa_over_q=pa_over_q, harmonics=H, stop_reason=reason, solutions=sols)
@@ -292,7 +288,7 @@ class HBProblem:
         self.model, self.pa, self.aft = model, pa_over_q, aft
         self.par = (model.m2, model.l, model.damping_coefficient, pa_over_q)
         self.fn0 = model.f_n0
-        self.y0_um = model.y0 * 1e6
+        self.y0_um = model.units.y_um
         self.energy_tol, self.stability = energy_tol, stability
         n = 2 * aft.H + 2
         self.w = np.ones(n)

@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contactvib._kernels.shooting import is_stable
+
 __all__ = ["HBSolution", "HBBranch", "HBError"]
 
 
@@ -66,7 +68,7 @@ class HBSolution:
         """All |multipliers| < 1 (None if not computed)."""
         if self.floquet_multipliers.size == 0:
             return None
-        return bool(np.max(np.abs(self.floquet_multipliers)) < 1.0)
+        return bool(is_stable(np.max(np.abs(self.floquet_multipliers))))
 
     @property
     def harmonics_um(self) -> np.ndarray:
