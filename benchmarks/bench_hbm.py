@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from contactvib import ContactModel
-from contactvib.frequency.harmonic_balance import hb_continuation
+from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 from contactvib.steady.orbits import describe_orbit, refine_orbit
 
 
@@ -42,7 +42,8 @@ def main():
     hb_continuation(model, a.pa, a.fmin, a.fmin + 5, harmonics=a.harmonics)  # JIT warm-up
     t_hb, br = _best(lambda: hb_continuation(model, a.pa, a.fmin, a.fmax, harmonics=a.harmonics))
     t_hb_ns, br_ns = _best(lambda: hb_continuation(model, a.pa, a.fmin, a.fmax,
-                                                    harmonics=a.harmonics, stability=False))
+                                                    harmonics=a.harmonics,
+                                                    settings=HBSettings(stability=False)))
     sol0 = br.solutions[0]
     r0 = sol0.fe_hz / model.f_n0
     X = sol0.coefficients

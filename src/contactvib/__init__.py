@@ -51,6 +51,7 @@ _LAZY = {
     "HBSolution": ("contactvib.frequency.harmonic_balance", "HBSolution"),
     "HBBranch": ("contactvib.frequency.harmonic_balance", "HBBranch"),
     "HBError": ("contactvib.frequency.harmonic_balance", "HBError"),
+    "HBSettings": ("contactvib.frequency.harmonic_balance", "HBSettings"),
     "coefficients_from_orbit": ("contactvib.frequency.harmonic_balance", "coefficients_from_orbit"),
     # sweeps and the paper
     "SweepSettings": ("contactvib.sweeps.sweep", "SweepSettings"),

@@ -325,7 +325,7 @@ def test_fold_curve_passes_through_one_parameter_folds():
         return _fold(exc, seed, 1e-12)[1]
 
     f65, f70 = fold_at(0.65), fold_at(0.70)
-    c = continue_codim1(MODEL, "fold", f65.fe_hz, 0.65, f65.state, 0.6, 0.75, ds_max=0.02)
+    c = continue_codim1(MODEL, "fold", f65.fe_hz, 0.65, f65.state, (0.6, 0.75), ds_max=0.02)
     assert c.stops == ["P_a range reached", "P_a range reached"]
     o = np.argsort(c.pa_over_q)
     f_curve = np.interp(0.70, c.pa_over_q[o], c.fe_hz[o])

@@ -1,5 +1,6 @@
 """The package's shape: the limits of the redesign (ARCHITECTURE.md) hold, so that no module
-grows into a monolith again. Modules at most ~500 lines, functions at most ~80 lines, at most 12
+grows into a monolith again. Modules at most ~500 lines, functions at most ~80 lines of code
+(their docstring not counted: a numpydoc docstring is welcome, not a reason to split), at most 12
 parameters outside the kernels (kernels take arrays of parameters), matplotlib only in plotting/,
 and no module reaches into the CLI."""
 
@@ -14,7 +15,7 @@ SRC = Path(__file__).resolve().parents[2] / "src" / "contactvib"
 MODULES = sorted(SRC.rglob("*.py"))
 #: generous by a little over the issue's "~": beyond these a module or function must be split
 MAX_MODULE_LINES = 520
-MAX_FUNCTION_LINES = 90
+MAX_FUNCTION_LINES = 85
 MAX_PARAMETERS = 12
 
 
@@ -35,6 +36,10 @@ def test_module_and_function_sizes(path):
     tree = ast.parse(text)
     for fn in _functions(tree):
         n = fn.end_lineno - fn.lineno + 1
+        first = fn.body[0]
+        if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) \
+                and isinstance(first.value.value, str):
+            n -= first.end_lineno - first.lineno + 1
         assert n <= MAX_FUNCTION_LINES, f"{_rel(path)}:{fn.lineno} {fn.name} has {n} lines"
         if "_kernels" not in path.parts:
             a = fn.args

@@ -262,6 +262,63 @@ def _record(rec, irec, t, h, contact, y_old, F):
 
 
 @njit(cache=True)
+def _step_factor(err, rejected):
+    """Step-size factor of the controller after a step with error norm ``err``: shrink after a
+    rejected step (err ≥ 1, or not finite), grow at most by _MAX_FACTOR after an accepted one
+    (not at all right after a rejection)."""
+    if not (err < 1.0):
+        if not math.isfinite(err):
+            return _MIN_FACTOR
+        return max(_MIN_FACTOR, _SAFETY * err**_ERR_EXP)
+    if err == 0.0:
+        factor = _MAX_FACTOR
+    else:
+        factor = min(_MAX_FACTOR, _SAFETY * err**_ERR_EXP)
+    if rejected:
+        factor = min(1.0, factor)
+    return factor
+
+
+@njit(cache=True)
+def _event_fraction(contact, t, y, ynew, h, par, K, F, record):
+    """Fraction θ ∈ [0, 1] of the step [t, t + h] (from ``y`` to ``ynew``) at which x first
+    reaches the switching surface of this mode, or −1: a sign change at the step's end, or a dip
+    through zero at an interior extremum of x (a sign change of x'), located on the dense output.
+    Fills ``F`` with the step's interpolant when it is needed (always when ``record``)."""
+    vflip = (y[1] < 0.0) != (ynew[1] < 0.0)
+    cross_end = _crosses(contact, ynew[0])
+    theta_ev = -1.0
+    if record or vflip or cross_end:
+        _dense(contact, t, y, ynew, h, par, K, F)
+        lo = 0.0
+        if vflip:
+            th_v = dense_root(F, y, 1, 0.0, 0.0, 1.0)
+            if _crosses(contact, dense_value(F, y, th_v, 0)):
+                theta_ev = dense_root(F, y, 0, 0.0, 0.0, th_v)
+            lo = th_v
+        if theta_ev < 0.0 and cross_end:
+            theta_ev = dense_root(F, y, 0, 0.0, lo, 1.0)
+    return theta_ev
+
+
+@njit(cache=True)
+def _switch_mode(contact, t, y, ynew, par):
+    """Land on the switching surface: ``y`` ← ``ynew`` with x = 0, the monodromy (n = 6)
+    multiplied by the saltation matrix S = I + (f⁺ − f⁻) eₓᵀ / v; returns the new mode."""
+    n = y.shape[0]
+    for i in range(n):
+        y[i] = ynew[i]
+    y[0] = 0.0
+    v = y[1]
+    new_contact = not contact
+    if n == 6 and v != 0.0:
+        jump = (acceleration(new_contact, t, 0.0, v, par) - acceleration(contact, t, 0.0, v, par)) / v
+        y[4] += jump * y[2]
+        y[5] += jump * y[3]
+    return new_contact
+
+
+@njit(cache=True)
 def initial_mode(x, v):
     """Contact mode for x > 0, or x = 0 moving into the contact."""
     return x > 0.0 or (x == 0.0 and v > 0.0)
@@ -338,36 +395,12 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
             break
         err = _rk_step(contact, t, y, f, h_try, par, rtol, atol, K, ynew, fnew)
         if not (err < 1.0):
-            if not math.isfinite(err):
-                factor = _MIN_FACTOR
-            else:
-                factor = max(_MIN_FACTOR, _SAFETY * err**_ERR_EXP)
-            h = h_try * factor
+            h = h_try * _step_factor(err, rejected)
             rejected = True
             continue
-        if err == 0.0:
-            factor = _MAX_FACTOR
-        else:
-            factor = min(_MAX_FACTOR, _SAFETY * err**_ERR_EXP)
-        if rejected:
-            factor = min(1.0, factor)
+        h_next = h_try * _step_factor(err, rejected)
         rejected = False
-        h_next = h_try * factor
-
-        # ---- switching-surface check on this step
-        vflip = (y[1] < 0.0) != (ynew[1] < 0.0)
-        cross_end = _crosses(contact, ynew[0])
-        theta_ev = -1.0
-        if record or vflip or cross_end:
-            _dense(contact, t, y, ynew, h_try, par, K, F)
-            lo = 0.0
-            if vflip:
-                th_v = dense_root(F, y, 1, 0.0, 0.0, 1.0)
-                if _crosses(contact, dense_value(F, y, th_v, 0)):
-                    theta_ev = dense_root(F, y, 0, 0.0, 0.0, th_v)
-                lo = th_v
-            if theta_ev < 0.0 and cross_end:
-                theta_ev = dense_root(F, y, 0, 0.0, lo, 1.0)
+        theta_ev = _event_fraction(contact, t, y, ynew, h_try, par, K, F, record)
         if theta_ev >= 0.0:
             # re-take the step so that it ends exactly on the switching instant
             h_ev = theta_ev * h_try
@@ -378,16 +411,7 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
             if not contact:
                 t_flight += h_ev
             t = t + h_ev
-            for i in range(n):
-                y[i] = ynew[i]
-            y[0] = 0.0
-            v = y[1]
-            new_contact = not contact
-            if n == 6 and v != 0.0:
-                jump = (acceleration(new_contact, t, 0.0, v, par) - acceleration(contact, t, 0.0, v, par)) / v
-                y[4] += jump * y[2]
-                y[5] += jump * y[3]
-            contact = new_contact
+            contact = _switch_mode(contact, t, y, ynew, par)
             rhs(contact, t, y, par, f)
             h = min(h_next, _H_AFTER_EVENT)
             n_events += 1

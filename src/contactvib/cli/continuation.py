@@ -23,14 +23,15 @@ _CONTINUATION_OPTIONS = {"fmin": "--fmin", "fmax": "--fmax", "f_min": "--fmin", 
                          "pa_min": "--pa-min", "pa_max": "--pa-max"}
 
 
-def _settings(fmin, fmax, max_points, app_max, rtol, pa_range=(0.0, 2.0)):
-    """ContinuationSettings of the options (the library checks them; we name the options)."""
+def _settings(cont: dict, pa_range=(0.0, 2.0)):
+    """ContinuationSettings of the continuation options ``cont`` (the library checks them; we
+    name the options)."""
     from contactvib.continuation.shooting import ContinuationSettings
 
-    lo, hi = _frequency_range(fmin, fmax)
-    n = _int("--max-points", max_points, 1, symbol="max_points")
-    a = _number("--app-max", "app_max_um", app_max)
-    r = _checked("--rtol", check_range, "rtol", rtol, SHOOTING_RTOL_RANGE[0], True,
+    lo, hi = _frequency_range(cont["fmin"], cont["fmax"])
+    n = _int("--max-points", cont["max_points"], 1, symbol="max_points")
+    a = _number("--app-max", "app_max_um", cont["app_max"])
+    r = _checked("--rtol", check_range, "rtol", cont["rtol"], SHOOTING_RTOL_RANGE[0], True,
                  upper=SHOOTING_RTOL_RANGE[1])
     return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin=lo, fmax=hi,
                    pa_min=pa_range[0], pa_max=pa_range[1], max_points=n, app_max_um=a, rtol=r,
@@ -53,6 +54,8 @@ def _pa_range(pa_min: str, pa_max: str) -> tuple[float, float]:
 
 
 def _continuation_options(f):
+    """The options every continuation command takes; the command receives them as keyword
+    arguments (``**cont``)."""
     f = click.option("--rtol", default="1e-12", show_default=True,
                      help=f"Integrator tolerance of the shooting ({SHOOTING_RTOL_RANGE[0]:g}.."
                           f"{SHOOTING_RTOL_RANGE[1]:g}).")(f)
@@ -154,10 +157,10 @@ def _summary(bset, parameter="f_e"):
 @click.option("--out", default="branch", show_default=True, type=click.Path(file_okay=False),
               help="Output folder (NetCDF branch files, special points, figure).")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_switch, dataset,
-              fmin, fmax, max_points, app_max, rtol, out, as_json):
+def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, **cont):
     """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point."""
-    model = _model(settings)
+    model = _model(cont["settings"])
+    dataset = cont["dataset"]
     p = _pa_level(pa)
     by_pa = parameter == "pa"
     if by_pa and dataset is not None:
@@ -168,7 +171,7 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_sw
               else (_pa_level(pa_min, "--pa-min"), _pa_level(pa_max, "--pa-max")))
     if by_pa:
         _in_range("--pa", "P_a/Q", p, lo, hi, ("pa_min", "pa_max"))
-    s = _settings(fmin, fmax, max_points, app_max, rtol, (lo, hi) if by_pa else (0.0, 2.0))
+    s = _settings(cont, (lo, hi) if by_pa else (0.0, 2.0))
     if not by_pa:
         _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
@@ -180,7 +183,7 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_sw
         raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
                          f"of the {len(found)} attractors found at {fe:g} Hz")
     msgs = []
-    bset = continue_attractors(model, p, fe, n, s, switch=not no_switch, attractors=found,
+    bset = continue_attractors(model, p, fe, n, s, switch=not cont["no_switch"], attractors=found,
                                log=msgs.append, parameter="P_a" if by_pa else "f_e")
     tag = f"pa{p:g}_fe{fe:g}" + ("_in_pa" if by_pa else "")
     title = (f"$f_e$ = {fe:g} Hz, branches in $P_a$ from the attractors at {p:g} Q" if by_pa
@@ -206,13 +209,12 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, settings, no_sw
               help="Output folder.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
 @click.pass_context
-def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max_points, app_max,
-                 rtol, out, as_json):
+def bifurcations(ctx, pa, seed_fe, out, as_json, **cont):
     """All branches, seeded from every attractor at several frequencies, for each P_a."""
-    model = _model(settings)
+    model = _model(cont["settings"])
     levels = [_pa_level(t) for t in [pa, *ctx.args]]
-    ds = _open_dataset(dataset, levels)
-    s = _settings(fmin, fmax, max_points, app_max, rtol)
+    ds = _open_dataset(cont["dataset"], levels)
+    s = _settings(cont)
     from contactvib.continuation.diagram import DEFAULT_SEED_FE
 
     if seed_fe is None:
@@ -227,7 +229,7 @@ def bifurcations(ctx, pa, seed_fe, settings, no_switch, dataset, fmin, fmax, max
 
     allb = BranchSet([])
     for p in levels:
-        bset = bifurcation_diagram(model, p, seeds, s, switch=not no_switch)
+        bset = bifurcation_diagram(model, p, seeds, s, switch=not cont["no_switch"])
         _write(bset, Path(out), f"pa{p:g}", f"$P_a$ = {p:g} Q: all branches", ds, p)
         allb.branches.extend(bset.branches)
         if not as_json:

@@ -110,10 +110,11 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
     f1, f2 = _frequency_range(fmin, fmax)
     etol = _positive("--energy-tol", "energy_tol", energy_tol)
-    from contactvib.frequency.harmonic_balance import hb_continuation
+    from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 
-    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol)),
-                ("from fmax", hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol,
+    hs = HBSettings(energy_tol=etol)
+    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, hs)),
+                ("from fmax", hb_continuation(model, pa_q, f1, f2, H, hs,
                                               from_fmax=True))]
     series = _series_points(model, pa_q, f1, f2)
     branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
@@ -170,7 +171,7 @@ def _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches):
     found yet (the small-amplitude parts between the superharmonic resonances)."""
     import numpy as np
 
-    from contactvib.frequency.harmonic_balance import hb_continuation, hb_solve
+    from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation, hb_solve
     from contactvib.frequency.perturbation import perturbation_series
 
     fs, apps = series
@@ -199,6 +200,6 @@ def _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches):
         start = hb_solve(model, model.excitation(pa_q, f), H, start=X, stability=False)
         for down in (False, True):
             new.append((f"from {f:.0f} Hz {'down' if down else 'up'}",
-                        hb_continuation(model, pa_q, f1, f2, H, energy_tol=etol, start=start,
+                        hb_continuation(model, pa_q, f1, f2, H, HBSettings(energy_tol=etol), start=start,
                                         from_fmax=down, f_start=f)))
     return new

@@ -19,6 +19,7 @@ __all__: list = []
 
 
 def _sweep_options(f):
+    """The options of a sweep; the command receives them as keyword arguments (``**sweep``)."""
     for opt in reversed([
         click.option("--fmin", default="30", show_default=True, metavar="HZ", help="Lowest f_e [Hz]."),
         click.option("--fmax", default="2000", show_default=True, metavar="HZ", help="Highest f_e [Hz]."),
@@ -48,9 +49,11 @@ _SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "-
                   "multistart_starts": "--starts", "seed": "--seed"}
 
 
-def _sweep_settings(fmin, fmax, df, per_octave, starts, seed, kmax):
-    """SweepSettings of the options: the frequency range and the integers are checked by the
+def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, **_other):
+    """SweepSettings of the sweep options (the dict of :func:`_sweep_options`; the options that
+    are not settings are ignored): the frequency range and the integers are checked by the
     library's checks, the rest by SweepSettings itself."""
+    per_octave = multistart_per_octave
     from contactvib.sweeps.sweep import SweepSettings
 
     lo, hi = _frequency_range(fmin, fmax)
@@ -74,8 +77,7 @@ def _workers(text):
               help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
                    "diagram per level.")
 @click.pass_context
-def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax, workers, resume,
-              no_progress, settings, out):
+def resonance(ctx, pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     for extra in ctx.args:
         if extra.startswith("-"):
@@ -84,15 +86,15 @@ def resonance(ctx, pa, fmin, fmax, df, multistart_per_octave, starts, seed, kmax
             except ValueError:
                 raise InputError(f"{extra}: no such option (see contactvib resonance --help)") from None
     levels = [_pa_level(t) for t in [pa, *ctx.args]]
-    model = _model(settings)
-    st = _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax)
-    n_workers = _workers(workers)
+    model = _model(sweep["settings"])
+    st = _sweep_settings(**sweep)
+    n_workers = _workers(sweep["workers"])
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
     out = Path(out)
-    ds = resonance_dataset(model, levels, st, out=out, resume=resume, workers=n_workers,
-                           progress=not no_progress)
+    ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
+                           progress=not sweep["no_progress"])
     for p in sorted(set(levels)):
         write_level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png", model)
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
@@ -146,16 +148,15 @@ def query(dataset, pa, fe, as_json):
 @click.option("--out", default="paper", show_default=True, type=click.Path(file_okay=False),
               help="Output folder: paper.nc, .chunks/, fig2*/fig3* per level, fig4–fig9, index.md.")
 @_sweep_options
-def paper(out, fmin, fmax, df, multistart_per_octave, starts, seed, kmax, workers, resume,
-          no_progress, settings):
+def paper(out, **sweep):
     """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
-    model = _model(settings)
-    st = _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax)
-    n_workers = _workers(workers)
+    model = _model(sweep["settings"])
+    st = _sweep_settings(**sweep)
+    n_workers = _workers(sweep["workers"])
     from contactvib.sweeps.paper import reproduce_paper
 
-    res = reproduce_paper(out, model=model, settings=st, resume=resume, workers=n_workers,
-                          progress=not no_progress)
+    res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"], workers=n_workers,
+                          progress=not sweep["no_progress"])
     ds = res.dataset
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches; "
                f"{res.timing['sweeps_and_figures_s']:.1f} s")

@@ -200,10 +200,11 @@ class Codim1Problem:
 
 
 def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: float, state,
-                    pa_min: float, pa_max: float, fmin: float = 30.0, fmax: float = 2000.0,
-                    ds0: float = 0.02, ds_max: float = 0.1, max_points: int = 300,
-                    rtol: float = 1e-11) -> Curve:
+                    pa_range: tuple, f_range: tuple = (30.0, 2000.0), ds0: float = 0.02,
+                    ds_max: float = 0.1, max_points: int = 300, rtol: float = 1e-11) -> Curve:
     """Follow a fold or period-doubling point of a period-1 branch in the (f_e, P_a) plane.
+
+    ``pa_range`` = (P_a min, P_a max) [Q] and ``f_range`` = (f_min, f_max) [Hz] bound the curve.
 
     Both directions from the point (:func:`.engine.continue_branch` on :class:`Codim1Problem`,
     step ×1.5 after every accepted step); stops at the P_a and f_e bounds, after ``max_points``
@@ -212,7 +213,7 @@ def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: flo
     if kind not in _H:
         raise ParameterError("kind", kind, "must be 'fold' or 'period-doubling'")
     par0 = model.excitation(pa_over_q, fe_hz).kernel_parameters()
-    prob = Codim1Problem(model, par0, kind, rtol, (pa_min, pa_max), (fmin, fmax))
+    prob = Codim1Problem(model, par0, kind, rtol, tuple(pa_range), tuple(f_range))
     cs = CorrectorSettings(tol=prob.tol, max_iter=9, cons_tol=1e-9, max_step=0.5)
     sc = StepControl(ds0=ds0, ds_min=1e-6, ds_max=ds_max, growth=((1 << 30, 1.5),),
                      max_points=max_points, bound_action="append")
@@ -295,8 +296,8 @@ def evolution(model: ContactModel, order: int, pa_min: float = 0.3, pa_max: floa
         for sp in sps:
             if any(c.type == kind and _near_curve(c, sp) for c in curves):
                 continue
-            c = continue_codim1(model, kind, sp.fe_hz, sp.pa_over_q, sp.state, pa_min, pa_max,
-                                settings.fmin, settings.fmax, max_points=max_points)
+            c = continue_codim1(model, kind, sp.fe_hz, sp.pa_over_q, sp.state, (pa_min, pa_max),
+                                (settings.fmin, settings.fmax), max_points=max_points)
             log(f"{kind} curve from {sp.fe_hz:.5g} Hz: {len(c.fe_hz)} points, stops: {c.stops}")
             curves.append(c)
     extremes = {}

@@ -38,6 +38,7 @@ E. L. Allgower, K. Georg, *Introduction to Numerical Continuation Methods*, SIAM
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -49,7 +50,7 @@ from contactvib.model import (HARMONICS_MAX, ContactModel, Excitation, Parameter
                               check_range)
 from contactvib.model.contact_law import PowerLaw
 
-__all__ = ["HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
+__all__ = ["HBSettings", "HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
            "HBProblem"]
 
 
@@ -165,12 +166,54 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
                      model.units.y_um)
 
 
+@dataclass(frozen=True)
+class HBSettings:
+    """Knobs of a harmonic-balance continuation (:func:`hb_continuation`).
+
+    Attributes
+    ----------
+    n_time : int or None
+        AFT samples per period (default: the power of two ≥ 8H, at least 64).
+    ds, ds_min, ds_max : float
+        Initial, smallest and largest arclength step (in the scaled unknowns: coefficients in
+        y0, r = f_e/f_n0).
+    df_max : float
+        Largest frequency step [Hz] (resolves narrow superharmonic peaks).
+    max_points : int
+        Largest number of points.
+    energy_tol : float
+        Stop when the top quarter of the harmonics holds more than this share of the AC energy
+        (the truncation no longer resolves the orbit: long flights, impacts). The default 1e-8
+        corresponds to an A_pp truncation error of about 1e-4 in the measured cases.
+    tol : float
+        Newton tolerance on the residual [units of Q].
+    stability : bool
+        Floquet multipliers by one shooting period per point.
+    """
+
+    n_time: int | None = None
+    ds: float = 0.02
+    ds_min: float = 1e-6
+    ds_max: float = 0.5
+    df_max: float = 5.0
+    max_points: int = 5000
+    energy_tol: float = 1e-8
+    tol: float = 1e-11
+    stability: bool = True
+
+    def __post_init__(self):
+        check_range("ds", self.ds, 0.0, False)
+        check_range("ds_min", self.ds_min, 0.0, False)
+        check_range("ds_max", self.ds_max, self.ds_min, True)
+        check_range("energy_tol", self.energy_tol, 0.0, False)
+        check_int("max_points", self.max_points, 2)
+        check_range("df_max", self.df_max, 0.0, False, "Hz")
+        check_range("tol", self.tol, 0.0, False)
+
+
 def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
-                    harmonics: int = 32, n_time: int | None = None, ds: float = 0.02,
-                    ds_min: float = 1e-6, ds_max: float = 0.5, df_max: float = 5.0,
-                    max_points: int = 5000,
-                    energy_tol: float = 1e-8, tol: float = 1e-11, stability: bool = True,
-                    start=None, from_fmax: bool = False, f_start: float | None = None) -> HBBranch:
+                    harmonics: int = 32, settings: HBSettings | None = None, start=None,
+                    from_fmax: bool = False, f_start: float | None = None) -> HBBranch:
     """Follow a periodic branch from ``fmin`` to ``fmax`` by pseudo-arclength continuation.
 
     Parameters
@@ -184,21 +227,8 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
         [fmin, fmax]; folds are passed (pseudo-arclength), so it may leave through either end.
     harmonics : int
         Number of harmonics H.
-    ds, ds_min, ds_max : float
-        Initial, smallest and largest arclength step (in the scaled unknowns: coefficients in
-        y0, r = f_e/f_n0).
-    df_max : float
-        Largest frequency step [Hz] (resolves narrow superharmonic peaks).
-    max_points : int
-        Largest number of points.
-    energy_tol : float
-        Stop when the top quarter of the harmonics holds more than this share of the AC energy
-        (the truncation no longer resolves the orbit: long flights, impacts). The default 1e-8
-        corresponds to an A_pp truncation error of about 1e-4 in the measured cases.
-    tol : float
-        Newton tolerance on the residual.
-    stability : bool
-        Floquet multipliers by one shooting period per point.
+    settings : HBSettings, optional
+        Steps, tolerances, the energy criterion and stability (default :class:`HBSettings`).
     start : ndarray or HBSolution, optional
         Initial coefficients at the first frequency.
     from_fmax : bool
@@ -222,13 +252,9 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     fmax = check_range("fmax", fmax, 0.0, False, "Hz")
     if not fmin < fmax:
         raise ParameterError("fmax", fmax, f"must be > fmin = {fmin:g} Hz")
-    ds = check_range("ds", ds, 0.0, False)
-    ds_min = check_range("ds_min", ds_min, 0.0, False)
-    ds_max = check_range("ds_max", ds_max, ds_min, True)
-    energy_tol = check_range("energy_tol", energy_tol, 0.0, False)
-    max_points = int(check_range("max_points", max_points, 2, True))
-    dr_max = check_range("df_max", df_max, 0.0, False, "Hz") / model.f_n0
-    H, n_time = _check_harmonics(harmonics, n_time)
+    s = settings or HBSettings()
+    dr_max = s.df_max / model.f_n0
+    H, n_time = _check_harmonics(harmonics, s.n_time)
     aft = _AFT(H, n_time)
     fn0 = model.f_n0
     f0 = fmax if from_fmax else fmin
@@ -237,29 +263,29 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
         if not fmin <= f0 <= fmax:
             raise ParameterError("f_start", f_start, f"must be in [{fmin:g}, {fmax:g}] Hz")
     first = hb_solve(model, model.excitation(pa_over_q, f0), H, start=start, n_time=n_time,
-                     tol=tol, stability=False)
-    prob = HBProblem(model, pa_over_q, aft, (fmin, fmax), energy_tol, stability)
+                     tol=s.tol, stability=False)
+    prob = HBProblem(model, pa_over_q, aft, (fmin, fmax), s.energy_tol, s.stability)
     u0 = np.append(first.coefficients, f0 / fn0)
     prob.f_exact = (u0[-1], f0)  # the first point's f_e as given, not r f_n0
     st, F, J, data = prob.residual_jacobian(u0)
     start_pt = Point(u0, J, data, first.residual)
-    cs = CorrectorSettings(tol=tol, max_iter=11, min_iter=1, cons_tol=math.inf, max_step=math.inf)
-    sc = StepControl(ds0=ds, ds_min=ds_min, ds_max=ds_max, growth=((4, 1.5),), shrink=1.0,
-                     dq_max=dr_max, max_points=max_points, bound_action="drop")
+    cs = CorrectorSettings(tol=s.tol, max_iter=11, min_iter=1, cons_tol=math.inf, max_step=math.inf)
+    sc = StepControl(ds0=s.ds, ds_min=s.ds_min, ds_max=s.ds_max, growth=((4, 1.5),), shrink=1.0,
+                     dq_max=dr_max, max_points=s.max_points, bound_action="drop")
     e_r = np.zeros(u0.size)
     e_r[-1] = -1.0 if from_fmax else 1.0  # initial tangent: into the range
     run = continue_branch(prob, start_pt, e_r, cs, sc)
     sols = [p.record for p in run.points]
     stop = run.stop
     if stop.code == "max_points":
-        reason = f"stopped after max_points = {max_points} points"
+        reason = f"stopped after max_points = {s.max_points} points"
     elif stop.code == "bound":
         reason = f"left the range at {fmax if stop.detail[1] == 'upper' else fmin:g} Hz"
     elif stop.code == "problem":
         reason = stop.detail
     else:
         reason = (f"stopped at {sols[-1].fe_hz:.1f} Hz: the corrector failed at the smallest step "
-                  f"ds_min = {ds_min:g}")
+                  f"ds_min = {s.ds_min:g}")
     mu = np.array([np.max(np.abs(s.floquet_multipliers)) if s.floquet_multipliers.size else np.nan
                    for s in sols])
     return HBBranch(
