@@ -16,12 +16,13 @@ import os
 from pathlib import Path
 
 
-def _kernel_cache_dir() -> Path | None:
-    """A cache folder keyed by the hash of every kernel source, or None to keep numba's own."""
+def _kernel_cache_dir(sources: Path | None = None) -> Path | None:
+    """A cache folder keyed by the hash of every kernel source (the ``*.py`` files of
+    ``sources``, default this package), or None to keep numba's own."""
     if os.environ.get("NUMBA_CACHE_DIR"):
         return None
     digest = hashlib.sha256()
-    for path in sorted(Path(__file__).parent.glob("*.py")):
+    for path in sorted((sources or Path(__file__).parent).glob("*.py")):
         digest.update(path.name.encode())
         digest.update(path.read_bytes())
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
