@@ -1,5 +1,5 @@
-"""Shared test setup: ``tests/`` is on ``sys.path`` (for :mod:`scipy_contact`), and figures are
-drawn without a display."""
+"""Shared test setup: ``tests/`` is on ``sys.path`` (for the helper modules :mod:`scipy_contact`
+and :mod:`figure_files`), and figures are drawn without a display."""
 
 import matplotlib
 

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from figure_files import assert_figure_file
 
 from contactvib import ContactModel, ParameterError, find_attractors
 from contactvib._kernels.shooting import strobe_map
@@ -263,7 +264,8 @@ def test_cli_continue_json_contract(tmp_path, capsys):
     for sp in d["special_points"]:
         assert {"type", "fe_hz", "pa_over_q", "app_um", "period", "branch"} <= set(sp)
     files = sorted(out.glob("branch_*.nc"))
-    assert len(files) == 1 and (out / "branches_pa0.65_fe1930.png").stat().st_size > 10_000
+    assert len(files) == 1
+    assert_figure_file(out / "branches_pa0.65_fe1930.png")
     with xr.open_dataset(files[0]) as ds:
         assert ds["fe_hz"].min() == pytest.approx(1500.0) and ds["fe_hz"].max() == pytest.approx(2000.0)
 
@@ -310,7 +312,7 @@ def test_cli_continue_in_pa(tmp_path, capsys):
     folds = [sp for sp in d["special_points"] if sp["type"] == "fold"]
     assert len(folds) == 1 and 0.10 < folds[0]["pa_over_q"] < 0.2 and folds[0]["fe_hz"] == 360.0
     assert all(s["pa_over_q"] == pytest.approx(0.8) for s in d["stops"])
-    assert (out / "branches_pa0.65_fe360_in_pa.png").stat().st_size > 10_000
+    assert_figure_file(out / "branches_pa0.65_fe360_in_pa.png")
 
 
 def test_fold_curve_passes_through_one_parameter_folds():
