@@ -92,7 +92,7 @@ def lyapunov_strobe(z, par, rtol, n_periods):
     return acc / n_periods
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def floquet_pair(M, out_re, out_im):
     """Eigenvalues of the 2×2 monodromy ``M``: μ = tr/2 ± sqrt(tr²/4 − det) into (re, im)."""
     tr = M[0, 0] + M[1, 1]
@@ -112,7 +112,7 @@ def floquet_pair(M, out_re, out_im):
         out_im[1] = -s
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def strobe_from_record(rec, n_per, T, out):
     """The last ``min(n_per, STROBE_MAX)`` stroboscopic points (x, x') at τ = jT of a record of
     ``n_per`` periods into ``out`` (rows); returns their number."""
@@ -127,7 +127,7 @@ def strobe_from_record(rec, n_per, T, out):
     return n_s
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def harmonic_amplitudes(rec, n_per, T, out):
     """One-sided amplitudes |X_j| [y0] at ``j f_e / n_per``, j = 1..len(out), into ``out``.
 

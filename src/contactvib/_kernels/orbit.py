@@ -82,7 +82,7 @@ def record_orbit(z, phase0, n_periods, par, rtol, max_records):
     return rec[:irec], y, t_flight, n_events, STATUS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def record_steps(z, phase0, n_periods, par, rtol, cap, cap_max):
     """:func:`record_orbit` with a buffer grown until the record fits.
 
@@ -103,7 +103,7 @@ def record_steps(z, phase0, n_periods, par, rtol, cap, cap_max):
         return rec, z_end, t_flight, n_events, st
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def measure_orbit(rec, t_flight, n_periods, r):
     """Range, contact loss and extrema of ``x`` over a record of ``n_periods`` periods.
 

@@ -68,7 +68,7 @@ def find_known(table, i, z, k, kind, same_tol):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def add_known(table, i, kind, k, strobe, n_strobe, row, d_slot):
     """Append an attractor at grid index ``i``: its kind, period ``k`` and stroboscopic points
     ``strobe[:k]`` (periodic) or the box of ``strobe[:n_strobe]`` (non-periodic), its output
@@ -99,7 +99,7 @@ def add_known(table, i, kind, k, strobe, n_strobe, row, d_slot):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def _capture_points(table, i):
     """The stroboscopic points of the periodic attractors known at ``i`` and their slots."""
     m = 0

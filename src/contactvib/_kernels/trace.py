@@ -216,7 +216,7 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
                 return 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cfg, rows, row,
                        out_z, out_M, out_from):
     """Continue the period-k orbit through ``z`` at ``r_here`` to ``r_next`` (``par[4]``).
@@ -262,7 +262,7 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
     return ok, res
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def _jump(z, kind, k, closure, par, cfg, hist, M):
     """Integrate from ``z`` until an attractor is detected (:func:`.settle.settle`).
 
@@ -287,7 +287,7 @@ def _jump(z, kind, k, closure, par, cfg, hist, M):
     return False, kind, k, origin, closure
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def _write_row(rows, r, i, kind, k, z, origin, M, closure, par, rtol_transient):
     """The identity (grid index, kind, period, point, origin) and stability of row ``r``:
     Floquet multipliers and closure (periodic) or the Lyapunov exponent (non-periodic)."""
@@ -310,7 +310,7 @@ def _write_row(rows, r, i, kind, k, z, origin, M, closure, par, rtol_transient):
         rows.lyap[r] = lyapunov_strobe(z, par, rtol_transient, NP_LYAPUNOV)
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def _link(links, n, a, b, origin):
     """Append the link ``a`` → ``b`` (none if ``a`` < 0); returns the new link count."""
     if a < 0:

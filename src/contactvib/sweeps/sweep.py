@@ -215,6 +215,21 @@ class _Level:
         self.links: list = []  # TraceLinks of each trace
         self.n_rows = 0
         self.stops: list[TraceStop] = []
+        self.queue: list[tuple] = []  # traces to run: (z, k, kind, i0, direction, label, root)
+
+    def drain(self):
+        """Run the queued traces, and a reverse trace from every jump landing they make."""
+        while self.queue:
+            z, k, kind, i0, direction, label, root = self.queue.pop(0)
+            for gid in self.trace(z, k, kind, i0, direction, label, root):
+                zz, kk, kd, ii = self.row(gid)
+                self.queue.append((zz, kk, kd, ii, -direction, "reverse", root))
+
+    def trace_both_ways(self, z, k, kind, i, root):
+        """Trace a new attractor at grid index ``i`` up and then down (label = root)."""
+        self.queue.append((z, k, kind, i, +1, root, root))
+        self.queue.append((z, k, kind, i, -1, root, root))
+        self.drain()
 
     def trace(self, z, k, kind, i0, direction, label, root):
         """Run one trace; returns the new rows' (global) indices of jump landings."""
@@ -304,6 +319,57 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     return oz.copy() if ok and k == 1 else None
 
 
+def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) -> list:
+    """Perturbation seed and multi-start at grid index ``i``: trace every new attractor up and
+    down; returns the basin observations [(row, fraction of the box starts)]."""
+    from contactvib.steady.attractors import ballistic_seeds, start_box
+    from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+    from contactvib._kernels.table import settle_known_many
+
+    st = lv.st
+    exc = model.excitation(pa_over_q, lv.f[i])
+    Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
+    Zs, phs = ballistic_seeds(exc)
+    Z = np.vstack([Zb, Zs])
+    ph = np.concatenate([phb, phs])
+    par = lv.par.copy()
+    par[4] = lv.r[i]
+    zs = _small_amplitude_seed(model, exc, par, st)
+    if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
+        lv.trace_both_ways(zs, 1, 0, i, "perturbation seed")
+    status, kk, zz = settle_known_many(Z, ph, i, par, lv.cfg, st.capture_tol, lv.table)
+    found = []
+    hits: dict[int, int] = {}
+    for j in range(Z.shape[0]):
+        if status[j] == SETTLE_CAPTURED:
+            if j < Zb.shape[0]:
+                gid = int(lv.table.row[i, kk[j]])
+                hits[gid] = hits.get(gid, 0) + 1
+            continue
+        if status[j] == SETTLE_PERIODIC:
+            z, k, kind = zz[j], int(kk[j]), 0
+        elif status[j] == SETTLE_NONPERIODIC:
+            z, k, kind = zz[j], 0, 1
+        else:
+            continue
+        found.append((j, z, k, kind))
+        if lv.known_slot(i, z, k, kind) < 0:
+            lv.trace_both_ways(z, k, kind, i, "multi-start")
+    for j, z, k, kind in found:
+        if j >= Zb.shape[0]:
+            continue
+        s = lv.known_slot(i, z, k, kind)
+        if s >= 0:
+            gid = int(lv.table.row[i, s])
+            hits[gid] = hits.get(gid, 0) + 1
+    obs = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
+    for s in range(lv.table.n[i]):
+        gid = int(lv.table.row[i, s])
+        if gid not in hits:
+            obs.append((gid, 0.0))
+    return obs
+
+
 def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
@@ -313,79 +379,17 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
         The rows (per-row arrays, nondimensional), their basin fractions and the trace root that
         found them, the links between rows, the grid and one :class:`TraceStop` per trace.
     """
-    from contactvib.steady.attractors import ballistic_seeds, start_box
-    from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
-    from contactvib._kernels.table import settle_known_many
-
     st = settings
     f = frequency_grid(st)
     lv = _Level(model, pa_over_q, f, st)
-    queue: list[tuple] = []  # (z, k, kind, i0, direction, label, root)
-
     for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
         res = _settle_from(lv, i0, (1.0, 0.0))
         if res is not None:
-            queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
-
-    def drain():
-        while queue:
-            z, k, kind, i0, direction, label, root = queue.pop(0)
-            for gid in lv.trace(z, k, kind, i0, direction, label, root):
-                zz, kk, kd, ii = lv.row(gid)
-                queue.append((zz, kk, kd, ii, -direction, "reverse", root))
-
-    drain()
-
-    basin_obs: dict[int, list] = {}
-    for i in multistart_indices(st):
-        i = int(i)
-        exc = model.excitation(pa_over_q, f[i])
-        Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
-        Zs, phs = ballistic_seeds(exc)
-        Z = np.vstack([Zb, Zs])
-        ph = np.concatenate([phb, phs])
-        par = lv.par.copy()
-        par[4] = lv.r[i]
-        zs = _small_amplitude_seed(model, exc, par, st)
-        if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
-            queue.append((zs, 1, 0, i, +1, "perturbation seed", "perturbation seed"))
-            queue.append((zs, 1, 0, i, -1, "perturbation seed", "perturbation seed"))
-            drain()
-        status, kk, zz = settle_known_many(Z, ph, i, par, lv.cfg, st.capture_tol, lv.table)
-        found = []
-        hits: dict[int, int] = {}
-        for j in range(Z.shape[0]):
-            if status[j] == SETTLE_CAPTURED:
-                if j < Zb.shape[0]:
-                    gid = int(lv.table.row[i, kk[j]])
-                    hits[gid] = hits.get(gid, 0) + 1
-                continue
-            if status[j] == SETTLE_PERIODIC:
-                z, k, kind = zz[j], int(kk[j]), 0
-            elif status[j] == SETTLE_NONPERIODIC:
-                z, k, kind = zz[j], 0, 1
-            else:
-                continue
-            found.append((j, z, k, kind))
-            if lv.known_slot(i, z, k, kind) < 0:
-                queue.append((z, k, kind, i, +1, "multi-start", "multi-start"))
-                queue.append((z, k, kind, i, -1, "multi-start", "multi-start"))
-                drain()
-        for j, z, k, kind in found:
-            if j >= Zb.shape[0]:
-                continue
-            s = lv.known_slot(i, z, k, kind)
-            if s >= 0:
-                gid = int(lv.table.row[i, s])
-                hits[gid] = hits.get(gid, 0) + 1
-        basin_obs[i] = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
-        for s in range(lv.table.n[i]):
-            gid = int(lv.table.row[i, s])
-            if gid not in hits:
-                basin_obs[i].append((gid, 0.0))
-
+            lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
+    lv.drain()
+    observations = [_multistart_at(lv, model, pa_over_q, int(i)) for i in multistart_indices(st)]
     basin = np.full(lv.n_rows, np.nan)
-    for lst in basin_obs.values():
-        for gid, frac in lst:
+    for obs in observations:
+        for gid, frac in obs:
             basin[gid] = frac
     return lv.result(basin, pa_over_q)
