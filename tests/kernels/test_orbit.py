@@ -1,8 +1,9 @@
-"""The one orbit measurement (``_kernels.orbit.measure_orbit``) against exact and independent results.
+"""The one orbit measurement (``_kernels.orbit.measure_orbit``) against exact and independent
+results.
 
 * A pure flight, x'' = (1 + p cos rτ)/m2 (x ≤ 0 throughout), has the closed form
-  x = x0 + v0 τ + τ²/(2 m2) + p (1 − cos rτ)/(m2 r²): its single minimum, the flight fraction 1,
-  and, for v0 > 0 (x' > 0, no extremum), the range over the step starts.
+  x = x0 + v0 τ + τ²/(2 m2) + p (1 − cos rτ)/(m2 r²): its single minimum, the flight
+  fraction 1 and, for v0 > 0 (x' > 0, no extremum), the range over the step starts.
 * The scipy reference orbits (``tests/data/reference.json``: DOP853 at rtol 1e-12, extrema from
   the roots of x'): x_min, x_max and the minima and extrema counts.
 * The tracer's row (``describe.describe_point``), the continuation's ``orbit_range`` and
@@ -101,7 +102,11 @@ def _reference_orbit(o):
     return par, oz, oM
 
 
-@pytest.mark.parametrize("o", REFERENCE["orbits"], ids=lambda o: f"{o['pa_over_q']}Q-{o['f_e']}Hz-{o['label']}")
+def _id(o):
+    return f"{o['pa_over_q']}Q-{o['f_e']}Hz-{o['label']}"
+
+
+@pytest.mark.parametrize("o", REFERENCE["orbits"], ids=_id)
 def test_reference_orbits_are_measured_as_scipy_does(o):
     par, z, _M = _reference_orbit(o)
     k = o["period"]
@@ -114,8 +119,7 @@ def test_reference_orbits_are_measured_as_scipy_does(o):
     assert (flight > 0.0) == (o["x_min"] < 0.0) and 0.0 <= flight < 1.0
 
 
-@pytest.mark.parametrize("o", [REFERENCE["orbits"][0], REFERENCE["orbits"][-1]],
-                         ids=lambda o: f"{o['pa_over_q']}Q-{o['f_e']}Hz-{o['label']}")
+@pytest.mark.parametrize("o", [REFERENCE["orbits"][0], REFERENCE["orbits"][-1]], ids=_id)
 def test_tracer_continuation_and_describe_orbit_measure_alike(o):
     par, z, M = _reference_orbit(o)
     k = o["period"]
@@ -124,7 +128,8 @@ def test_tracer_continuation_and_describe_orbit_measure_alike(o):
     assert describe_point(z, k, par, RTOL, rows, 0, z_end) == STATUS_OK
     xmin, xmax, flight, n_min, st = orbit_range(z, k, par, RTOL)
     assert st == STATUS_OK
-    assert (rows.xmin[0], rows.xmax[0], rows.flight[0], rows.n_min[0]) == (xmin, xmax, flight, n_min)
+    assert (rows.xmin[0], rows.xmax[0], rows.flight[0], rows.n_min[0]) == (xmin, xmax, flight,
+                                                                          n_min)
     exc = MODEL.excitation(o["pa_over_q"], o["f_e"])
     att = describe_orbit(MODEL, exc, z, k, M)
     y_um = MODEL.y0 * 1e6

@@ -24,6 +24,12 @@ the settings :class:`TraceSettings`, the table :class:`.table.KnownTable`, the o
 :class:`.describe.TraceRows` (one row per new attractor point, described by
 :func:`.describe.describe_point`) and the links between rows :class:`TraceLinks` (``jump`` = 0:
 continued by Newton, 1: reached by a transient from the previous point).
+
+The walk (:func:`trace`) is split into its steps: :func:`_continue_periodic` (Newton, then the
+bridge), :func:`_jump` (the transient), :func:`_write_row` and :func:`_link`. These thin helpers
+are compiled inline (``inline='always'``): numba links and re-optimises a callee's whole call
+tree into every separately compiled caller, so a separately compiled layer above the integrators
+costs seconds of compile time; a new helper on this path should be inlined likewise.
 """
 
 from __future__ import annotations
