@@ -48,18 +48,19 @@ def _explain(pa, f_a, f_b, z, k):
 @pytest.mark.parametrize("pa", [0.65, 0.70, 0.75, 0.90])
 def test_every_sweep_jump_is_a_fold_a_period_doubling_or_a_crisis(pa):
     level = trace_level(MODEL, pa, SweepSettings(df_hz=DF))
-    rows, f = level["rows"], level["f_hz"]
-    jumps = [(a, b) for a, b, jump in level["links"] if jump and rows["found_by"][a] == 0]
+    rows, f, links = level.rows, level.f_hz, level.links
+    jumps = [(a, b) for a, b, jump in zip(links.a, links.b, links.jump)
+             if jump and level.found_by[a] == 0]
     assert jumps
     reasons, unexplained = {}, []
     for a, b in jumps:
-        f_a, f_b = f[rows["i"][a]], f[rows["i"][b]]
-        if rows["kind"][a] == 1:
+        f_a, f_b = f[rows.i[a]], f[rows.i[b]]
+        if rows.kind[a] == 1:
             why = "crisis"
         else:
-            why = _explain(pa, f_a, f_b, rows["z"][a], int(rows["k"][a]))
+            why = _explain(pa, f_a, f_b, rows.z[a], int(rows.k[a]))
         if why is None:
-            unexplained.append((f_a, f_b, int(rows["k"][a]), int(rows["nmin"][a])))
+            unexplained.append((f_a, f_b, int(rows.k[a]), int(rows.n_min[a])))
         reasons[why] = reasons.get(why, 0) + 1
     assert not unexplained, (reasons, unexplained)
     # what the paper describes is there: folds at 0.65 Q, period doublings from 0.70 Q

@@ -32,9 +32,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .orbit import find_extrema, record_orbit
+from .orbit import RECORD_CAP_MAX, measure_orbit, record_steps
 from .shooting import strobe_map
-from .status import STATUS_OK, STATUS_RECORD_FULL
+from .status import STATUS_OK
 
 #: relative step of the central difference in the parameter (floor 1e-3 absolute)
 FD_REL = 1e-5
@@ -181,7 +181,7 @@ def null_vector(J, w, direction, out_t):
 
 @njit(cache=True)
 def orbit_range(z, k, par, rtol):
-    """Extrema of ``x`` over the period-``k`` orbit through ``z`` (dense output, root-finding).
+    """Extrema of ``x`` over the period-``k`` orbit through ``z`` (:func:`.orbit.measure_orbit`).
 
     Returns
     -------
@@ -193,21 +193,8 @@ def orbit_range(z, k, par, rtol):
         Local minima over the orbit.
     status : int
     """
-    cap = 256 * k
-    while True:
-        rec, _ze, tf, _ne, st = record_orbit(z, 0.0, k, par, rtol, cap)
-        if st == STATUS_RECORD_FULL and cap < (1 << 22):
-            cap *= 4
-            continue
-        break
+    rec, _ze, tf, _ne, st = record_steps(z, 0.0, k, par, rtol, 256 * k, RECORD_CAP_MAX)
     if st != STATUS_OK:
         return math.nan, math.nan, math.nan, 0, st
-    _t, x, is_min = find_extrema(rec)
-    T = 2.0 * math.pi / par[4]
-    if x.shape[0] == 0:
-        return z[0], z[0], tf / (k * T), 0, STATUS_OK
-    n_min = 0
-    for i in range(is_min.shape[0]):
-        if is_min[i]:
-            n_min += 1
-    return x.min(), x.max(), tf / (k * T), n_min, STATUS_OK
+    xmin, xmax, flight, n_min, _t, _x, _m = measure_orbit(rec, tf, k, par[4])
+    return xmin, xmax, flight, n_min, STATUS_OK

@@ -1,10 +1,14 @@
-"""Dense records of an orbit, its local extrema and samples (compiled, pure).
+"""Dense records of an orbit, its local extrema, its measurement and samples (compiled, pure).
 
 :func:`record_orbit` integrates ``n_periods`` excitation periods at a tight tolerance and keeps
-each accepted step's 7th-order interpolant (:data:`.flow.REC_WIDTH` columns). The extrema of
-``x`` are the sign changes of ``x'`` located by root-finding on those interpolants (a minimum is
-a − to + change); ``x'`` is continuous across contact events, so the count over a closed orbit is
-exact and cyclic.
+each accepted step's 7th-order interpolant (:data:`.flow.REC_WIDTH` columns);
+:func:`record_steps` does so with a buffer grown until the record fits. The extrema of ``x`` are
+the sign changes of ``x'`` located by root-finding on those interpolants (a minimum is a − to +
+change); ``x'`` is continuous across contact events, so the count over a closed orbit is exact
+and cyclic. :func:`measure_orbit` turns a record into the numbers every caller reports (x range,
+A_pp = x_max − x_min, contact-loss fraction, minima count, extrema): the tracer
+(:func:`.describe.describe_point`), the continuation (:func:`.continuation.orbit_range`) and
+:func:`contactvib.steady.orbits.describe_orbit` all measure through it.
 """
 
 from __future__ import annotations
@@ -19,6 +23,9 @@ from .status import STATUS_OK, STATUS_RECORD_FULL
 from .shooting import MAX_STEPS_PER_PERIOD
 
 _N_SUB = 8  # sub-intervals per step searched for sign changes of x'
+
+#: Largest step-record buffer the kernels grow to [records] (2**22 records ≈ 640 MB).
+RECORD_CAP_MAX = 1 << 22
 
 
 @njit(cache=True)
@@ -73,6 +80,82 @@ def record_orbit(z, phase0, n_periods, par, rtol, max_records):
         for i in range(i0, irec):
             rec[i, REC_T] += j * T
     return rec[:irec], y, t_flight, n_events, STATUS_OK
+
+
+@njit(cache=True, inline='always')
+def record_steps(z, phase0, n_periods, par, rtol, cap, cap_max):
+    """:func:`record_orbit` with a buffer grown until the record fits.
+
+    Starts with ``cap`` records and, while the integration stops with ``STATUS_RECORD_FULL``
+    and the buffer is below ``cap_max`` (``cap_max ≤ 0``: no bound), integrates again with
+    four times the buffer. The record does not depend on the buffer size.
+
+    Returns
+    -------
+    rec, z_end, t_flight, n_events, status
+        As :func:`record_orbit` (``status`` is ``STATUS_RECORD_FULL`` past ``cap_max``).
+    """
+    while True:
+        rec, z_end, t_flight, n_events, st = record_orbit(z, phase0, n_periods, par, rtol, cap)
+        if st == STATUS_RECORD_FULL and (cap_max <= 0 or cap < cap_max):
+            cap *= 4
+            continue
+        return rec, z_end, t_flight, n_events, st
+
+
+@njit(cache=True, inline='always')
+def measure_orbit(rec, t_flight, n_periods, r):
+    """Range, contact loss and extrema of ``x`` over a record of ``n_periods`` periods.
+
+    Parameters
+    ----------
+    rec : float64[n_rec, REC_WIDTH]
+        Step records of :func:`record_orbit` (from phase 0).
+    t_flight : float
+        Time in flight over the record [τ].
+    n_periods : int
+        Excitation periods recorded; the span is ``n_periods · T``, ``T = 2π/r`` [τ].
+    r : float
+        Frequency ratio ``f_e/f_n0`` (``par[4]``).
+
+    Returns
+    -------
+    xmin, xmax : float
+        Smallest and largest x [y0]: over the extrema (:func:`find_extrema`); the
+        peak-to-peak amplitude is ``A_pp = xmax − xmin``.
+    flight : float
+        Fraction of the span with x ≤ 0: ``t_flight / (n_periods · 2π/r)``.
+    n_min : int
+        Local minima (x' from − to +).
+    t_ext, x_ext : float64[n]
+        Instants [τ] and values [y0] of the extrema, in order.
+    is_min : bool[n]
+        True for minima.
+
+    Notes
+    -----
+    Without an extremum, x is monotone over the record and its range is attained at the ends
+    of the span; the range is then taken over the x at the step starts (``rec[:, REC_X]``),
+    which include the start and reach to within one step of the end. (A zero range at the
+    orbit point, ``x(0)``, would be exact only for a constant x.) On a closed orbit x' changes
+    sign, so this case arises only for a record that is not an orbit.
+    """
+    t_e, x_e, m_e = find_extrema(rec)
+    n_e = t_e.shape[0]
+    xmin = math.inf
+    xmax = -math.inf
+    n_min = 0
+    for j in range(n_e):
+        xmin = min(xmin, x_e[j])
+        xmax = max(xmax, x_e[j])
+        if m_e[j]:
+            n_min += 1
+    if n_e == 0:
+        for j in range(rec.shape[0]):
+            xmin = min(xmin, rec[j, REC_X])
+            xmax = max(xmax, rec[j, REC_X])
+    T = 2.0 * math.pi / r
+    return xmin, xmax, t_flight / (n_periods * T), n_min, t_e, x_e, m_e
 
 
 @njit(cache=True)

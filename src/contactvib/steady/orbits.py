@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
-from contactvib._kernels.orbit import find_extrema, record_orbit
+from contactvib._kernels.orbit import measure_orbit, record_steps
 from contactvib._kernels.shooting import newton_orbit, strobe_map
-from contactvib._kernels.status import STATUS_OK, STATUS_RECORD_FULL, status_message
+from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib.model import ContactModel, Excitation
 from contactvib.steady.results import Attractor
 
@@ -90,16 +90,11 @@ def same_orbit(strobe_a: np.ndarray, strobe_b: np.ndarray, rtol: float = SAME_TO
 def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE, phase0: float = 0.0):
     """Dense step records over ``n_periods`` from ``z`` (grows its buffer as needed)."""
     par = excitation.kernel_parameters()
-    cap = 4096 * max(1, n_periods)
-    while True:
-        rec, z_end, t_flight, n_events, st = record_orbit(
-            np.asarray(z, float), phase0, int(n_periods), par, rtol, cap)
-        if st == STATUS_RECORD_FULL:
-            cap *= 4
-            continue
-        if st != STATUS_OK:
-            raise OrbitError(f"integration failed ({status_message(st)})")
-        return rec, z_end, t_flight
+    rec, z_end, t_flight, _n_events, st = record_steps(
+        np.asarray(z, float), phase0, int(n_periods), par, rtol, 4096 * max(1, n_periods), 0)
+    if st != STATUS_OK:
+        raise OrbitError(f"integration failed ({status_message(st)})")
+    return rec, z_end, t_flight
 
 
 def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
@@ -113,17 +108,11 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     u = model.units
     n = period if period is not None else n_periods_nonperiodic
     rec, _z_end, t_flight = record(excitation, z, n)
-    t_ext, x_ext, is_min = find_extrema(rec)
-    if x_ext.size:
-        xmin, xmax = float(x_ext.min()), float(x_ext.max())
-    else:  # monotone pieces only (cannot happen on a closed orbit); use the step ends
-        xs = rec[:, 3]
-        xmin, xmax = float(xs.min()), float(xs.max())
-    span = n * excitation.tau_period
+    xmin, xmax, flight, n_min, t_ext, x_ext, is_min = measure_orbit(rec, t_flight, n, excitation.r)
     if period is not None:
         strobe = strobe_points(excitation, z, period)
         multipliers = np.linalg.eigvals(monodromy) if monodromy is not None else np.empty(0, complex)
-        minima = int(np.count_nonzero(is_min))
+        minima = int(n_min)
         kind = "periodic"
     else:
         strobe = np.asarray(z, float)[None, :]
@@ -138,7 +127,7 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         ymin_um=xmin * u.y_um,
         ymax_um=xmax * u.y_um,
         loses_contact=bool(xmin < 0.0),
-        contact_loss_fraction=float(t_flight / span),
+        contact_loss_fraction=float(flight),
         basin_fraction=float(basin_fraction),
         floquet_multipliers=np.asarray(multipliers, complex),
         strobe_y_um=strobe[:, 0] * u.y_um,

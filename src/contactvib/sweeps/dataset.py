@@ -211,34 +211,36 @@ class _UnionFind:
             self.p[max(ra, rb)] = min(ra, rb)
 
 
-def level_dataset(model: ContactModel, level: dict, settings: dict):
-    """The Dataset of one P_a level from :func:`contactvib.sweep.trace_level`'s output."""
+def level_dataset(model: ContactModel, level, settings: dict):
+    """The Dataset of one P_a level from :func:`contactvib.sweep.trace_level`'s output
+    (a :class:`contactvib.sweeps.sweep.LevelTrace`)."""
     import xarray as xr
 
-    rows = level["rows"]
-    pa = level["pa_over_q"]
-    f = level["f_hz"]
+    rows = level.rows
+    pa = level.pa_over_q
+    f = level.f_hz
     u = model.units
     y_um, v_mm_s, t_ms = u.y_um, u.ydot_mm_s, u.t_ms
-    n = 0 if rows is None else rows["i"].size
+    n = level.n_rows
     if n == 0:
         raise ValueError("no attractor was found on this level")
-    fe = f[rows["i"]]
-    kind = rows["kind"]
-    k = rows["k"]
-    nmin = np.where(kind == 0, rows["nmin"], -1)
-    loses = rows["xmin"] < 0.0
-    from contactvib._kernels.trace import NP_RECORD
+    fe = f[rows.i]
+    kind = rows.kind
+    k = rows.k
+    nmin = np.where(kind == 0, rows.n_min, -1)
+    loses = rows.xmin < 0.0
+    from contactvib._kernels.describe import NP_RECORD
 
-    nus = [dominant_ratio(int(k[j]), int(nmin[j]), rows["harm"][j], bool(loses[j]), float(fe[j]),
+    nus = [dominant_ratio(int(k[j]), int(nmin[j]), rows.harm[j], bool(loses[j]), float(fe[j]),
                           model.f_n0) if kind[j] == 0
-           else Fraction(int(rows["nmin"][j]), NP_RECORD) for j in range(n)]
+           else Fraction(int(rows.n_min[j]), NP_RECORD) for j in range(n)]
     labels = np.array([resonance_label(int(kind[j]), int(k[j]), nus[j], int(nmin[j]), bool(loses[j]),
                                        float(fe[j]), model.f_n0) for j in range(n)], dtype=object)
     # chains: rows continued by Newton (no jump), same kind and period; short label flickers
     # along a chain are smoothed away
     chain_uf = _UnionFind(n)
-    for a, b, jump in level["links"]:
+    links = level.links
+    for a, b, jump in zip(links.a, links.b, links.jump):
         if jump == 0 and kind[a] == kind[b] and k[a] == k[b]:
             chain_uf.union(int(a), int(b))
     chains = np.array([chain_uf.find(j) for j in range(n)])
@@ -246,16 +248,16 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
     labels = smooth_labels(labels, fe, nmin, chains, grid_step)
     # branches: rows continued by Newton (no jump), same kind, period and label
     uf = _UnionFind(n)
-    for a, b, jump in level["links"]:
+    for a, b, jump in zip(links.a, links.b, links.jump):
         if jump == 0 and kind[a] == kind[b] and k[a] == k[b] and labels[a] == labels[b]:
             uf.union(int(a), int(b))
     roots = np.array([uf.find(j) for j in range(n)])
     # order branches by their lowest frequency, then amplitude
-    uniq = list(dict.fromkeys(roots[np.lexsort((-(rows["xmax"] - rows["xmin"]), fe))]))
+    uniq = list(dict.fromkeys(roots[np.lexsort((-(rows.xmax - rows.xmin), fe))]))
     index = {r: b for b, r in enumerate(uniq)}
     branch = np.array([index[r] for r in roots], np.int64)
     nb = len(uniq)
-    app = (rows["xmax"] - rows["xmin"]) * y_um
+    app = (rows.xmax - rows.xmin) * y_um
     b_fmin = np.full(nb, np.inf)
     b_fmax = np.full(nb, -np.inf)
     b_np = np.zeros(nb, np.int64)
@@ -275,26 +277,26 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
     b_id = np.array([f"{pa:g}Q-b{b:03d}" for b in range(nb)], dtype=object)
     from contactvib.sweeps.sweep import TRACE_ROOTS
 
-    found_by = np.array([TRACE_ROOTS[int(c)] for c in rows["found_by"]], dtype=object)
+    found_by = np.array([TRACE_ROOTS[int(c)] for c in level.found_by], dtype=object)
     b_sweep = np.zeros(nb, np.int8)
     b_sweep[branch[found_by == "sweep"]] = 1
 
-    n_ext = rows["next"]
+    n_ext = rows.n_ext
     ext_start = np.concatenate([[0], np.cumsum(n_ext)[:-1]]).astype(np.int64)
-    mask = np.arange(rows["ext_t"].shape[1])[None, :] < n_ext[:, None]
-    ext_t = rows["ext_t"][mask] * t_ms
-    ext_x = rows["ext_x"][mask] * y_um
-    ext_m = rows["ext_min"][mask]
-    n_str = np.where(kind == 0, k, rows["nstrobe"])
+    mask = np.arange(rows.ext_t.shape[1])[None, :] < n_ext[:, None]
+    ext_t = rows.ext_t[mask] * t_ms
+    ext_x = rows.ext_x[mask] * y_um
+    ext_m = rows.ext_min[mask]
+    n_str = np.where(kind == 0, k, rows.n_strobe)
     str_start = np.concatenate([[0], np.cumsum(n_str)[:-1]]).astype(np.int64)
-    smask = np.arange(rows["strobe"].shape[1])[None, :] < n_str[:, None]
-    sp = rows["strobe"]  # periodic: the k orbit points; non-periodic: the last recorded ones
+    smask = np.arange(rows.strobe.shape[1])[None, :] < n_str[:, None]
+    sp = rows.strobe  # periodic: the k orbit points; non-periodic: the last recorded ones
     str_y = sp[..., 0][smask] * y_um
     str_v = sp[..., 1][smask] * v_mm_s
-    mu_abs = np.hypot(rows["mu_re"], rows["mu_im"]).max(axis=1)
-    harm = rows["harm"] * y_um
+    mu_abs = np.hypot(rows.mu_re, rows.mu_im).max(axis=1)
+    harm = rows.harm * y_um
     nu = np.array([float(v) if v is not None else np.nan for v in nus])
-    tr = level["stops"]
+    tr = level.stops
     ds = xr.Dataset(
         {
             "pa_over_q": ("point", np.full(n, pa), {"units": "Q", "long_name": "excitation amplitude P_a/(M g)"}),
@@ -303,28 +305,28 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
             "period": ("point", k, {"units": "excitation periods", "comment": "0 = non-periodic"}),
             "minima_per_period": ("point", nmin, {"units": "1", "comment": "-1 = non-periodic"}),
             "app_um": ("point", app, {"units": "um", "long_name": "peak-to-peak amplitude y_max - y_min"}),
-            "ymin_um": ("point", rows["xmin"] * y_um, {"units": "um"}),
-            "ymax_um": ("point", rows["xmax"] * y_um, {"units": "um"}),
+            "ymin_um": ("point", rows.xmin * y_um, {"units": "um"}),
+            "ymax_um": ("point", rows.xmax * y_um, {"units": "um"}),
             "loses_contact": ("point", loses.astype(np.int8), {"units": "1", "comment": "1 where y < 0 on the orbit"}),
-            "contact_loss_fraction": ("point", rows["flight"], {"units": "1", "long_name": "fraction of the period with y < 0"}),
-            "basin_fraction": ("point", level["basin"], {"units": "1", "comment": "share of the multi-start box; NaN where not measured"}),
-            "floquet_re": (("point", "multiplier"), rows["mu_re"], {"units": "1"}),
-            "floquet_im": (("point", "multiplier"), rows["mu_im"], {"units": "1"}),
+            "contact_loss_fraction": ("point", rows.flight, {"units": "1", "long_name": "fraction of the period with y < 0"}),
+            "basin_fraction": ("point", level.basin, {"units": "1", "comment": "share of the multi-start box; NaN where not measured"}),
+            "floquet_re": (("point", "multiplier"), rows.mu_re, {"units": "1"}),
+            "floquet_im": (("point", "multiplier"), rows.mu_im, {"units": "1"}),
             "floquet_abs_max": ("point", mu_abs, {"units": "1"}),
-            "closure": ("point", rows["closure"], {"units": "1", "long_name": "relative closure of the refined orbit"}),
-            "lyapunov_per_period": ("point", rows["lyap"], {"units": "1/excitation period",
+            "closure": ("point", rows.closure, {"units": "1", "long_name": "relative closure of the refined orbit"}),
+            "lyapunov_per_period": ("point", rows.lyap, {"units": "1/excitation period",
                                                             "long_name": "largest Lyapunov exponent of the stroboscopic map"}),
             "dominant_harmonic": ("point", nu, {"units": "multiples of f_e", "long_name": "resonance ratio nu (dominant_ratio)"}),
             "resonance": ("point", labels),
-            "attractor_type": ("point", np.array([attractor_type(int(kind[j]), float(rows["lyap"][j]))
+            "attractor_type": ("point", np.array([attractor_type(int(kind[j]), float(rows.lyap[j]))
                                                   for j in range(n)], dtype=object),
                                {"comment": "periodic / chaotic / quasi-periodic / long-period (attractor_type)"}),
             "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
-            "origin": ("point", np.array([status_message(o, "origin") for o in rows["origin"]], dtype=object)),
+            "origin": ("point", np.array([status_message(o, "origin") for o in rows.origin], dtype=object)),
             "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
                                                         "sweep / perturbation seed / multi-start"}),
-            "state_y_um": ("point", rows["z"][:, 0] * y_um, {"units": "um"}),
-            "state_ydot_mm_s": ("point", rows["z"][:, 1] * v_mm_s, {"units": "mm/s"}),
+            "state_y_um": ("point", rows.z[:, 0] * y_um, {"units": "um"}),
+            "state_ydot_mm_s": ("point", rows.z[:, 1] * v_mm_s, {"units": "mm/s"}),
             "harmonics_um": (("point", "harmonic"), harm, {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
             "extrema_start": ("point", ext_start),
             "extrema_count": ("point", n_ext.astype(np.int64)),
@@ -346,13 +348,13 @@ def level_dataset(model: ContactModel, level: dict, settings: dict):
             "branch_app_max_um": ("branch", b_app, {"units": "um"}),
             "branch_reached_by_sweep": ("branch", b_sweep, {"units": "1", "comment": "1 if a laboratory "
                                         "sweep (up, down, reversing at jumps) reaches the branch"}),
-            "trace_label": ("trace", np.array([t[0] for t in tr], dtype=object)),
+            "trace_label": ("trace", np.array([t.label for t in tr], dtype=object)),
             "trace_pa_over_q": ("trace", np.full(len(tr), pa), {"units": "Q"}),
-            "trace_direction": ("trace", np.array([t[1] for t in tr], np.int64)),
-            "trace_f_start_hz": ("trace", np.array([t[2] for t in tr]), {"units": "Hz"}),
-            "trace_f_stop_hz": ("trace", np.array([t[3] for t in tr]), {"units": "Hz"}),
-            "trace_stop": ("trace", np.array([status_message(t[4], "stop") for t in tr], dtype=object)),
-            "trace_root": ("trace", np.array([t[5] for t in tr], dtype=object)),
+            "trace_direction": ("trace", np.array([t.direction for t in tr], np.int64)),
+            "trace_f_start_hz": ("trace", np.array([t.f_start_hz for t in tr]), {"units": "Hz"}),
+            "trace_f_stop_hz": ("trace", np.array([t.f_stop_hz for t in tr]), {"units": "Hz"}),
+            "trace_stop": ("trace", np.array([status_message(t.reason, "stop") for t in tr], dtype=object)),
+            "trace_root": ("trace", np.array([t.root for t in tr], dtype=object)),
         },
         attrs={
             "title": "contactvib resonance dataset (Kostek 2013 contact oscillator)",

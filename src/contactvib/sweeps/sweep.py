@@ -33,12 +33,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from contactvib.model import ContactModel, ParameterError, check_range
+from contactvib.model import (KMAX_SWEEP_MAX, MULTISTART_PER_OCTAVE_MAX, ContactModel, ParameterError,
+                              check_frequency_range, check_int, check_range)
 
-__all__ = ["SweepSettings", "frequency_grid", "multistart_indices", "trace_level"]
+if TYPE_CHECKING:
+    from contactvib._kernels.describe import TraceRows
+    from contactvib._kernels.trace import TraceLinks
+
+__all__ = ["SweepSettings", "LevelTrace", "TraceStop", "frequency_grid", "multistart_indices",
+           "trace_level"]
 
 _MAXA = 48  # attractors per frequency in the shared table
 
@@ -88,20 +95,16 @@ class SweepSettings:
     capture_tol: float = 1e-3
 
     def __post_init__(self):
-        check_range("f_min", self.fmin_hz, 0.0, False, "Hz")
+        check_frequency_range(self.fmin_hz, self.fmax_hz)
         check_range("df", self.df_hz, 0.0, False, "Hz")
-        if not self.fmax_hz > self.fmin_hz:
-            raise ParameterError("f_max", self.fmax_hz, f"must be > f_min = {self.fmin_hz:g} Hz")
         if (self.fmax_hz - self.fmin_hz) / self.df_hz > 1e6:
             raise ParameterError("df", self.df_hz, "gives more than 1e6 frequencies; use a larger step")
-        if not (1 <= int(self.kmax) <= 16) or self.kmax != int(self.kmax):
-            raise ParameterError("kmax", self.kmax, "must be an integer in 1..16")
-        check_range("max_periods", self.max_periods, 4 * self.kmax, True)
-        check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True)
-        if self.multistart_per_octave > 1000:
-            raise ParameterError("multistart_per_octave", self.multistart_per_octave, "must be <= 1000")
-        check_range("multistart_starts", self.multistart_starts, 0, True)
-        check_range("seed", self.seed, 0, True)
+        check_int("kmax", self.kmax, 1, KMAX_SWEEP_MAX)
+        check_int("max_periods", self.max_periods, 4 * self.kmax)
+        check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True,
+                    upper=MULTISTART_PER_OCTAVE_MAX)
+        check_int("multistart_starts", self.multistart_starts, 0)
+        check_int("seed", self.seed, 0)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -125,11 +128,75 @@ def multistart_indices(settings: SweepSettings) -> np.ndarray:
     return np.unique(idx)
 
 
+@dataclass(frozen=True)
+class TraceStop:
+    """Where one trace of a level started and why it stopped.
+
+    Attributes
+    ----------
+    label : str
+        "up-sweep", "down-sweep", "reverse", "perturbation seed" or "multi-start".
+    direction : int
+        +1 up in frequency, −1 down.
+    f_start_hz, f_stop_hz : float
+        First and last grid frequency of the trace [Hz].
+    reason : int
+        ``STOP_*`` code of :mod:`contactvib._kernels.trace` (text: ``dataset.STOP_REASONS``).
+    root : str
+        How the trace's family was started (:data:`TRACE_ROOTS`).
+    """
+
+    label: str
+    direction: int
+    f_start_hz: float
+    f_stop_hz: float
+    reason: int
+    root: str
+
+
+@dataclass(frozen=True)
+class LevelTrace:
+    """All attractor points of one P_a level (:func:`trace_level`), nondimensional.
+
+    Attributes
+    ----------
+    rows : contactvib._kernels.describe.TraceRows
+        Per-row arrays, one row per attractor point (grid index ``i``, kind, period, orbit
+        point, multipliers, range, extrema, strobe points, harmonics, …; empty if none).
+    found_by : ndarray of int
+        Per row: index into :data:`TRACE_ROOTS` of the trace that first reached it.
+    basin : ndarray of float
+        Per row: basin fraction at the multi-start frequencies, NaN where not measured.
+    links : contactvib._kernels.trace.TraceLinks
+        Row ``a`` → row ``b``, ``jump`` 0 (continued by Newton) or 1 (a transient).
+    f_hz : ndarray
+        The frequency grid [Hz].
+    stops : list of TraceStop
+        One per trace, in the order they ran.
+    pa_over_q : float
+        Excitation amplitude P_a/Q.
+    """
+
+    rows: TraceRows
+    found_by: np.ndarray
+    basin: np.ndarray
+    links: TraceLinks
+    f_hz: np.ndarray
+    stops: list
+    pa_over_q: float
+
+    @property
+    def n_rows(self) -> int:
+        """Number of attractor points."""
+        return int(self.rows.i.size)
+
+
 class _Level:
     """Shared table and accumulated rows of one P_a level (internal)."""
 
     def __init__(self, model: ContactModel, pa_over_q: float, f: np.ndarray, st: SweepSettings):
         from contactvib._kernels import trace as tk
+        from contactvib._kernels.table import new_table
 
         self.tk = tk
         self.model = model
@@ -137,72 +204,77 @@ class _Level:
         self.f = f
         self.r = f / model.f_n0
         self.par = model.excitation(pa_over_q, f[0]).kernel_parameters()
-        n = f.size
-        self.t_n = np.zeros(n, np.int64)
-        self.t_k = np.zeros((n, _MAXA), np.int64)
-        self.t_kind = np.zeros((n, _MAXA), np.int64)
-        self.t_pts = np.zeros((n, _MAXA, 16, 2))
-        self.t_box = np.zeros((n, _MAXA, 4))
-        self.t_row = np.zeros((n, _MAXA), np.int64)
-        self.t_cov = np.zeros((n, _MAXA, 2), np.bool_)
-        self.chunks: list[dict] = []
-        self.links: list[np.ndarray] = []
+        self.cfg = tk.trace_settings(st.rtol, st.close_tol, st.kmax, st.max_periods, st.detect_tol,
+                                     st.rtol_transient, st.same_tol)
+        self.table = new_table(f.size, _MAXA, 16)
+        self.chunks: list = []  # TraceRows of each trace
+        self.found_by: list[np.ndarray] = []
+        self.links: list = []  # TraceLinks of each trace
         self.n_rows = 0
-        self.stops: list[tuple] = []
+        self.stops: list[TraceStop] = []
+        self.queue: list[tuple] = []  # traces to run: (z, k, kind, i0, direction, label, root)
 
-    def _alloc(self, cap):
-        tk = self.tk
-        return dict(
-            i=np.zeros(cap, np.int64), kind=np.zeros(cap, np.int64), k=np.zeros(cap, np.int64),
-            z=np.zeros((cap, 2)), mu_re=np.zeros((cap, 2)), mu_im=np.zeros((cap, 2)),
-            closure=np.zeros(cap), xmin=np.zeros(cap), xmax=np.zeros(cap), flight=np.zeros(cap),
-            nmin=np.zeros(cap, np.int64), next=np.zeros(cap, np.int64),
-            ext_t=np.zeros((cap, tk.EXT_MAX)), ext_x=np.zeros((cap, tk.EXT_MAX)),
-            ext_min=np.zeros((cap, tk.EXT_MAX), np.bool_), strobe=np.zeros((cap, tk.STROBE_MAX, 2)),
-            nstrobe=np.zeros(cap, np.int64), harm=np.zeros((cap, tk.HARM_MAX)),
-            lyap=np.zeros(cap), origin=np.zeros(cap, np.int64),
-        )
+    def drain(self):
+        """Run the queued traces, and a reverse trace from every jump landing they make."""
+        while self.queue:
+            z, k, kind, i0, direction, label, root = self.queue.pop(0)
+            for gid in self.trace(z, k, kind, i0, direction, label, root):
+                zz, kk, kd, ii = self.row(gid)
+                self.queue.append((zz, kk, kd, ii, -direction, "reverse", root))
+
+    def trace_both_ways(self, z, k, kind, i, root):
+        """Trace a new attractor at grid index ``i`` up and then down (label = root)."""
+        self.queue.append((z, k, kind, i, +1, root, root))
+        self.queue.append((z, k, kind, i, -1, root, root))
+        self.drain()
 
     def trace(self, z, k, kind, i0, direction, label, root):
         """Run one trace; returns the new rows' (global) indices of jump landings."""
-        st = self.st
+        from contactvib._kernels.describe import new_rows
+
+        tk = self.tk
         cap = self.f.size + 1
-        o = self._alloc(cap)
-        la = np.zeros(cap, np.int64)
-        lb = np.zeros(cap, np.int64)
-        lj = np.zeros(cap, np.int64)
-        n_rows, n_links, stop, i_stop = self.tk.trace(
+        o = new_rows(cap)
+        links = tk.new_links(cap)
+        n_rows, n_links, stop, i_stop = tk.trace(
             np.asarray(z, float), int(k), int(kind), int(i0), int(direction), self.r, self.par,
-            st.rtol, st.close_tol, int(st.kmax), int(st.max_periods), st.detect_tol,
-            st.rtol_transient, st.same_tol, self.n_rows,
-            self.t_n, self.t_k, self.t_kind, self.t_pts, self.t_box, self.t_row, self.t_cov,
-            o["i"], o["kind"], o["k"], o["z"], o["mu_re"], o["mu_im"], o["closure"], o["xmin"],
-            o["xmax"], o["flight"], o["nmin"], o["next"], o["ext_t"], o["ext_x"], o["ext_min"],
-            o["strobe"], o["nstrobe"], o["harm"], o["lyap"], o["origin"], la, lb, lj)
-        self.stops.append((label, direction, float(self.f[i0]), float(self.f[i_stop]), int(stop), root))
+            self.cfg, self.table, o, self.n_rows, links)
+        self.stops.append(TraceStop(label, direction, float(self.f[i0]), float(self.f[i_stop]),
+                                    int(stop), root))
         if n_rows:
-            self.chunks.append({key: v[:n_rows].copy() for key, v in o.items()})
-            self.chunks[-1]["found_by"] = np.full(n_rows, TRACE_ROOTS.index(root), np.int64)
+            self.chunks.append(type(o)(*(v[:n_rows].copy() for v in o)))
+            self.found_by.append(np.full(n_rows, TRACE_ROOTS.index(root), np.int64))
         if n_links:
-            self.links.append(np.column_stack([la[:n_links], lb[:n_links], lj[:n_links]]))
+            self.links.append(type(links)(*(v[:n_links].copy() for v in links)))
         base = self.n_rows
         self.n_rows += n_rows
-        landings = [(base + j) for j in range(n_rows)
-                    if o["origin"][j] == self.tk.ORIGIN_JUMP and o["kind"][j] == self.tk.KIND_PERIODIC]
-        return landings
+        return [(base + j) for j in range(n_rows)
+                if o.origin[j] == tk.ORIGIN_JUMP and o.kind[j] == tk.KIND_PERIODIC]
 
     def row(self, gid):
         """(z, k, kind, i) of global row ``gid``."""
         for c in self.chunks:
-            n = c["i"].size
+            n = c.i.size
             if gid < n:
-                return c["z"][gid], int(c["k"][gid]), int(c["kind"][gid]), int(c["i"][gid])
+                return c.z[gid], int(c.k[gid]), int(c.kind[gid]), int(c.i[gid])
             gid -= n
         raise IndexError(gid)
 
     def known_slot(self, i, z, k, kind):
-        return self.tk.find_known(i, np.asarray(z, float), int(k), int(kind), self.t_n, self.t_k,
-                                  self.t_kind, self.t_pts, self.t_box, self.st.same_tol)
+        return self.tk.find_known(self.table, i, np.asarray(z, float), int(k), int(kind),
+                                  self.cfg.same_tol)
+
+    def result(self, basin: np.ndarray, pa_over_q: float) -> LevelTrace:
+        """The accumulated rows, links and stops as a :class:`LevelTrace`."""
+        from contactvib._kernels.describe import new_rows
+
+        rows = (type(self.chunks[0])(*(np.concatenate(c) for c in zip(*self.chunks)))
+                if self.chunks else new_rows(0))
+        found_by = np.concatenate(self.found_by) if self.found_by else np.zeros(0, np.int64)
+        links = (self.tk.TraceLinks(*(np.concatenate(c) for c in zip(*self.links)))
+                 if self.links else self.tk.new_links(0))
+        return LevelTrace(rows=rows, found_by=found_by, basin=basin, links=links, f_hz=self.f,
+                          stops=self.stops, pa_over_q=float(pa_over_q))
 
 
 def _settle_from(level: _Level, i: int, z, phase: float = 0.0):
@@ -244,96 +316,77 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     return oz.copy() if ok and k == 1 else None
 
 
-def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> dict:
+def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) -> list:
+    """Perturbation seed and multi-start at grid index ``i``: trace every new attractor up and
+    down; returns the basin observations [(row, fraction of the box starts)]."""
+    from contactvib.steady.attractors import ballistic_seeds, start_box
+    from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+    from contactvib._kernels.table import settle_known_many
+
+    st = lv.st
+    exc = model.excitation(pa_over_q, lv.f[i])
+    Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
+    Zs, phs = ballistic_seeds(exc)
+    Z = np.vstack([Zb, Zs])
+    ph = np.concatenate([phb, phs])
+    par = lv.par.copy()
+    par[4] = lv.r[i]
+    zs = _small_amplitude_seed(model, exc, par, st)
+    if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
+        lv.trace_both_ways(zs, 1, 0, i, "perturbation seed")
+    status, kk, zz = settle_known_many(Z, ph, i, par, lv.cfg, st.capture_tol, lv.table)
+    found = []
+    hits: dict[int, int] = {}
+    for j in range(Z.shape[0]):
+        if status[j] == SETTLE_CAPTURED:
+            if j < Zb.shape[0]:
+                gid = int(lv.table.row[i, kk[j]])
+                hits[gid] = hits.get(gid, 0) + 1
+            continue
+        if status[j] == SETTLE_PERIODIC:
+            z, k, kind = zz[j], int(kk[j]), 0
+        elif status[j] == SETTLE_NONPERIODIC:
+            z, k, kind = zz[j], 0, 1
+        else:
+            continue
+        found.append((j, z, k, kind))
+        if lv.known_slot(i, z, k, kind) < 0:
+            lv.trace_both_ways(z, k, kind, i, "multi-start")
+    for j, z, k, kind in found:
+        if j >= Zb.shape[0]:
+            continue
+        s = lv.known_slot(i, z, k, kind)
+        if s >= 0:
+            gid = int(lv.table.row[i, s])
+            hits[gid] = hits.get(gid, 0) + 1
+    obs = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
+    for s in range(lv.table.n[i]):
+        gid = int(lv.table.row[i, s])
+        if gid not in hits:
+            obs.append((gid, 0.0))
+    return obs
+
+
+def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
     Returns
     -------
-    dict
-        ``rows`` (dict of per-row arrays, nondimensional), ``links`` (int array (n, 3): row a,
-        row b, jump flag), ``f_hz`` (the grid), ``basin`` (per-row basin fraction, NaN where not
-        measured), ``stops`` (one tuple per trace: label, direction, f_start, f_stop, reason, root);
-        ``rows['found_by']`` indexes :data:`TRACE_ROOTS`.
+    LevelTrace
+        The rows (per-row arrays, nondimensional), their basin fractions and the trace root that
+        found them, the links between rows, the grid and one :class:`TraceStop` per trace.
     """
-    from contactvib.steady.attractors import ballistic_seeds, start_box
-    from contactvib._kernels import trace as tk
-    from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
-
     st = settings
     f = frequency_grid(st)
     lv = _Level(model, pa_over_q, f, st)
-    queue: list[tuple] = []  # (z, k, kind, i0, direction, label, root)
-
     for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
         res = _settle_from(lv, i0, (1.0, 0.0))
         if res is not None:
-            queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
-
-    def drain():
-        while queue:
-            z, k, kind, i0, direction, label, root = queue.pop(0)
-            for gid in lv.trace(z, k, kind, i0, direction, label, root):
-                zz, kk, kd, ii = lv.row(gid)
-                queue.append((zz, kk, kd, ii, -direction, "reverse", root))
-
-    drain()
-
-    basin_obs: dict[int, list] = {}
-    for i in multistart_indices(st):
-        i = int(i)
-        exc = model.excitation(pa_over_q, f[i])
-        Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
-        Zs, phs = ballistic_seeds(exc)
-        Z = np.vstack([Zb, Zs])
-        ph = np.concatenate([phb, phs])
-        par = lv.par.copy()
-        par[4] = lv.r[i]
-        zs = _small_amplitude_seed(model, exc, par, st)
-        if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
-            queue.append((zs, 1, 0, i, +1, "perturbation seed", "perturbation seed"))
-            queue.append((zs, 1, 0, i, -1, "perturbation seed", "perturbation seed"))
-            drain()
-        status, kk, zz = tk.settle_known_many(
-            Z, ph, i, par, st.kmax, st.max_periods, st.detect_tol, st.rtol_transient, st.rtol,
-            st.close_tol, st.capture_tol, lv.t_n, lv.t_k, lv.t_kind, lv.t_pts)
-        found = []
-        hits: dict[int, int] = {}
-        for j in range(Z.shape[0]):
-            if status[j] == SETTLE_CAPTURED:
-                if j < Zb.shape[0]:
-                    gid = int(lv.t_row[i, kk[j]])
-                    hits[gid] = hits.get(gid, 0) + 1
-                continue
-            if status[j] == SETTLE_PERIODIC:
-                z, k, kind = zz[j], int(kk[j]), 0
-            elif status[j] == SETTLE_NONPERIODIC:
-                z, k, kind = zz[j], 0, 1
-            else:
-                continue
-            found.append((j, z, k, kind))
-            if lv.known_slot(i, z, k, kind) < 0:
-                queue.append((z, k, kind, i, +1, "multi-start", "multi-start"))
-                queue.append((z, k, kind, i, -1, "multi-start", "multi-start"))
-                drain()
-        for j, z, k, kind in found:
-            if j >= Zb.shape[0]:
-                continue
-            s = lv.known_slot(i, z, k, kind)
-            if s >= 0:
-                gid = int(lv.t_row[i, s])
-                hits[gid] = hits.get(gid, 0) + 1
-        basin_obs[i] = [(gid, n / Zb.shape[0]) for gid, n in hits.items()]
-        for s in range(lv.t_n[i]):
-            gid = int(lv.t_row[i, s])
-            if gid not in hits:
-                basin_obs[i].append((gid, 0.0))
-
-    rows = {key: np.concatenate([c[key] for c in lv.chunks]) if lv.chunks else None
-            for key in (lv.chunks[0] if lv.chunks else {})}
+            lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
+    lv.drain()
+    observations = [_multistart_at(lv, model, pa_over_q, int(i)) for i in multistart_indices(st)]
     basin = np.full(lv.n_rows, np.nan)
-    for lst in basin_obs.values():
-        for gid, frac in lst:
+    for obs in observations:
+        for gid, frac in obs:
             basin[gid] = frac
-    links = np.concatenate(lv.links) if lv.links else np.zeros((0, 3), np.int64)
-    return {"rows": rows, "links": links, "f_hz": f, "basin": basin, "stops": lv.stops,
-            "pa_over_q": float(pa_over_q)}
+    return lv.result(basin, pa_over_q)
