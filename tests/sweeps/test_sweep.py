@@ -16,7 +16,8 @@ import pytest
 import xarray as xr
 
 from contactvib.cli import main
-from contactvib.sweeps.dataset import attractors_at, dominant_ratio, resonance_label
+from contactvib.sweeps.dataset import attractors_at
+from contactvib.sweeps.labels import dominant_ratio, resonance_label
 from contactvib.model import ContactModel, ParameterError
 from contactvib.sweeps.facts import coexisting_resonances, resonance_facts
 from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
@@ -275,17 +276,20 @@ def test_isolated_part_is_not_found_by_the_sweeps_alone(ds):
                for a in attractors_at(ds, 0.75, 102.0)["attractors"])
 
 
-def test_basin_fractions_sum_to_one_where_measured(ds):
-    """At the multi-start frequencies every box start is counted for one stored attractor."""
-    sel = np.abs(ds["pa_over_q"].values - 0.65) < 1e-9
+@pytest.mark.parametrize("pa", PAPER_LEVELS)
+def test_basin_fractions_sum_to_one_where_measured(ds, pa):
+    """At every multi-start frequency of every level each box start is counted for exactly one
+    stored attractor: the fractions sum to 1 (to round-off), and they are measured there only."""
+    sel = np.abs(ds["pa_over_q"].values - pa) < 1e-9
     fe = ds["fe_hz"].values[sel]
     bf = ds["basin_fraction"].values[sel]
     measured = np.unique(fe[np.isfinite(bf)])
-    grid = frequency_grid(SweepSettings(df_hz=4.0))
-    assert set(measured) <= set(grid[multistart_indices(SweepSettings(df_hz=4.0))])
-    sums = [bf[(fe == f) & np.isfinite(bf)].sum() for f in measured]
+    st = SweepSettings(df_hz=4.0)
+    assert set(measured) == set(frequency_grid(st)[multistart_indices(st)])
+    sums = np.array([bf[(fe == f) & np.isfinite(bf)].sum() for f in measured])
     assert len(sums) > 30
-    assert np.median(sums) > 0.9 and max(sums) <= 1.0 + 1e-12
+    np.testing.assert_allclose(sums, 1.0, rtol=0, atol=1e-12)
+    assert np.all(bf[np.isfinite(bf)] >= 0.0)
 
 
 # ------------------------------------------------------------------ labels
@@ -454,7 +458,7 @@ def test_label_flickers_along_a_branch_are_smoothed():
     both sides, minima matching the sides and not the run) takes the surrounding label; long
     runs, runs whose minima match their own label, runs at a branch end and runs across two
     branches are left alone."""
-    from contactvib.sweeps.dataset import smooth_labels
+    from contactvib.sweeps.labels import smooth_labels
 
     fe = np.arange(226.0, 240.0)
     six = np.full(fe.size, 6)

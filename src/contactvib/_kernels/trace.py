@@ -321,6 +321,22 @@ def _link(links, n, a, b, origin):
     return n + 1
 
 
+@njit(cache=True, inline="always")
+def _refine_start(z, k, par, cfg, M):
+    """Newton-refine the period-k orbit through ``z`` and reduce k to its minimal period
+    (:func:`.settle._refine`); on success ``z`` and ``M`` become the orbit point and its
+    monodromy. Returns (ok, k, closure)."""
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    ok, kk, res = _refine(z, k, par, cfg.rtol, cfg.close_tol, oz, oM)
+    if not ok:
+        return False, k, res
+    z[0] = oz[0]
+    z[1] = oz[1]
+    M[:, :] = oM
+    return True, kk, res
+
+
 @njit(cache=True)
 def trace(z0, k0, kind0, i0, direction, r_grid, par_in, cfg, table, rows, row_base, links):
     """Trace from the attractor (``z0``, period ``k0``, ``kind0``) at grid index ``i0``.
@@ -357,26 +373,21 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, cfg, table, rows, row_ba
     oz = np.empty(2)
     oM = np.empty((2, 2))
     hist = np.empty((cfg.max_periods + 1, 2))
+    M = np.zeros((2, 2))
+    closure = 0.0
+    if kind == KIND_PERIODIC:  # refine the start: the minimal period of a closed stable orbit
+        par[4] = r_grid[i0]
+        ok, k, closure = _refine_start(z, k, par, cfg, M)
+        if not ok:
+            return 0, 0, STOP_FAILED, i0
     n_rows = 0
     n_links = 0
     prev_row = -1
     i = i0
     origin = ORIGIN_START
-    closure = 0.0
     res = 0.0
-    M = np.zeros((2, 2))
     zend = np.empty(2)
     described = False  # row n_rows already holds the description of z
-    if kind == KIND_PERIODIC:
-        par[4] = r_grid[i]
-        ok, kk, res = _refine(z, k, par, cfg.rtol, cfg.close_tol, oz, oM)
-        if not ok:
-            return 0, 0, STOP_FAILED, i
-        k = kk
-        z[0] = oz[0]
-        z[1] = oz[1]
-        M[:, :] = oM
-        closure = res
     while True:
         par[4] = r_grid[i]
         # ---- is it known here?

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from contactvib.steady.results import Attractor, TimeHistory
+from contactvib.sweeps.labels import label_family
 
 __all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph", "save_figure",
            "history_figure", "new_figure",
@@ -84,16 +85,6 @@ def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | No
 
 # ---------------------------------------------------------------- resonance graphs (Figs. 2, 3)
 
-def _family(label: str):
-    """(order m or None, variant) of a resonance label from :func:`contactvib.dataset.resonance_label`."""
-    if label.startswith("main"):
-        return 1, label[4:].strip()
-    if label.startswith("1/"):
-        head, _, rest = label.partition(" ")
-        return int(head[2:]), rest
-    return None, label
-
-
 def _order_color(m):
     import matplotlib.pyplot as plt
 
@@ -141,7 +132,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
         if kind[pts[0]] != "periodic":
             ax.plot(fe[pts], app[pts], ".", color="tab:red", ms=1.5, zorder=3)
             continue
-        m, variant = _family(lab)
+        m, variant = label_family(lab)
         if m is None:
             style = dict(color="0.55", lw=0.6, ls=":") if lab != "non-resonant" else dict(color="0.35", lw=0.8)
         else:

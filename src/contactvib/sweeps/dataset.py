@@ -33,165 +33,24 @@ from __future__ import annotations
 
 import json
 import math
-from fractions import Fraction
 
 import numpy as np
 
 from contactvib._kernels.status import (STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL,
                                         status_message)
 from contactvib.model import ContactModel
+from contactvib.sweeps.labels import attractor_type, level_labels
 
-__all__ = ["dominant_ratio", "resonance_label", "smooth_labels", "attractor_type", "level_dataset", "merge_levels", "attractors_at", "write_atomic",
+__all__ = ["level_dataset", "merge_levels", "attractors_at", "write_atomic",
            "STOP_REASONS"]
 
 #: Layout version written into every dataset (``format`` attribute); chunks and datasets of
 #: another version are recomputed (resume) or refused (query).
 FORMAT = "contactvib-resonance-1"
 
-#: Largest Lyapunov exponent [1/period] separating the non-periodic types (the 64-period estimate
-#: scatters by about ±0.02 at the paper's attractors).
-LYAPUNOV_ZERO = 0.02
-
 #: Why a trace stopped, by trace stop code (the ``trace_stop`` strings of a dataset).
 STOP_REASONS = {code: status_message(code, "stop")
                 for code in (STOP_GRID_END, STOP_KNOWN, STOP_FAILED, STOP_TABLE_FULL)}
-
-
-def dominant_ratio(k: int, n_min: int, harmonics, loses_contact: bool, fe_hz: float,
-                   fn0_hz: float) -> Fraction:
-    """Resonance ratio ν (multiples of f_e) of a period-k orbit: the harmonic the contact amplifies.
-
-    * Orbits in permanent contact: the harmonic ``j`` (frequency ``j f_e / k``) with the largest
-      *acceleration* amplitude ``j² |Y_j|`` among those at or below ``1.1 f_n0`` — a softening
-      contact only amplifies frequencies below its linear natural frequency (Eq. 2.6); ν = j/k.
-    * Orbits that lose contact: their spectrum is broadband (impacts), and each minimum of y(t)
-      is one resonant oscillation between impacts, so ν = n/k (minima per excitation period).
-    """
-    if loses_contact or harmonics is None:
-        return Fraction(int(max(n_min, 1)), int(k))
-    h = np.asarray(harmonics, float)
-    j = np.arange(1, h.size + 1)
-    ok = np.isfinite(h) & (j * fe_hz / k <= 1.1 * fn0_hz)
-    if not ok.any():
-        return Fraction(1, 1)
-    score = np.where(ok, j * j * np.nan_to_num(h), -1.0)
-    return Fraction(int(j[int(np.argmax(score))]), int(k))
-
-
-def attractor_type(kind: int, lyapunov: float) -> str:
-    """"periodic", or for attractors without a period ≤ kmax, by their largest Lyapunov exponent
-    λ of the stroboscopic map: "chaotic" (λ > 0.02), "quasi-periodic" (|λ| ≤ 0.02) or
-    "long-period" (λ < −0.02: a stable orbit of period above kmax, still converging)."""
-    if kind == 0:
-        return "periodic"
-    if not math.isfinite(lyapunov):
-        return "non-periodic"
-    if lyapunov > LYAPUNOV_ZERO:
-        return "chaotic"
-    if lyapunov < -LYAPUNOV_ZERO:
-        return "long-period"
-    return "quasi-periodic"
-
-
-def resonance_label(kind: int, k: int, nu: Fraction, n_min: int, loses_contact: bool, fe_hz: float,
-                    fn0_hz: float) -> str:
-    """Name of the resonance of an attractor with resonance ratio ``nu`` (:func:`dominant_ratio`).
-
-    * non-periodic → ``"non-periodic (1/m)"`` with m the mean number of minima per excitation
-      period over the recorded 32 periods (``nu``), rounded: the resonance whose cascade it ends;
-    * ν = m integer, k = 1: m = 1 → ``"main"`` (``"non-resonant"`` when contact is kept and
-      f_e < f_n0/2: the quasistatic motion below the resonances), m ≥ 2 → ``"1/m"``;
-    * ν = m integer, k > 1 → ``"1/m period-k"`` (``"main period-k"``): after period doubling;
-    * ν = p/q, q > 1 → ``"subharmonic 1/q"`` (p = 1) or ``"ultrasubharmonic p/q"``, with
-      ``" bouncing"`` appended when the orbit has fewer minima than periods (n < k).
-
-    The minima count alone would mislead: the early 1/5 resonance (287 Hz, 0.65 Q) has two minima
-    per period, but its fifth harmonic dominates the acceleration.
-    """
-    if kind != 0:
-        if nu is None:
-            return "non-periodic"
-        m = max(1, int(round(float(nu))))
-        return f"non-periodic ({'main' if m == 1 else f'1/{m}'})"
-    if nu.denominator == 1:
-        m = nu.numerator
-        if k == 1:
-            if m == 1:
-                return "non-resonant" if (not loses_contact and fe_hz < 0.5 * fn0_hz) else "main"
-            return f"1/{m}"
-        return f"main period-{k}" if m == 1 else f"1/{m} period-{k}"
-    base = (f"subharmonic 1/{nu.denominator}" if nu.numerator == 1
-            else f"ultrasubharmonic {nu.numerator}/{nu.denominator}")
-    return base + (" bouncing" if n_min < k else "")
-
-
-#: Longest flicker of the dominant-harmonic label that is smoothed away along a continued branch,
-#: as a fraction of its frequency (see :func:`smooth_labels`).
-LABEL_FLICKER = 0.03
-
-
-def _label_order(label) -> int | None:
-    """m of a period-1 label ``"main"`` (1) or ``"1/m"``; None for any other label."""
-    label = str(label)
-    if label == "main":
-        return 1
-    if label.startswith("1/") and label[2:].isdigit():
-        return int(label[2:])
-    return None
-
-
-def smooth_labels(labels, fe, minima, chains, df_hz: float, flicker: float = LABEL_FLICKER):
-    """Labels with short flickers removed along continuous branches.
-
-    In the flank of a peak two or three harmonics can be about equally amplified, and the
-    dominant-harmonic label then flickers along one continuous orbit family (0.90 Q, 230–234 Hz:
-    1/6 → 1/7 → 1/5 → 1/6 on an orbit with six minima throughout). A run of one label ``1/j`` on a
-    chain of Newton-continued orbits (same kind and period) takes the label ``1/m`` of both its
-    sides when it spans at most ``flicker`` of its frequency (or two grid steps), its orbits have
-    m minima and not j.
-    A short run whose minima agree with its own label is a resonance of its own and is kept (the
-    early 1/6 at 234 Hz, 0.85 Q, inside the flank of the 1/5).
-
-    Parameters
-    ----------
-    labels : object array (n,)
-    fe : float array (n,) [Hz]
-    minima : int array (n,)
-        Minima per period of every row.
-    chains : int array (n,)
-        Chain id of every row (rows linked by Newton continuation, same kind and period).
-    df_hz : float
-        Grid step [Hz].
-    """
-    out = labels.copy()
-    for c in np.unique(chains):
-        idx = np.nonzero(chains == c)[0]
-        if idx.size < 3 or np.unique(fe[idx]).size != idx.size:
-            continue  # two orbits at one frequency: not a single path along f_e
-        idx = idx[np.argsort(fe[idx], kind="stable")]
-        lab = out[idx]
-        n_row = minima[idx]
-        i = 0
-        while i < idx.size - 1:
-            side = lab[i]
-            m = _label_order(side)
-            # the next row with the same label after a run of other labels
-            j = i + 1
-            while j < idx.size and lab[j] != side:
-                j += 1
-            if m is None or j == i + 1 or j == idx.size:
-                i = j if j > i + 1 else i + 1
-                continue
-            seg = np.arange(i + 1, j)
-            orders = [_label_order(x) for x in lab[seg]]
-            f0, f1 = fe[idx[seg[0]]], fe[idx[seg[-1]]]
-            if (None not in orders and f1 - f0 + df_hz <= max(flicker * 0.5 * (f0 + f1), 2 * df_hz)
-                    and np.all(n_row[seg] == m)
-                    and not any(n == o for n, o in zip(n_row[seg], orders))):
-                lab[seg] = side
-            i = j
-        out[idx] = lab
-    return out
 
 
 class _UnionFind:
@@ -211,151 +70,143 @@ class _UnionFind:
             self.p[max(ra, rb)] = min(ra, rb)
 
 
-def level_dataset(model: ContactModel, level, settings: dict):
-    """The Dataset of one P_a level from :func:`contactvib.sweep.trace_level`'s output
-    (a :class:`contactvib.sweeps.sweep.LevelTrace`)."""
-    import xarray as xr
-
-    rows = level.rows
-    pa = level.pa_over_q
-    f = level.f_hz
-    u = model.units
-    y_um, v_mm_s, t_ms = u.y_um, u.ydot_mm_s, u.t_ms
-    n = level.n_rows
-    if n == 0:
-        raise ValueError("no attractor was found on this level")
-    fe = f[rows.i]
-    kind = rows.kind
-    k = rows.k
-    nmin = np.where(kind == 0, rows.n_min, -1)
-    loses = rows.xmin < 0.0
-    from contactvib._kernels.describe import NP_RECORD
-
-    nus = [dominant_ratio(int(k[j]), int(nmin[j]), rows.harm[j], bool(loses[j]), float(fe[j]),
-                          model.f_n0) if kind[j] == 0
-           else Fraction(int(rows.n_min[j]), NP_RECORD) for j in range(n)]
-    labels = np.array([resonance_label(int(kind[j]), int(k[j]), nus[j], int(nmin[j]), bool(loses[j]),
-                                       float(fe[j]), model.f_n0) for j in range(n)], dtype=object)
-    # chains: rows continued by Newton (no jump), same kind and period; short label flickers
-    # along a chain are smoothed away
-    chain_uf = _UnionFind(n)
-    links = level.links
-    for a, b, jump in zip(links.a, links.b, links.jump):
-        if jump == 0 and kind[a] == kind[b] and k[a] == k[b]:
-            chain_uf.union(int(a), int(b))
-    chains = np.array([chain_uf.find(j) for j in range(n)])
-    grid_step = float(np.min(np.diff(f))) if f.size > 1 else 1.0
-    labels = smooth_labels(labels, fe, nmin, chains, grid_step)
-    # branches: rows continued by Newton (no jump), same kind, period and label
+def _components(n: int, links, same) -> np.ndarray:
+    """Root of each of ``n`` rows in the components of the Newton links (no jump) between rows
+    for which ``same(a, b)`` holds."""
     uf = _UnionFind(n)
     for a, b, jump in zip(links.a, links.b, links.jump):
-        if jump == 0 and kind[a] == kind[b] and k[a] == k[b] and labels[a] == labels[b]:
+        if jump == 0 and same(a, b):
             uf.union(int(a), int(b))
-    roots = np.array([uf.find(j) for j in range(n)])
-    # order branches by their lowest frequency, then amplitude
-    uniq = list(dict.fromkeys(roots[np.lexsort((-(rows.xmax - rows.xmin), fe))]))
+    return np.array([uf.find(j) for j in range(n)])
+
+
+def _branch_variables(pa: float, fe, x_range, app, k, nmin, labels, roots, found_by):
+    """Branch index of every row (branches ordered by their lowest frequency, then amplitude
+    ``x_range`` = x_max − x_min) and the variables of dimension ``branch`` (``app`` in µm)."""
+    uniq = list(dict.fromkeys(roots[np.lexsort((-x_range, fe))]))
     index = {r: b for b, r in enumerate(uniq)}
     branch = np.array([index[r] for r in roots], np.int64)
     nb = len(uniq)
-    app = (rows.xmax - rows.xmin) * y_um
-    b_fmin = np.full(nb, np.inf)
-    b_fmax = np.full(nb, -np.inf)
-    b_np = np.zeros(nb, np.int64)
-    b_app = np.zeros(nb)
-    b_lab = np.empty(nb, dtype=object)
-    b_k = np.zeros(nb, np.int64)
-    b_min = np.zeros(nb, np.int64)
-    for j in range(n):
+    b_fmin, b_fmax = np.full(nb, np.inf), np.full(nb, -np.inf)
+    b_np, b_app = np.zeros(nb, np.int64), np.zeros(nb)
+    b_lab, b_k, b_min = np.empty(nb, dtype=object), np.zeros(nb, np.int64), np.zeros(nb, np.int64)
+    for j in range(fe.size):
         b = branch[j]
         b_fmin[b] = min(b_fmin[b], fe[j])
         b_fmax[b] = max(b_fmax[b], fe[j])
         b_np[b] += 1
         b_app[b] = max(b_app[b], app[j])
-        b_lab[b] = labels[j]
-        b_k[b] = k[j]
-        b_min[b] = nmin[j]
-    b_id = np.array([f"{pa:g}Q-b{b:03d}" for b in range(nb)], dtype=object)
-    from contactvib.sweeps.sweep import TRACE_ROOTS
-
-    found_by = np.array([TRACE_ROOTS[int(c)] for c in level.found_by], dtype=object)
+        b_lab[b], b_k[b], b_min[b] = labels[j], k[j], nmin[j]
     b_sweep = np.zeros(nb, np.int8)
     b_sweep[branch[found_by == "sweep"]] = 1
+    return branch, {
+        "branch_id": ("branch", np.array([f"{pa:g}Q-b{b:03d}" for b in range(nb)], dtype=object)),
+        "branch_label": ("branch", b_lab),
+        "branch_pa_over_q": ("branch", np.full(nb, pa), {"units": "Q"}),
+        "branch_period": ("branch", b_k),
+        "branch_minima": ("branch", b_min),
+        "branch_fmin_hz": ("branch", b_fmin, {"units": "Hz"}),
+        "branch_fmax_hz": ("branch", b_fmax, {"units": "Hz"}),
+        "branch_npoints": ("branch", b_np),
+        "branch_app_max_um": ("branch", b_app, {"units": "um"}),
+        "branch_reached_by_sweep": ("branch", b_sweep, {"units": "1", "comment": "1 if a laboratory "
+                                    "sweep (up, down, reversing at jumps) reaches the branch"}),
+    }
 
+
+def _ragged_variables(rows, units) -> dict:
+    """Extrema and stroboscopic points of every row, concatenated, with their start/count."""
     n_ext = rows.n_ext
-    ext_start = np.concatenate([[0], np.cumsum(n_ext)[:-1]]).astype(np.int64)
     mask = np.arange(rows.ext_t.shape[1])[None, :] < n_ext[:, None]
-    ext_t = rows.ext_t[mask] * t_ms
-    ext_x = rows.ext_x[mask] * y_um
-    ext_m = rows.ext_min[mask]
-    n_str = np.where(kind == 0, k, rows.n_strobe)
-    str_start = np.concatenate([[0], np.cumsum(n_str)[:-1]]).astype(np.int64)
+    n_str = np.where(rows.kind == 0, rows.k, rows.n_strobe)
     smask = np.arange(rows.strobe.shape[1])[None, :] < n_str[:, None]
     sp = rows.strobe  # periodic: the k orbit points; non-periodic: the last recorded ones
-    str_y = sp[..., 0][smask] * y_um
-    str_v = sp[..., 1][smask] * v_mm_s
-    mu_abs = np.hypot(rows.mu_re, rows.mu_im).max(axis=1)
-    harm = rows.harm * y_um
-    nu = np.array([float(v) if v is not None else np.nan for v in nus])
-    tr = level.stops
-    ds = xr.Dataset(
-        {
-            "pa_over_q": ("point", np.full(n, pa), {"units": "Q", "long_name": "excitation amplitude P_a/(M g)"}),
-            "fe_hz": ("point", fe, {"units": "Hz", "long_name": "excitation frequency f_e"}),
-            "kind": ("point", np.where(kind == 0, "periodic", "non-periodic").astype(object)),
-            "period": ("point", k, {"units": "excitation periods", "comment": "0 = non-periodic"}),
-            "minima_per_period": ("point", nmin, {"units": "1", "comment": "-1 = non-periodic"}),
-            "app_um": ("point", app, {"units": "um", "long_name": "peak-to-peak amplitude y_max - y_min"}),
-            "ymin_um": ("point", rows.xmin * y_um, {"units": "um"}),
-            "ymax_um": ("point", rows.xmax * y_um, {"units": "um"}),
-            "loses_contact": ("point", loses.astype(np.int8), {"units": "1", "comment": "1 where y < 0 on the orbit"}),
-            "contact_loss_fraction": ("point", rows.flight, {"units": "1", "long_name": "fraction of the period with y < 0"}),
-            "basin_fraction": ("point", level.basin, {"units": "1", "comment": "share of the multi-start box; NaN where not measured"}),
-            "floquet_re": (("point", "multiplier"), rows.mu_re, {"units": "1"}),
-            "floquet_im": (("point", "multiplier"), rows.mu_im, {"units": "1"}),
-            "floquet_abs_max": ("point", mu_abs, {"units": "1"}),
-            "closure": ("point", rows.closure, {"units": "1", "long_name": "relative closure of the refined orbit"}),
-            "lyapunov_per_period": ("point", rows.lyap, {"units": "1/excitation period",
-                                                            "long_name": "largest Lyapunov exponent of the stroboscopic map"}),
-            "dominant_harmonic": ("point", nu, {"units": "multiples of f_e", "long_name": "resonance ratio nu (dominant_ratio)"}),
-            "resonance": ("point", labels),
-            "attractor_type": ("point", np.array([attractor_type(int(kind[j]), float(rows.lyap[j]))
-                                                  for j in range(n)], dtype=object),
-                               {"comment": "periodic / chaotic / quasi-periodic / long-period (attractor_type)"}),
-            "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
-            "origin": ("point", np.array([status_message(o, "origin") for o in rows.origin], dtype=object)),
-            "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
-                                                        "sweep / perturbation seed / multi-start"}),
-            "state_y_um": ("point", rows.z[:, 0] * y_um, {"units": "um"}),
-            "state_ydot_mm_s": ("point", rows.z[:, 1] * v_mm_s, {"units": "mm/s"}),
-            "harmonics_um": (("point", "harmonic"), harm, {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
-            "extrema_start": ("point", ext_start),
-            "extrema_count": ("point", n_ext.astype(np.int64)),
-            "strobe_start": ("point", str_start),
-            "strobe_count": ("point", n_str.astype(np.int64)),
-            "extremum_t_ms": ("extremum", ext_t, {"units": "ms"}),
-            "extremum_y_um": ("extremum", ext_x, {"units": "um"}),
-            "extremum_is_min": ("extremum", ext_m.astype(np.int8), {"units": "1"}),
-            "strobe_y_um": ("strobe", str_y, {"units": "um"}),
-            "strobe_ydot_mm_s": ("strobe", str_v, {"units": "mm/s"}),
-            "branch_id": ("branch", b_id),
-            "branch_label": ("branch", b_lab),
-            "branch_pa_over_q": ("branch", np.full(nb, pa), {"units": "Q"}),
-            "branch_period": ("branch", b_k),
-            "branch_minima": ("branch", b_min),
-            "branch_fmin_hz": ("branch", b_fmin, {"units": "Hz"}),
-            "branch_fmax_hz": ("branch", b_fmax, {"units": "Hz"}),
-            "branch_npoints": ("branch", b_np),
-            "branch_app_max_um": ("branch", b_app, {"units": "um"}),
-            "branch_reached_by_sweep": ("branch", b_sweep, {"units": "1", "comment": "1 if a laboratory "
-                                        "sweep (up, down, reversing at jumps) reaches the branch"}),
-            "trace_label": ("trace", np.array([t.label for t in tr], dtype=object)),
-            "trace_pa_over_q": ("trace", np.full(len(tr), pa), {"units": "Q"}),
-            "trace_direction": ("trace", np.array([t.direction for t in tr], np.int64)),
-            "trace_f_start_hz": ("trace", np.array([t.f_start_hz for t in tr]), {"units": "Hz"}),
-            "trace_f_stop_hz": ("trace", np.array([t.f_stop_hz for t in tr]), {"units": "Hz"}),
-            "trace_stop": ("trace", np.array([status_message(t.reason, "stop") for t in tr], dtype=object)),
-            "trace_root": ("trace", np.array([t.root for t in tr], dtype=object)),
-        },
+    return {
+        "extrema_start": ("point", np.concatenate([[0], np.cumsum(n_ext)[:-1]]).astype(np.int64)),
+        "extrema_count": ("point", n_ext.astype(np.int64)),
+        "strobe_start": ("point", np.concatenate([[0], np.cumsum(n_str)[:-1]]).astype(np.int64)),
+        "strobe_count": ("point", n_str.astype(np.int64)),
+        "extremum_t_ms": ("extremum", rows.ext_t[mask] * units.t_ms, {"units": "ms"}),
+        "extremum_y_um": ("extremum", rows.ext_x[mask] * units.y_um, {"units": "um"}),
+        "extremum_is_min": ("extremum", rows.ext_min[mask].astype(np.int8), {"units": "1"}),
+        "strobe_y_um": ("strobe", sp[..., 0][smask] * units.y_um, {"units": "um"}),
+        "strobe_ydot_mm_s": ("strobe", sp[..., 1][smask] * units.ydot_mm_s, {"units": "mm/s"}),
+    }
+
+
+def _trace_variables(pa: float, stops) -> dict:
+    """One row per sweep or trace run: label, direction, start and stop, why it stopped."""
+    return {
+        "trace_label": ("trace", np.array([t.label for t in stops], dtype=object)),
+        "trace_pa_over_q": ("trace", np.full(len(stops), pa), {"units": "Q"}),
+        "trace_direction": ("trace", np.array([t.direction for t in stops], np.int64)),
+        "trace_f_start_hz": ("trace", np.array([t.f_start_hz for t in stops]), {"units": "Hz"}),
+        "trace_f_stop_hz": ("trace", np.array([t.f_stop_hz for t in stops]), {"units": "Hz"}),
+        "trace_stop": ("trace", np.array([status_message(t.reason, "stop") for t in stops], dtype=object)),
+        "trace_root": ("trace", np.array([t.root for t in stops], dtype=object)),
+    }
+
+
+def level_dataset(model: ContactModel, level, settings: dict):
+    """The Dataset of one P_a level from :func:`contactvib.sweeps.sweep.trace_level`'s output
+    (a :class:`contactvib.sweeps.sweep.LevelTrace`); layout in the module docstring."""
+    import xarray as xr
+
+    from contactvib._kernels.describe import NP_RECORD
+    from contactvib.sweeps.sweep import TRACE_ROOTS
+
+    rows, pa, f, u = level.rows, level.pa_over_q, level.f_hz, model.units
+    n = level.n_rows
+    if n == 0:
+        raise ValueError("no attractor was found on this level")
+    fe, kind, k = f[rows.i], rows.kind, rows.k
+    nmin = np.where(kind == 0, rows.n_min, -1)
+    loses = rows.xmin < 0.0
+    # chains: rows continued by Newton (no jump), same kind and period; short label flickers
+    # along a chain are smoothed away; branches: chains of one label
+    chains = _components(n, level.links, lambda a, b: kind[a] == kind[b] and k[a] == k[b])
+    grid_step = float(np.min(np.diff(f))) if f.size > 1 else 1.0
+    nus, labels = level_labels(rows, fe, model.f_n0, chains, grid_step, NP_RECORD)
+    roots = _components(n, level.links, lambda a, b: (kind[a] == kind[b] and k[a] == k[b]
+                                                      and labels[a] == labels[b]))
+    found_by = np.array([TRACE_ROOTS[int(c)] for c in level.found_by], dtype=object)
+    x_range = rows.xmax - rows.xmin
+    app = x_range * u.y_um
+    branch, branch_vars = _branch_variables(pa, fe, x_range, app, k, nmin, labels, roots, found_by)
+    point_vars = {
+        "pa_over_q": ("point", np.full(n, pa), {"units": "Q", "long_name": "excitation amplitude P_a/(M g)"}),
+        "fe_hz": ("point", fe, {"units": "Hz", "long_name": "excitation frequency f_e"}),
+        "kind": ("point", np.where(kind == 0, "periodic", "non-periodic").astype(object)),
+        "period": ("point", k, {"units": "excitation periods", "comment": "0 = non-periodic"}),
+        "minima_per_period": ("point", nmin, {"units": "1", "comment": "-1 = non-periodic"}),
+        "app_um": ("point", app, {"units": "um", "long_name": "peak-to-peak amplitude y_max - y_min"}),
+        "ymin_um": ("point", rows.xmin * u.y_um, {"units": "um"}),
+        "ymax_um": ("point", rows.xmax * u.y_um, {"units": "um"}),
+        "loses_contact": ("point", loses.astype(np.int8), {"units": "1", "comment": "1 where y < 0 on the orbit"}),
+        "contact_loss_fraction": ("point", rows.flight, {"units": "1", "long_name": "fraction of the period with y < 0"}),
+        "basin_fraction": ("point", level.basin, {"units": "1", "comment": "share of the multi-start box; NaN where not measured"}),
+        "floquet_re": (("point", "multiplier"), rows.mu_re, {"units": "1"}),
+        "floquet_im": (("point", "multiplier"), rows.mu_im, {"units": "1"}),
+        "floquet_abs_max": ("point", np.hypot(rows.mu_re, rows.mu_im).max(axis=1), {"units": "1"}),
+        "closure": ("point", rows.closure, {"units": "1", "long_name": "relative closure of the refined orbit"}),
+        "lyapunov_per_period": ("point", rows.lyap, {"units": "1/excitation period",
+                                                     "long_name": "largest Lyapunov exponent of the stroboscopic map"}),
+        "dominant_harmonic": ("point", np.array([float(v) if v is not None else np.nan for v in nus]),
+                              {"units": "multiples of f_e", "long_name": "resonance ratio nu (dominant_ratio)"}),
+        "resonance": ("point", labels),
+        "attractor_type": ("point", np.array([attractor_type(int(kind[j]), float(rows.lyap[j]))
+                                              for j in range(n)], dtype=object),
+                           {"comment": "periodic / chaotic / quasi-periodic / long-period (attractor_type)"}),
+        "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
+        "origin": ("point", np.array([status_message(o, "origin") for o in rows.origin], dtype=object)),
+        "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
+                                                    "sweep / perturbation seed / multi-start"}),
+        "state_y_um": ("point", rows.z[:, 0] * u.y_um, {"units": "um"}),
+        "state_ydot_mm_s": ("point", rows.z[:, 1] * u.ydot_mm_s, {"units": "mm/s"}),
+        "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um, {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
+    }
+    return xr.Dataset(
+        {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},
         attrs={
             "title": "contactvib resonance dataset (Kostek 2013 contact oscillator)",
             "format": FORMAT,
@@ -366,7 +217,6 @@ def level_dataset(model: ContactModel, level, settings: dict):
             "conventions": "y > 0 contact deflection, y < 0 gap; ragged extrema/strobe via *_start/*_count",
         },
     )
-    return ds
 
 
 def merge_levels(datasets: list):
