@@ -484,7 +484,7 @@ def main(argv=None):
     phs = np.zeros(len(Zsm))
     sm = (Zsm, phs, par, 8, 4, 400, 1e-4, 1e-8, 1e-12, 1e-8, 4)
     t_sm, out = timed(settle_many, *sm, repeat=2)
-    status, period, nper, resid, zstar = out[0], out[1], out[2], out[3], out[4]
+    status, period, nper, _resid, zstar = out[0], out[1], out[2], out[3], out[4]
     okp = (status == 0) & (period == 1)
     near = np.repeat(orbits, a.starts, axis=0)
     err_sm = np.max(np.abs(zstar - near), axis=1) / np.maximum(1, np.max(np.abs(near), axis=1))

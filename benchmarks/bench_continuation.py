@@ -25,9 +25,8 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-from contactvib import ContactModel, find_attractors  # noqa: E402
+from contactvib import ContactModel, ContinuationSettings, continue_orbit, find_attractors  # noqa: E402  # noqa: E402
 from contactvib._kernels.continuation import orbit_range  # noqa: E402
-from contactvib import ContinuationSettings, continue_orbit  # noqa: E402
 from contactvib.steady.orbits import refine_orbit  # noqa: E402
 
 AUTO_SECONDS = 7.0
@@ -75,7 +74,7 @@ def main():
     res["upper"] = {}
     for rtol in (1e-10, 1e-12):
         s = ContinuationSettings(fmin=297.0, fmax=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-11))
-        run = lambda: continue_orbit(model, e_hi, seed_hi.state, 1, direction="down", settings=s)  # noqa: E731
+        run = lambda s=s: continue_orbit(model, e_hi, seed_hi.state, 1, direction="down", settings=s)  # noqa: E731
         run()  # compile / warm
         b, tmin, tmed = timed(run, args.repeat)
         ref = app_reference(model, b)
@@ -106,7 +105,7 @@ def main():
     ref_fold = None
     for rtol in (1e-14, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13):
         s = ContinuationSettings(fmin=297.0, fmax=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-12))
-        run = lambda: continue_orbit(model, e_lo, seed_lo.state, 1, direction="up", settings=s)  # noqa: E731
+        run = lambda s=s: continue_orbit(model, e_lo, seed_lo.state, 1, direction="up", settings=s)  # noqa: E731
         b, tmin, tmed = timed(run, 1 if rtol == 1e-14 else args.repeat)
         folds = [sp for sp in b.special if sp.type == "fold" and sp.fe_hz > 900]
         f = folds[0].fe_hz

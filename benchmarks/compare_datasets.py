@@ -6,8 +6,9 @@ Used to show that a refactoring left ``contactvib paper`` unchanged::
 
 Every variable must have the same dimensions and sizes; numeric values must agree to ``rtol``
 relative (or to 1e-14 of the variable's largest magnitude for values that are zero up to
-round-off; NaN equals NaN, inf equals inf), strings and integers exactly. The model, settings, format and levels attributes must be
-equal. Prints one line per variable that differs and a summary; exit status 1 if anything differs.
+round-off; NaN equals NaN, inf equals inf), strings and integers exactly. The model, settings,
+format and levels attributes must be equal. Prints one line per variable that differs and a
+summary; exit status 1 if anything differs.
 """
 
 from __future__ import annotations

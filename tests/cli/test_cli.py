@@ -2,9 +2,9 @@
 import json
 
 import pytest
-from figure_files import assert_figure_file
 
 from contactvib.cli import main
+from figure_files import assert_figure_file
 
 
 def test_attractors_json_contract(capsys):

@@ -7,8 +7,15 @@ import sys
 import pytest
 
 from contactvib.cli import main
-from contactvib.model import (KMAX_SEARCH_MAX, ContactModel, Excitation, ParameterError,
-                              check_frequency_range, check_int, check_range)
+from contactvib.model import (
+    KMAX_SEARCH_MAX,
+    ContactModel,
+    Excitation,
+    ParameterError,
+    check_frequency_range,
+    check_int,
+    check_range,
+)
 
 CMD = [sys.executable, "-m", "contactvib"]
 
@@ -151,7 +158,8 @@ def test_rtol_range_is_the_continuations(capsys):
     (["perturbation", "--order", "0"], "contactvib: error: --order (order) = 0: must be an integer in 1..400"),
     (["perturbation", "--fe", "-1"], "contactvib: error: --fe (f_e) = -1: must be > 0 Hz"),
     (["hbm", "--pa", "-1"], "contactvib: error: --pa (P_a/Q) = -1: must be >= 0 (multiple of Q = M g)"),
-    (["hbm", "--harmonics", "2000"], "contactvib: error: --harmonics (harmonics) = 2000: must be an integer in 1..1024"),
+    (["hbm", "--harmonics", "2000"],
+     "contactvib: error: --harmonics (harmonics) = 2000: must be an integer in 1..1024"),
     (["hbm", "--energy-tol", "0"], "contactvib: error: --energy-tol (energy_tol) = 0: must be > 0"),
     (["hbm", "--fmin", "0"], "contactvib: error: --fmin (f_min) = 0: must be > 0 Hz"),
 ])

@@ -10,15 +10,22 @@ import math
 
 import numpy as np
 import pytest
-from figure_files import assert_figure_file
 
-from contactvib import ContactModel, ParameterError, find_attractors
+from contactvib import (
+    Branch,
+    ContactModel,
+    ContinuationError,
+    ContinuationSettings,
+    ParameterError,
+    continue_attractors,
+    continue_orbit,
+    find_attractors,
+)
 from contactvib._kernels.shooting import strobe_map
 from contactvib.cli import main
-from contactvib import (Branch, ContinuationError, ContinuationSettings, continue_attractors,
-                                 continue_orbit)
 from contactvib.continuation.bifurcations import fold_test, locate_zero, ns_test, pd_test
 from contactvib.continuation.diagram import on_branch
+from figure_files import assert_figure_file
 
 MODEL = ContactModel()
 NONE = np.empty((0, 0))

@@ -7,8 +7,15 @@ import numpy as np
 import pytest
 
 from contactvib import ContactModel
-from contactvib.continuation.engine import (Bound, CorrectorSettings, Point, StepControl,
-                                            continue_branch, correct, tangent)
+from contactvib.continuation.engine import (
+    Bound,
+    CorrectorSettings,
+    Point,
+    StepControl,
+    continue_branch,
+    correct,
+    tangent,
+)
 
 MODEL = ContactModel()
 

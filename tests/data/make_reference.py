@@ -134,7 +134,7 @@ def extrema(pieces, offset, n_sub=16):
             vs = [float(solf(g)[1]) for g in grid]
             for g0, g1, v0, v1 in zip(grid[:-1], grid[1:], vs[:-1], vs[1:]):
                 if (v0 < 0.0) != (v1 < 0.0):
-                    tr = brentq(lambda s: float(solf(s)[1]), g0, g1, xtol=1e-15, rtol=1e-15)
+                    tr = brentq(lambda s, solf=solf: float(solf(s)[1]), g0, g1, xtol=1e-15, rtol=1e-15)
                     out.append((offset + tr, float(solf(tr)[0]), v0 < 0.0))
     return out
 

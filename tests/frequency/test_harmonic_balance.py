@@ -7,7 +7,13 @@ import pytest
 
 from contactvib import ContactModel, ParameterError
 from contactvib.cli import main
-from contactvib.frequency.harmonic_balance import (_AFT, _residual, coefficients_from_orbit, hb_continuation, hb_solve)
+from contactvib.frequency.harmonic_balance import (
+    _AFT,
+    _residual,
+    coefficients_from_orbit,
+    hb_continuation,
+    hb_solve,
+)
 from contactvib.frequency.perturbation import perturbation_series
 from contactvib.steady.orbits import describe_orbit, refine_orbit
 

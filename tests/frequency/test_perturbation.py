@@ -9,8 +9,8 @@ import pytest
 from contactvib import ContactModel, ParameterError
 from contactvib.cli import main
 from contactvib.frequency.perturbation import perturbation_series, steady_counterpart
-from contactvib.steady.simulate import attractor_history
 from contactvib.steady.orbits import describe_orbit, refine_orbit
+from contactvib.steady.simulate import attractor_history
 
 MODEL = ContactModel()
 

@@ -18,12 +18,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from scipy_contact import scipy_in_contact
-
 from contactvib import ContactModel
-from contactvib._kernels.flow import (REC_H, REC_MODE, REC_T, REC_WIDTH, STATUS_OK, advance,
-                                      initial_mode)
+from contactvib._kernels.flow import REC_H, REC_MODE, REC_T, REC_WIDTH, STATUS_OK, advance, initial_mode
 from contactvib._kernels.shooting import newton_orbit, strobe_map
+from scipy_contact import scipy_in_contact
 
 MODEL = ContactModel()
 NOREC = np.zeros((0, REC_WIDTH))

@@ -21,8 +21,7 @@ from contactvib import ContactModel
 from contactvib._kernels.continuation import orbit_range
 from contactvib._kernels.describe import describe_point, new_rows
 from contactvib._kernels.flow import REC_T, REC_X, STATUS_OK, STATUS_RECORD_FULL
-from contactvib._kernels.orbit import (RECORD_CAP_MAX, measure_orbit, record_orbit,
-                                       record_steps)
+from contactvib._kernels.orbit import RECORD_CAP_MAX, measure_orbit, record_orbit, record_steps
 from contactvib._kernels.shooting import newton_orbit
 from contactvib.steady.orbits import describe_orbit
 
@@ -33,8 +32,12 @@ RTOL = 1e-12
 
 def _flight(x0, v0, par):
     m2, _l, _c, p, r = par
-    x = lambda t: x0 + v0 * t + t * t / (2 * m2) + p * (1 - math.cos(r * t)) / (m2 * r * r)
-    v = lambda t: v0 + t / m2 + p * math.sin(r * t) / (m2 * r)
+    def x(t):
+        return x0 + v0 * t + t * t / (2 * m2) + p * (1 - math.cos(r * t)) / (m2 * r * r)
+
+    def v(t):
+        return v0 + t / m2 + p * math.sin(r * t) / (m2 * r)
+
     return x, v
 
 

@@ -12,12 +12,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy_contact import scipy_in_contact
 
 from contactvib import ContactModel
 from contactvib._kernels.flow import REC_WIDTH, STATUS_OK, advance, initial_mode
-from contactvib._kernels.taylor import (N_SUB, advance_state, advance_taylor, crossing,
-                                        is_polynomial_law, order_for)
+from contactvib._kernels.taylor import (
+    N_SUB,
+    advance_state,
+    advance_taylor,
+    crossing,
+    is_polynomial_law,
+    order_for,
+)
+from scipy_contact import scipy_in_contact
 
 REFERENCE = json.loads((Path(__file__).parents[1] / "data" / "reference.json").read_text())
 MODEL = ContactModel()

@@ -4,9 +4,19 @@ import math
 import numpy as np
 import pytest
 
-from contactvib.model import (SHOOTING_RTOL_RANGE, ContactModel, Excitation, ParameterError, Units,
-                              check_choice, check_finite, check_frequency_range, check_int,
-                              check_pa_level, check_range)
+from contactvib.model import (
+    SHOOTING_RTOL_RANGE,
+    ContactModel,
+    Excitation,
+    ParameterError,
+    Units,
+    check_choice,
+    check_finite,
+    check_frequency_range,
+    check_int,
+    check_pa_level,
+    check_range,
+)
 
 
 @pytest.mark.parametrize("value", ["abc", None, math.nan, math.inf, -math.inf, "nan", True, [1.0]])

@@ -8,8 +8,14 @@ import pytest
 from matplotlib.colors import to_rgba
 
 from contactvib import ContactModel, SweepSettings, attractor_history, find_attractors
-from contactvib.plotting import (attractor_figure, extrema_diagram, plot_branches,
-                                 plot_phase_portrait, plot_time_history, resonance_graph)
+from contactvib.plotting import (
+    attractor_figure,
+    extrema_diagram,
+    plot_branches,
+    plot_phase_portrait,
+    plot_time_history,
+    resonance_graph,
+)
 from contactvib.plotting.figures import new_figure
 from contactvib.plotting.paper import TimeRow, level_figures, time_figure
 

@@ -20,8 +20,7 @@ import contactvib._kernels
 from contactvib import ContactModel, find_attractors
 from contactvib._kernels import _kernel_cache_dir
 from contactvib._kernels.shooting import newton_orbit
-from contactvib._kernels.status import (STATUS_NEWTON_DIVERGED, STATUS_NEWTON_MAXITER,
-                                        STATUS_NEWTON_SINGULAR)
+from contactvib._kernels.status import STATUS_NEWTON_DIVERGED, STATUS_NEWTON_MAXITER, STATUS_NEWTON_SINGULAR
 from contactvib._kernels.trace import bridge_orbit
 from contactvib.model import ParameterError
 

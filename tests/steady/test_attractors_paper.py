@@ -5,7 +5,7 @@ the independent scipy reference (``tests/data/reference.json``, ``tests/data/mak
 Minima are counted per orbit period (k excitation periods); A_pp = y_max − y_min over the orbit.
 """
 import json
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +17,7 @@ MODEL = ContactModel()
 REFERENCE = json.loads((Path(__file__).parents[1] / "data" / "reference.json").read_text())
 
 
-@lru_cache(maxsize=None)
+@cache
 def attractors(pa_over_q, f_e):
     return find_attractors(MODEL, MODEL.excitation(pa_over_q, f_e))
 

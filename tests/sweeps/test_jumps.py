@@ -18,8 +18,7 @@ import re
 
 import pytest
 
-from contactvib import ContactModel
-from contactvib import ContinuationSettings, continue_orbit
+from contactvib import ContactModel, ContinuationSettings, continue_orbit
 from contactvib.sweeps.sweep import SweepSettings, trace_level
 
 MODEL = ContactModel()

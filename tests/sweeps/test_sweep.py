@@ -16,10 +16,10 @@ import pytest
 import xarray as xr
 
 from contactvib.cli import main
-from contactvib.sweeps.dataset import attractors_at
-from contactvib.sweeps.labels import dominant_ratio, resonance_label
 from contactvib.model import ContactModel, ParameterError
+from contactvib.sweeps.dataset import attractors_at
 from contactvib.sweeps.facts import coexisting_resonances, resonance_facts
+from contactvib.sweeps.labels import dominant_ratio, resonance_label
 from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid, multistart_indices, trace_level
 

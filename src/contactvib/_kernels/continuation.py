@@ -8,9 +8,9 @@ amplitude ``p = P_a/Q``). Equations::
 
 (the pseudo-arclength equation, predictor, corrector and step control are those of the one
 engine, :mod:`contactvib.continuation.engine`). The Jacobian of ``G`` is ``[M − I | ∂P^k/∂q]``:
-the monodromy ``M`` from the variational equations (:func:`.shooting.strobe_map`, saltation at the contact events) and the
-parameter column by central differences of the map. The excitation period ``T = 2π/r`` depends on
-``r``; the finite difference of the whole map ``P(z; r) = φ(2π/r; z, r)`` includes that.
+the monodromy ``M`` from the variational equations (:func:`.shooting.strobe_map`, saltation at
+the contact events) and the parameter column by central differences of the map. The excitation
+period ``T = 2π/r`` depends on ``r``; the finite difference of the whole map ``P(z; r) = φ(2π/r; z, r)`` includes that.
 
 The null vector of the 2×3 Jacobian (the branch tangent) has the ``q``-component
 ``det(M − I)`` (up to a factor): it changes sign at a fold.

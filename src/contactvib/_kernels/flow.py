@@ -32,8 +32,14 @@ from numba import njit
 
 from . import _dop853_coefficients as _co
 from .contact import force, force_partials
-from .status import (STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK, STATUS_RECORD_FULL,  # noqa: F401
-                     STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS)
+from .status import (  # noqa: F401
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_RECORD_FULL,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_TOO_MANY_EVENTS,
+)
 
 A = np.ascontiguousarray(_co.A)
 B = np.ascontiguousarray(_co.B)

@@ -18,9 +18,20 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_WIDTH, REC_X, advance, dense_root, dense_value, initial_mode
-from .status import STATUS_OK, STATUS_RECORD_FULL
+from .flow import (
+    REC_F,
+    REC_H,
+    REC_MODE,
+    REC_T,
+    REC_WIDTH,
+    REC_X,
+    advance,
+    dense_root,
+    dense_value,
+    initial_mode,
+)
 from .shooting import MAX_STEPS_PER_PERIOD
+from .status import STATUS_OK, STATUS_RECORD_FULL
 
 _N_SUB = 8  # sub-intervals per step searched for sign changes of x'
 

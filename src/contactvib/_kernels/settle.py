@@ -22,12 +22,16 @@ import numpy as np
 from numba import njit, prange
 
 from .flow import initial_mode
-from .shooting import (MAX_STEPS_PER_PERIOD, STABILITY_TOL, floquet_abs_max, newton_orbit,
-                       state_scale, strobe_map)
+from .shooting import (
+    MAX_STEPS_PER_PERIOD,
+    STABILITY_TOL,
+    floquet_abs_max,
+    newton_orbit,
+    state_scale,
+    strobe_map,
+)
 from .status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, STATUS_OK
 from .taylor import advance_state
-
-
 
 
 @njit(cache=True)

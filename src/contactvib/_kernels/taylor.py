@@ -40,8 +40,13 @@ from numba import njit
 
 from .contact import series_contact
 from .flow import REC_WIDTH, _crosses, advance, illinois_trial, illinois_update
-from .status import (STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL,
-                     STATUS_TOO_MANY_EVENTS)
+from .status import (
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_TOO_MANY_EVENTS,
+)
 
 SAFETY = 0.8
 N_SUB = 8  # sub-intervals of a step searched for a crossing of x = 0

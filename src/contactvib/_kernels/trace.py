@@ -42,11 +42,19 @@ from numba import njit
 
 from .describe import NP_LYAPUNOV, NP_RECORD, describe_point, floquet_pair, lyapunov_strobe
 from .settle import _refine, settle
-from .shooting import (STABILITY_TOL, floquet_abs_max, newton_orbit, newton_step, state_scale,
-                       strobe_map)
-from .status import (ORIGIN_JUMP, ORIGIN_NEWTON, ORIGIN_START, SETTLE_NONPERIODIC,
-                     SETTLE_PERIODIC, STATUS_OK, STOP_FAILED, STOP_GRID_END, STOP_KNOWN,
-                     STOP_TABLE_FULL)
+from .shooting import STABILITY_TOL, floquet_abs_max, newton_orbit, newton_step, state_scale, strobe_map
+from .status import (
+    ORIGIN_JUMP,
+    ORIGIN_NEWTON,
+    ORIGIN_START,
+    SETTLE_NONPERIODIC,
+    SETTLE_PERIODIC,
+    STATUS_OK,
+    STOP_FAILED,
+    STOP_GRID_END,
+    STOP_KNOWN,
+    STOP_TABLE_FULL,
+)
 from .table import KIND_NONPERIODIC, KIND_PERIODIC, add_known, find_known
 
 #: Transient limit when a non-periodic attractor is followed to the next frequency (the carried

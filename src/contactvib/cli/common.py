@@ -13,9 +13,19 @@ from __future__ import annotations
 
 import click
 
-from contactvib.model import (KMAX_SEARCH_MAX, PAPER_DEFAULTS, PARAMETER_UNITS, ContactModel,
-                              Excitation, ParameterError, check_finite, check_frequency_range,
-                              check_int, check_pa_level, check_range)
+from contactvib.model import (
+    KMAX_SEARCH_MAX,
+    PAPER_DEFAULTS,
+    PARAMETER_UNITS,
+    ContactModel,
+    Excitation,
+    ParameterError,
+    check_finite,
+    check_frequency_range,
+    check_int,
+    check_pa_level,
+    check_range,
+)
 from contactvib.model.checks import format_number
 
 
@@ -130,7 +140,8 @@ def _search_options(f):
     f = click.option("--no-seeds", is_flag=True, help="Skip the ballistic seeds (box starts only).")(f)
     f = click.option("--max-periods", default="400", show_default=True,
                      help="Transient limit per start [excitation periods].")(f)
-    f = click.option("--kmax", default="8", show_default=True, help=f"Largest period searched (1..{KMAX_SEARCH_MAX}).")(f)
+    f = click.option("--kmax", default="8", show_default=True,
+                     help=f"Largest period searched (1..{KMAX_SEARCH_MAX}).")(f)
     f = click.option("--seed", default="0", show_default=True, help="Random seed of the start box.")(f)
     f = click.option("--starts", default="512", show_default=True, help="Random starts in the box.")(f)
     return f

@@ -11,8 +11,17 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import (InputError, _checked, _frequency_range, _int, _mapped, _model,
-                                   _number, _pa_level, _positive)
+from contactvib.cli.common import (
+    InputError,
+    _checked,
+    _frequency_range,
+    _int,
+    _mapped,
+    _model,
+    _number,
+    _pa_level,
+    _positive,
+)
 from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, check_range
 
 __all__ = []
@@ -175,8 +184,8 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     if not by_pa:
         _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
-    from contactvib.steady.attractors import find_attractors
     from contactvib.continuation.diagram import continue_attractors
+    from contactvib.steady.attractors import find_attractors
 
     found = find_attractors(model, model.excitation(p, fe))
     if n is not None and n >= len(found):

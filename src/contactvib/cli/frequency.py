@@ -7,8 +7,15 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import (_checked, _excitation, _frequency_range, _int, _model,
-                                   _operating_point_options, _positive)
+from contactvib.cli.common import (
+    _checked,
+    _excitation,
+    _frequency_range,
+    _int,
+    _model,
+    _operating_point_options,
+    _positive,
+)
 from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range
 
 _CONV_ORDERS_MAX = 80
@@ -28,8 +35,12 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     """Perturbation series of the steady state, its validity, and a comparison with the numerics."""
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
-    from contactvib.frequency.perturbation import (MAX_ORDER, convergence_table, perturbation_series,
-                                                   steady_counterpart)
+    from contactvib.frequency.perturbation import (
+        MAX_ORDER,
+        convergence_table,
+        perturbation_series,
+        steady_counterpart,
+    )
 
     n = _int("--order", order, 1, MAX_ORDER)
 

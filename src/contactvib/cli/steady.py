@@ -6,8 +6,15 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import (_excitation, _int, _mapped, _model, _number,
-                                   _operating_point_options, _search_options)
+from contactvib.cli.common import (
+    _excitation,
+    _int,
+    _mapped,
+    _model,
+    _number,
+    _operating_point_options,
+    _search_options,
+)
 
 #: Options of the attractor search, by find_attractors' parameter names.
 _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
@@ -69,7 +76,8 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
         yd = _number("--from-state", "ydot", from_state[1])
         n = _int("--periods", periods, 1, symbol="n_periods")
     from contactvib.plotting.figures import attractor_figure, history_figure, save_figure
-    from contactvib.steady.simulate import attractor_history, simulate as run
+    from contactvib.steady.simulate import attractor_history
+    from contactvib.steady.simulate import simulate as run
 
     out.mkdir(parents=True, exist_ok=True)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"

@@ -11,8 +11,16 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import (InputError, _frequency_range, _int, _mapped, _model, _number,
-                                   _pa_level, _positive)
+from contactvib.cli.common import (
+    InputError,
+    _frequency_range,
+    _int,
+    _mapped,
+    _model,
+    _number,
+    _pa_level,
+    _positive,
+)
 from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX
 
 __all__: list = []

@@ -165,11 +165,14 @@ class Branch:
                                {"units": "1", "long_name": "Floquet multipliers, real part"}),
                 "floquet_im": (("point", "multiplier"), mu.imag,
                                {"units": "1", "long_name": "Floquet multipliers, imaginary part"}),
-                "stable": ("point", self.stable.astype(np.int8), {"units": "1", "long_name": "stable (1) / unstable (0)"}),
+                "stable": ("point", self.stable.astype(np.int8),
+                           {"units": "1", "long_name": "stable (1) / unstable (0)"}),
                 "state_x": ("point", self.state[:, 0], {"units": "y0", "long_name": "orbit point y/y0 at phase 0"}),
-                "state_xdot": ("point", self.state[:, 1], {"units": "y0 omega_n0", "long_name": "orbit point dy/dt/(y0 omega_n0) at phase 0"}),
+                "state_xdot": ("point", self.state[:, 1], {"units": "y0 omega_n0",
+                                                           "long_name": "orbit point dy/dt/(y0 omega_n0) at phase 0"}),
                 "contact_loss_fraction": ("point", self.contact_loss_fraction, {"units": "1"}),
-                "minima_per_period": ("point", self.minima_per_period.astype(np.int32), {"units": "1", "long_name": "minima of y per period-k orbit"}),
+                "minima_per_period": ("point", self.minima_per_period.astype(np.int32),
+                                      {"units": "1", "long_name": "minima of y per period-k orbit"}),
                 "arclength": ("point", self.arclength, {"units": "1", "long_name": "scaled pseudo-arclength"}),
             },
             coords={"point": np.arange(len(self)), "multiplier": [0, 1]},
@@ -186,7 +189,7 @@ class Branch:
         self.to_xarray().to_netcdf(path)
 
     @classmethod
-    def from_xarray(cls, ds) -> "Branch":
+    def from_xarray(cls, ds) -> Branch:
         """The branch of a :meth:`to_xarray` dataset; the names written before the one naming
         scheme (fe, pa, app, ymin, ymax, mu_re/mu_im, x/xdot, minima) are read too. Special points
         come back without multipliers and state (the file keeps their JSON entries only)."""
@@ -217,7 +220,7 @@ class Branch:
                    settings=json.loads(attrs.get("settings", "{}")))
 
     @classmethod
-    def from_netcdf(cls, path) -> "Branch":
+    def from_netcdf(cls, path) -> Branch:
         """Read a branch file written by :meth:`to_netcdf` (new or old variable names)."""
         import xarray as xr
 

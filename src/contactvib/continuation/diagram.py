@@ -14,10 +14,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib.continuation.branch import Branch, BranchSet
+from contactvib.continuation.shooting import (
+    ContinuationError,
+    ContinuationSettings,
+    continue_orbit,
+    switch_period_doubling,
+)
 from contactvib.model import ContactModel, ParameterError, check_range
 from contactvib.steady.orbits import OrbitError, refine_orbit, same_orbit, strobe_points
-from contactvib.continuation.branch import Branch, BranchSet
-from contactvib.continuation.shooting import ContinuationError, ContinuationSettings, continue_orbit, switch_period_doubling
 
 __all__ = ["continue_attractors", "bifurcation_diagram", "on_branch", "DEFAULT_SEED_FE"]
 

@@ -42,8 +42,13 @@ from typing import Any, Protocol
 import numpy as np
 
 from contactvib._kernels.continuation import bordered_newton_step, null_vector
-from contactvib._kernels.status import (STATUS_DIVERGED, STATUS_MAXITER, STATUS_OK, STATUS_SINGULAR,
-                                        STATUS_TANGENT_TURNED)
+from contactvib._kernels.status import (
+    STATUS_DIVERGED,
+    STATUS_MAXITER,
+    STATUS_OK,
+    STATUS_SINGULAR,
+    STATUS_TANGENT_TURNED,
+)
 from contactvib.continuation.bifurcations import locate_zero
 
 __all__ = ["Problem", "Point", "Event", "EngineStop", "CorrectorSettings", "StepControl",
@@ -91,13 +96,13 @@ class Problem(Protocol):
     def measure(self, u: np.ndarray, J: np.ndarray, data: Any, residual: float) -> Any:
         """Measurements of a converged point (returned as ``Point.record``), None on failure."""
 
-    def tests(self, point: "Point") -> dict:
+    def tests(self, point: Point) -> dict:
         """Values of the test functions at a measured point (NaN: not defined there)."""
 
-    def check(self, point: "Point") -> str | None:
+    def check(self, point: Point) -> str | None:
         """A problem-specific stop at an accepted point (its reason), or None."""
 
-    def check_step(self, a: "Point", b: "Point") -> str | None:
+    def check_step(self, a: Point, b: Point) -> str | None:
         """A stop that rejects the new point ``b`` (reason), or None."""
 
 

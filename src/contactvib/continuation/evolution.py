@@ -26,13 +26,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib._kernels.continuation import orbit_range, residual_jacobian
-from contactvib._kernels.status import STATUS_OK
 from contactvib._kernels.shooting import strobe_map
-from contactvib.model import EVOLUTION_ORDER_MAX, ContactModel, ParameterError, check_int, check_range
+from contactvib._kernels.status import STATUS_OK
 from contactvib.continuation.bifurcations import fold_test, pd_test
-from contactvib.continuation.engine import (Bound, CorrectorSettings, Point, StepControl,
-                                            continue_branch, correct)
+from contactvib.continuation.engine import (
+    Bound,
+    CorrectorSettings,
+    Point,
+    StepControl,
+    continue_branch,
+    correct,
+)
 from contactvib.continuation.shooting import ContinuationSettings
+from contactvib.model import EVOLUTION_ORDER_MAX, ContactModel, ParameterError, check_int, check_range
 
 __all__ = ["evolution", "EvolutionResult", "Curve", "continue_codim1", "Codim1Problem"]
 

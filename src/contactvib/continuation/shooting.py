@@ -33,15 +33,20 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from contactvib._kernels.continuation import orbit_range, residual_jacobian
-from contactvib._kernels.shooting import is_stable
+from contactvib._kernels.shooting import is_stable, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
-from contactvib._kernels.shooting import strobe_map
-from contactvib.model import (SHOOTING_RTOL_RANGE, ContactModel, Excitation, ParameterError,
-                              check_range)
 from contactvib.continuation.bifurcations import fold_test, ns_test, pd_test
 from contactvib.continuation.branch import Branch, SpecialPoint, Stop
-from contactvib.continuation.engine import (Bound, CorrectorSettings, EngineStop, Point, StepControl,
-                                            continue_branch, correct)
+from contactvib.continuation.engine import (
+    Bound,
+    CorrectorSettings,
+    EngineStop,
+    Point,
+    StepControl,
+    continue_branch,
+    correct,
+)
+from contactvib.model import SHOOTING_RTOL_RANGE, ContactModel, Excitation, ParameterError, check_range
 
 __all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "ContinuationError",
            "OrbitProblem", "OrbitRecord"]

@@ -46,8 +46,7 @@ from contactvib._kernels.shooting import is_stable
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
 from contactvib.frequency.aft import AFT as _AFT
 from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, _eval, _extrema, _top_fraction
-from contactvib.model import (HARMONICS_MAX, ContactModel, Excitation, ParameterError, check_int,
-                              check_range)
+from contactvib.model import HARMONICS_MAX, ContactModel, Excitation, ParameterError, check_int, check_range
 from contactvib.model.contact_law import PowerLaw
 
 __all__ = ["HBSettings", "HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
@@ -97,8 +96,8 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
     mult = np.empty(0, complex)
     closure = math.nan
     if stability:
-        from contactvib._kernels.status import STATUS_OK
         from contactvib._kernels.shooting import state_scale, strobe_map
+        from contactvib._kernels.status import STATUS_OK
 
         r = fe / model.f_n0
         z = np.array([_eval(X, 0.0)[0], r * _eval(X, 0.0, 1)[0]])

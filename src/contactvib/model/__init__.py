@@ -5,14 +5,26 @@ No kernels run here, except that :class:`PowerLaw` evaluates the compiled contac
 (``contactvib._kernels.contact``, imported on first use).
 """
 
-from contactvib.model.checks import (CAPTURE_TOL_MAX, EVOLUTION_ORDER_MAX, HARMONICS_MAX,
-                                     KMAX_SEARCH_MAX, KMAX_SWEEP_MAX, MULTISTART_PER_OCTAVE_MAX,
-                                     PA_NOTE, SHOOTING_RTOL_RANGE, ParameterError, check_choice,
-                                     check_finite, check_frequency_range, check_int,
-                                     check_pa_level, check_range, WORKERS_MAX)
+from contactvib.model.checks import (
+                                     CAPTURE_TOL_MAX,
+                                     EVOLUTION_ORDER_MAX,
+                                     HARMONICS_MAX,
+                                     KMAX_SEARCH_MAX,
+                                     KMAX_SWEEP_MAX,
+                                     MULTISTART_PER_OCTAVE_MAX,
+                                     PA_NOTE,
+                                     SHOOTING_RTOL_RANGE,
+                                     WORKERS_MAX,
+                                     ParameterError,
+                                     check_choice,
+                                     check_finite,
+                                     check_frequency_range,
+                                     check_int,
+                                     check_pa_level,
+                                     check_range,
+)
 from contactvib.model.contact_law import PowerLaw
-from contactvib.model.oscillator import (PAPER_DEFAULTS, PARAMETER_UNITS, ZETA_MAX, ContactModel,
-                                         Excitation)
+from contactvib.model.oscillator import PAPER_DEFAULTS, PARAMETER_UNITS, ZETA_MAX, ContactModel, Excitation
 from contactvib.model.units import Units
 
 __all__ = ["ContactModel", "Excitation", "ParameterError", "PowerLaw", "PAPER_DEFAULTS", "PARAMETER_UNITS",

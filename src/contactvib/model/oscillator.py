@@ -122,7 +122,7 @@ class ContactModel:
 
     # ----------------------------------------------------------------- construction
     @classmethod
-    def from_overrides(cls, overrides: dict[str, float] | None = None) -> "ContactModel":
+    def from_overrides(cls, overrides: dict[str, float] | None = None) -> ContactModel:
         """Paper defaults with some parameters replaced; unknown names raise ParameterError."""
         overrides = dict(overrides or {})
         for name in overrides:
@@ -132,7 +132,7 @@ class ContactModel:
                 )
         return cls(**overrides)
 
-    def replace(self, **changes) -> "ContactModel":
+    def replace(self, **changes) -> ContactModel:
         """A copy with some parameters changed (validated again)."""
         return replace(self, **changes)
 
@@ -211,7 +211,7 @@ class ContactModel:
         return self.spring_force(y) + self.Q
 
     # ----------------------------------------------------------------- kernel interface
-    def excitation(self, pa_over_q: float, f_e: float) -> "Excitation":
+    def excitation(self, pa_over_q: float, f_e: float) -> Excitation:
         """A validated excitation P_a = ``pa_over_q`` Q at ``f_e`` Hz for this model."""
         return Excitation(self, pa_over_q, f_e)
 
@@ -240,7 +240,7 @@ class Excitation:
         object.__setattr__(self, "f_e", check_range("f_e", self.f_e, 0.0, False, "Hz"))
 
     @classmethod
-    def from_newtons(cls, model: ContactModel, P_a: float, f_e: float) -> "Excitation":
+    def from_newtons(cls, model: ContactModel, P_a: float, f_e: float) -> Excitation:
         """Excitation from an amplitude P_a in newtons."""
         P_a = check_range("P_a", P_a, 0.0, True, "N")
         return cls(model, P_a / model.Q, f_e)

@@ -36,7 +36,7 @@ class Units:
     t_ms: float
 
     @classmethod
-    def of(cls, y0: float, omega_n0: float) -> "Units":
+    def of(cls, y0: float, omega_n0: float) -> Units:
         """The factors for static deflection ``y0`` [m] and natural frequency ``omega_n0`` [rad/s]."""
         return cls(y_um=y0 * 1e6, ydot_mm_s=y0 * omega_n0 * 1e3, t_ms=1e3 / omega_n0)
 

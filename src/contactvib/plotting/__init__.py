@@ -2,8 +2,13 @@
 ``ax=None``)."""
 
 from contactvib.plotting.branches import plot_branches, plot_evolution
-from contactvib.plotting.figures import (attractor_figure, extrema_diagram, plot_phase_portrait,
-                                         plot_time_history, resonance_graph)
+from contactvib.plotting.figures import (
+                                         attractor_figure,
+                                         extrema_diagram,
+                                         plot_phase_portrait,
+                                         plot_time_history,
+                                         resonance_graph,
+)
 from contactvib.plotting.frequency import overlay_figure, plot_branch, plot_convergence
 
 __all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph",

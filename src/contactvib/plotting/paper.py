@@ -5,8 +5,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from contactvib.plotting.figures import (extrema_diagram, new_figure, plot_phase_portrait,
-                                         plot_time_history, resonance_graph)
+from contactvib.plotting.figures import (
+    extrema_diagram,
+    new_figure,
+    plot_phase_portrait,
+    plot_time_history,
+    resonance_graph,
+)
 
 __all__ = ["level_figures", "TimeRow", "time_figure"]
 

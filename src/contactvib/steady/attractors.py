@@ -29,10 +29,17 @@ import numpy as np
 
 from contactvib._kernels.settle import settle_capture_many
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
-from contactvib.model import (CAPTURE_TOL_MAX, KMAX_SEARCH_MAX, ContactModel, Excitation,
-                              ParameterError, check_int, check_range)
-from contactvib.steady.results import AttractorSet
+from contactvib.model import (
+    CAPTURE_TOL_MAX,
+    KMAX_SEARCH_MAX,
+    ContactModel,
+    Excitation,
+    ParameterError,
+    check_int,
+    check_range,
+)
 from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
+from contactvib.steady.results import AttractorSet
 
 __all__ = ["find_attractors", "start_box", "ballistic_seeds"]
 

@@ -6,8 +6,8 @@ import numpy as np
 
 from contactvib._kernels.orbit import sample_records
 from contactvib.model import ContactModel, Excitation, check_finite, check_int
-from contactvib.steady.results import Attractor, TimeHistory
 from contactvib.steady.orbits import record
+from contactvib.steady.results import Attractor, TimeHistory
 
 __all__ = ["simulate", "attractor_history"]
 

@@ -36,8 +36,7 @@ import math
 
 import numpy as np
 
-from contactvib._kernels.status import (STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL,
-                                        status_message)
+from contactvib._kernels.status import STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL, status_message
 from contactvib.model import ContactModel
 from contactvib.sweeps.labels import attractor_type, level_labels
 
@@ -183,8 +182,10 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "ymin_um": ("point", rows.xmin * u.y_um, {"units": "um"}),
         "ymax_um": ("point", rows.xmax * u.y_um, {"units": "um"}),
         "loses_contact": ("point", loses.astype(np.int8), {"units": "1", "comment": "1 where y < 0 on the orbit"}),
-        "contact_loss_fraction": ("point", rows.flight, {"units": "1", "long_name": "fraction of the period with y < 0"}),
-        "basin_fraction": ("point", level.basin, {"units": "1", "comment": "share of the multi-start box; NaN where not measured"}),
+        "contact_loss_fraction": ("point", rows.flight,
+                                  {"units": "1", "long_name": "fraction of the period with y < 0"}),
+        "basin_fraction": ("point", level.basin,
+                           {"units": "1", "comment": "share of the multi-start box; NaN where not measured"}),
         "floquet_re": (("point", "multiplier"), rows.mu_re, {"units": "1"}),
         "floquet_im": (("point", "multiplier"), rows.mu_im, {"units": "1"}),
         "floquet_abs_max": ("point", np.hypot(rows.mu_re, rows.mu_im).max(axis=1), {"units": "1"}),
@@ -203,7 +204,8 @@ def level_dataset(model: ContactModel, level, settings: dict):
                                                     "sweep / perturbation seed / multi-start"}),
         "state_y_um": ("point", rows.z[:, 0] * u.y_um, {"units": "um"}),
         "state_ydot_mm_s": ("point", rows.z[:, 1] * u.ydot_mm_s, {"units": "mm/s"}),
-        "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um, {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
+        "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um,
+                         {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
     }
     return xr.Dataset(
         {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},

@@ -59,7 +59,8 @@ def _level_text(ds, pa: float, m_max: int = 6) -> list:
         elif f.bent:
             bits.append("bent (peak below 0.9 f_n0/m)")
         if f.period_doubled:
-            bits.append("period " + ", ".join(f"{k} at {a:g}–{b:g} Hz" for k, (a, b) in sorted(f.period_doubled.items())))
+            cascade = sorted(f.period_doubled.items())
+            bits.append("period " + ", ".join(f"{k} at {a:g}–{b:g} Hz" for k, (a, b) in cascade))
         if f.nonperiodic_fe_hz:
             bits.append(f"non-periodic at {_fmt_iv(intervals(np.array(f.nonperiodic_fe_hz), gap))}")
         if len(f.parts_hz) > 1:

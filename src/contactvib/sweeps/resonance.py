@@ -120,8 +120,8 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
                 bar.update(1)
                 bar.set_postfix_str(f"P_a = {pa:g} Q done")
         else:
-            from concurrent.futures import ProcessPoolExecutor, as_completed
             import multiprocessing as mp
+            from concurrent.futures import ProcessPoolExecutor, as_completed
 
             ctx = mp.get_context("spawn")
             with ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx,

@@ -37,8 +37,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from contactvib.model import (KMAX_SWEEP_MAX, MULTISTART_PER_OCTAVE_MAX, ContactModel, ParameterError,
-                              check_frequency_range, check_int, check_range)
+from contactvib.model import (
+    KMAX_SWEEP_MAX,
+    MULTISTART_PER_OCTAVE_MAX,
+    ContactModel,
+    ParameterError,
+    check_frequency_range,
+    check_int,
+    check_range,
+)
 
 if TYPE_CHECKING:
     from contactvib._kernels.describe import TraceRows
@@ -301,8 +308,8 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     The series (order 24, Padé-summed, :mod:`contactvib.perturbation`) is the small-amplitude
     solution continued to this frequency; used only as a Newton start, valid or not.
     """
-    from contactvib.frequency.perturbation import perturbation_series
     from contactvib._kernels.settle import _refine
+    from contactvib.frequency.perturbation import perturbation_series
 
     try:
         z = np.asarray(perturbation_series(model, exc, order=24).state, float)
@@ -319,9 +326,9 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
 def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) -> list:
     """Perturbation seed and multi-start at grid index ``i``: trace every new attractor up and
     down; returns the basin observations [(row, fraction of the box starts)]."""
-    from contactvib.steady.attractors import ballistic_seeds, start_box
     from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
     from contactvib._kernels.table import settle_known_many
+    from contactvib.steady.attractors import ballistic_seeds, start_box
 
     st = lv.st
     exc = model.excitation(pa_over_q, lv.f[i])
