@@ -119,6 +119,18 @@ def _gauss(A, y, out):
 
 
 @njit(cache=True)
+def residual_jacobian_step(u, k, par, ip, rtol, bord, u_prev, ds, w, out_G, out_J, out_M, out_u):
+    """:func:`residual_jacobian` at ``u`` and the bordered Newton step from it
+    (:func:`bordered_newton_step`) in one call: the corrector's iteration for shooting problems
+    without two crossings of the Python–numba boundary. Returns ``(status, N, step)``."""
+    st = residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M)
+    if st != STATUS_OK:
+        return st, 0.0, math.nan
+    cons, step = bordered_newton_step(out_J, out_G, bord, u, u_prev, ds, w, out_u)
+    return st, cons, step
+
+
+@njit(cache=True)
 def bordered_newton_step(J, F, bord, u, u_prev, ds, w, out_u):
     """Newton step of a pseudo-arclength corrector (small dense systems, any size n)::
 

@@ -84,6 +84,11 @@ class Problem(Protocol):
         """``(status, F (n,), F_u (n, n+1), data)``; ``status`` 0 when evaluated, ``data`` any
         by-product kept with the point (e.g. the monodromy)."""
 
+    # Optional fast path for small problems with a compiled residual:
+    # ``residual_jacobian_step(u, bord, u_prev, ds, w, u_new) -> (status, F, F_u, data, N, step)``
+    # evaluates the residual and Jacobian and takes the bordered Newton step into ``u_new`` in one
+    # compiled call (same arithmetic as :func:`_kernels.continuation.bordered_newton_step`).
+
     def residual_norm(self, u: np.ndarray, F: np.ndarray) -> float:
         """Norm of F compared with :attr:`CorrectorSettings.tol`."""
 
@@ -233,12 +238,19 @@ def correct(problem: Problem, u_pred, u_prev, tau, w, ds, cs: CorrectorSettings)
     u = np.array(u_pred, float)
     bord = tau * w
     small = u.size <= SMALL
+    fused = small and hasattr(problem, "residual_jacobian_step")
     for it in range(cs.max_iter + 1):
-        st, F, J, data = problem.residual_jacobian(u)
+        if fused:  # residual, Jacobian and the bordered step in one compiled call
+            u_new = np.empty(u.size)
+            st, F, J, data, cons, step = problem.residual_jacobian_step(u, bord, u_prev, ds, w, u_new)
+        else:
+            st, F, J, data = problem.residual_jacobian(u)
         if st != STATUS_OK:
             return st, None
         res = problem.residual_norm(u, F)
-        if small:  # N and the Newton step in one compiled call (the step unused if converged)
+        if fused:
+            pass
+        elif small:  # N and the Newton step in one compiled call (the step unused if converged)
             u_new = np.empty(u.size)
             cons, step = bordered_newton_step(J, F, bord, u, u_prev, ds, w, u_new)
         else:

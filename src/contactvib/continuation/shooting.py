@@ -32,7 +32,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from contactvib._kernels.continuation import orbit_range, residual_jacobian
+from contactvib._kernels.continuation import orbit_range, residual_jacobian, residual_jacobian_step
 from contactvib._kernels.shooting import is_stable, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib.continuation.bifurcations import fold_test, ns_test, pd_test
@@ -201,6 +201,14 @@ class OrbitProblem:
         G, J, M = np.empty(2), np.empty((2, 3)), np.empty((2, 2))
         st = residual_jacobian(u, self.k, self.par, self.ip, self.s.rtol, G, J, M)
         return st, G, J, M
+
+    def residual_jacobian_step(self, u, bord, u_prev, ds, w, u_new):
+        """:meth:`residual_jacobian` and the engine's bordered Newton step in one compiled call
+        (the optional fast path of the engine's problem protocol)."""
+        G, J, M = np.empty(2), np.empty((2, 3)), np.empty((2, 2))
+        st, cons, step = residual_jacobian_step(u, self.k, self.par, self.ip, self.s.rtol, bord, u_prev,
+                                                ds, w, G, J, M, u_new)
+        return st, G, J, M, cons, step
 
     def residual_norm(self, u, G):
         return max(abs(G[0]), abs(G[1])) / max(1.0, abs(u[0]), abs(u[1]))
