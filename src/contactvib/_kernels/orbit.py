@@ -240,6 +240,3 @@ def sample_records(rec, times):
         vs[j] = dense_value(F, y, th, 1)
         cs[j] = rec[i, REC_MODE] > 0.5
     return xs, vs, cs
-
-
-RECORD_FULL = STATUS_RECORD_FULL
