@@ -119,15 +119,23 @@ def _gauss(A, y, out):
 
 
 @njit(cache=True)
-def residual_jacobian_step(u, k, par, ip, rtol, bord, u_prev, ds, w, out_G, out_J, out_M, out_u):
-    """:func:`residual_jacobian` at ``u`` and the bordered Newton step from it
-    (:func:`bordered_newton_step`) in one call: the corrector's iteration for shooting problems
-    without two crossings of the Python–numba boundary. Returns ``(status, N, step)``."""
-    st = residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M)
+def residual_jacobian_step(u, k, par, ip, rtol, bord, u_prev, ds, w):
+    """:func:`residual_jacobian` at ``u``, its relative residual ``max|G| / max(1, |x|, |x'|)``
+    and the bordered Newton step from it (:func:`bordered_newton_step`) in one call: one
+    crossing of the Python–numba boundary per corrector iteration of a shooting problem.
+
+    Returns ``(status, residual, N, step, G, J, M, u_new)``.
+    """
+    G = np.empty(2)
+    J = np.empty((2, 3))
+    M = np.empty((2, 2))
+    u_new = np.empty(3)
+    st = residual_jacobian(u, k, par, ip, rtol, G, J, M)
     if st != STATUS_OK:
-        return st, 0.0, math.nan
-    cons, step = bordered_newton_step(out_J, out_G, bord, u, u_prev, ds, w, out_u)
-    return st, cons, step
+        return st, math.inf, 0.0, math.nan, G, J, M, u_new
+    res = max(abs(G[0]), abs(G[1])) / max(1.0, abs(u[0]), abs(u[1]))
+    cons, step = bordered_newton_step(J, G, bord, u, u_prev, ds, w, u_new)
+    return st, res, cons, step, G, J, M, u_new
 
 
 @njit(cache=True)

@@ -85,9 +85,10 @@ class Problem(Protocol):
         by-product kept with the point (e.g. the monodromy)."""
 
     # Optional fast path for small problems with a compiled residual:
-    # ``residual_jacobian_step(u, bord, u_prev, ds, w, u_new) -> (status, F, F_u, data, N, step)``
-    # evaluates the residual and Jacobian and takes the bordered Newton step into ``u_new`` in one
-    # compiled call (same arithmetic as :func:`_kernels.continuation.bordered_newton_step`).
+    # ``residual_jacobian_step(u, bord, u_prev, ds, w) -> (status, F, F_u, data, res, N, step, u_new)``
+    # evaluates the residual, its norm (as :meth:`residual_norm`) and the Jacobian and takes the
+    # bordered Newton step in one compiled call (the arithmetic of
+    # :func:`_kernels.continuation.bordered_newton_step`).
 
     def residual_norm(self, u: np.ndarray, F: np.ndarray) -> float:
         """Norm of F compared with :attr:`CorrectorSettings.tol`."""
@@ -240,14 +241,14 @@ def correct(problem: Problem, u_pred, u_prev, tau, w, ds, cs: CorrectorSettings)
     small = u.size <= SMALL
     fused = small and hasattr(problem, "residual_jacobian_step")
     for it in range(cs.max_iter + 1):
-        if fused:  # residual, Jacobian and the bordered step in one compiled call
-            u_new = np.empty(u.size)
-            st, F, J, data, cons, step = problem.residual_jacobian_step(u, bord, u_prev, ds, w, u_new)
+        if fused:  # residual, its norm, Jacobian and the bordered step in one compiled call
+            st, F, J, data, res, cons, step, u_new = problem.residual_jacobian_step(u, bord, u_prev, ds, w)
         else:
             st, F, J, data = problem.residual_jacobian(u)
         if st != STATUS_OK:
             return st, None
-        res = problem.residual_norm(u, F)
+        if not fused:
+            res = problem.residual_norm(u, F)
         if fused:
             pass
         elif small:  # N and the Newton step in one compiled call (the step unused if converged)

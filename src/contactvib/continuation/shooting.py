@@ -202,13 +202,12 @@ class OrbitProblem:
         st = residual_jacobian(u, self.k, self.par, self.ip, self.s.rtol, G, J, M)
         return st, G, J, M
 
-    def residual_jacobian_step(self, u, bord, u_prev, ds, w, u_new):
-        """:meth:`residual_jacobian` and the engine's bordered Newton step in one compiled call
-        (the optional fast path of the engine's problem protocol)."""
-        G, J, M = np.empty(2), np.empty((2, 3)), np.empty((2, 2))
-        st, cons, step = residual_jacobian_step(u, self.k, self.par, self.ip, self.s.rtol, bord, u_prev,
-                                                ds, w, G, J, M, u_new)
-        return st, G, J, M, cons, step
+    def residual_jacobian_step(self, u, bord, u_prev, ds, w):
+        """:meth:`residual_jacobian`, :meth:`residual_norm` and the engine's bordered Newton step
+        in one compiled call (the optional fast path of the engine's problem protocol)."""
+        st, res, cons, step, G, J, M, u_new = residual_jacobian_step(
+            u, self.k, self.par, self.ip, self.s.rtol, bord, u_prev, ds, w)
+        return st, G, J, M, res, cons, step, u_new
 
     def residual_norm(self, u, G):
         return max(abs(G[0]), abs(G[1])) / max(1.0, abs(u[0]), abs(u[1]))
