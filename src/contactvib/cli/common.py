@@ -11,6 +11,9 @@ naming the option of each symbol (``_mapped``); never by comparing numbers here.
 
 from __future__ import annotations
 
+import json
+import math
+
 import click
 
 from contactvib.model import (
@@ -26,7 +29,7 @@ from contactvib.model import (
     check_pa_level,
     check_range,
 )
-from contactvib.model.checks import format_number
+from contactvib.model.checks import _to_float, format_number
 
 
 class InputError(Exception):
@@ -58,8 +61,8 @@ def _mapped(options: dict[str, str], call, *args, **kwargs):
 
 def _show(value) -> str:
     try:
-        return format_number(float(value))
-    except (TypeError, ValueError):
+        return format_number(_to_float(value))
+    except (TypeError, ValueError, OverflowError):
         return str(value)
 
 
@@ -83,6 +86,8 @@ def _model(settings: tuple[str, ...]) -> ContactModel:
         if name not in PAPER_DEFAULTS:
             raise InputError(f"--set {name} ({name}) = {value}: unknown parameter; known: "
                              f"{', '.join(PAPER_DEFAULTS)}")
+        if name in overrides:
+            raise InputError(f"--set {name} given twice")
         overrides[name] = _number(f"--set {name}", name, value)
     for name, value in overrides.items():
         try:
@@ -121,6 +126,74 @@ def _pa_level(text: str, option: str = "--pa") -> float:
 def _positive(option: str, symbol: str, text: str, unit: str = "") -> float:
     """A number > 0 [unit]."""
     return _checked(option, check_range, symbol, text, 0.0, False, unit)
+
+
+def _is_level(token: str) -> bool:
+    """Whether ``token`` after ``--pa`` is one more level (a negative number is a level, refused
+    by the level's range check); an option (``--fe``, ``-h``) or ``--`` ends the levels."""
+    if token.startswith("--"):
+        return False
+    return not token.startswith("-") or token[1:2].isdigit() or token[1:2] == "."
+
+
+class LevelsCommand(click.Command):
+    """A command whose ``--pa`` takes one or more levels, ``--pa 0.5 0.6 0.65``: the values right
+    after ``--pa`` (up to the next option) are its levels; a value anywhere else is refused.
+
+    The command declares ``--pa`` with ``multiple=True``; ``--pa A B`` is read as
+    ``--pa A --pa B``."""
+
+    allow_extra_args = True  # collected here, to be refused with their value named
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        out: list[str] = []
+        i = 0
+        while i < len(args):
+            token = args[i]
+            if token == "--":
+                out.extend(args[i:])
+                break
+            if token != "--pa" or ctx.resilient_parsing:
+                out.append(token)
+                i += 1
+                continue
+            i += 1
+            levels = []
+            while i < len(args) and _is_level(args[i]):
+                levels.append(args[i])
+                i += 1
+            if not levels:
+                raise InputError("--pa: expected one or more levels P_a [Q] after it")
+            for level in levels:
+                out.extend(["--pa", level])
+        rest = super().parse_args(ctx, out)
+        if ctx.args and not ctx.resilient_parsing:
+            raise InputError(f"{ctx.args[0]}: unexpected value (only the values right after --pa are "
+                             f"levels; see contactvib {ctx.info_name} --help)")
+        return rest
+
+
+def _levels(levels: tuple[str, ...]) -> list[float]:
+    """The P_a levels [Q] of a LevelsCommand's ``--pa``, each > 0."""
+    return [_pa_level(t) for t in levels]
+
+
+def _finite_or_none(obj):
+    """``obj`` with every non-finite float (NaN, ±inf) replaced by None, for strict JSON."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _finite_or_none(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite_or_none(v) for v in obj]
+    return obj
+
+
+def _echo_json(payload) -> None:
+    """Print ``payload`` (an object, or the JSON text of a ``to_json()``) as strict JSON: a
+    non-finite number is written as ``null``, never as a bare ``NaN`` / ``Infinity`` token."""
+    obj = json.loads(payload) if isinstance(payload, str) else payload
+    click.echo(json.dumps(_finite_or_none(obj), allow_nan=False))
 
 
 def _operating_point_options(f):

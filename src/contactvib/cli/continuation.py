@@ -13,9 +13,12 @@ import click
 
 from contactvib.cli.common import (
     InputError,
+    LevelsCommand,
     _checked,
+    _echo_json,
     _frequency_range,
     _int,
+    _levels,
     _mapped,
     _model,
     _number,
@@ -200,7 +203,7 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     paths, fig = _write(bset, Path(out), tag, title, ds, p,
                         parameter="P_a" if by_pa else "f_e")
     if as_json:
-        click.echo(bset.to_json())
+        _echo_json(bset.to_json())
         return
     _summary(bset, "P_a" if by_pa else "f_e")
     for m in msgs:
@@ -208,8 +211,8 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     click.echo(f"wrote {len(paths)} branch files and {fig}")
 
 
-@click.command(context_settings={"allow_extra_args": True})
-@click.option("--pa", default="0.65", show_default=True, metavar="Q [Q ...]",
+@click.command(cls=LevelsCommand)
+@click.option("--pa", multiple=True, default=("0.65",), show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
 @click.option("--seed-fe", default=None, metavar="HZ,HZ,...",
               help="Seed frequencies [Hz] of the attractor searches (comma-separated).")
@@ -217,11 +220,10 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
 @click.option("--out", default="bif", show_default=True, type=click.Path(file_okay=False),
               help="Output folder.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-@click.pass_context
-def bifurcations(ctx, pa, seed_fe, out, as_json, **cont):
+def bifurcations(pa, seed_fe, out, as_json, **cont):
     """All branches, seeded from every attractor at several frequencies, for each P_a."""
     model = _model(cont["settings"])
-    levels = [_pa_level(t) for t in [pa, *ctx.args]]
+    levels = _levels(pa)
     ds = _open_dataset(cont["dataset"], levels)
     s = _settings(cont)
     from contactvib.continuation.diagram import DEFAULT_SEED_FE
@@ -245,7 +247,7 @@ def bifurcations(ctx, pa, seed_fe, out, as_json, **cont):
             click.echo(f"P_a = {p:g} Q: {len(bset)} branches, {len(bset.special_points)} special points")
     (Path(out) / "bifurcations.json").write_text(allb.to_json(indent=1))
     if as_json:
-        click.echo(allb.to_json())
+        _echo_json(allb.to_json())
     else:
         click.echo(f"wrote {out}/")
 
@@ -280,7 +282,7 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     save_figure(evolution_figure(res, f"evolution of the 1/{m} resonance: folds and period doublings"),
                 outp / f"evolution_order{m}.png")
     if as_json:
-        click.echo(res.to_json())
+        _echo_json(res.to_json())
         return
     for line in msgs:
         click.echo(line)

@@ -9,6 +9,7 @@ import click
 
 from contactvib.cli.common import (
     _checked,
+    _echo_json,
     _excitation,
     _frequency_range,
     _int,
@@ -46,11 +47,11 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 
     res = perturbation_series(model, exc, n, summation)
     if as_json and out is None:
-        click.echo(res.to_json())
+        _echo_json(res.to_json())
         return
     num = steady_counterpart(model, exc, res)
     if as_json:
-        click.echo(res.to_json())
+        _echo_json(res.to_json())
     else:
         click.echo(f"P_a = {exc.pa_over_q:g} Q, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz, "
                    f"order N = {n} ({summation} summation)")
@@ -141,7 +142,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
                      (f1, f2), f"Harmonic balance, $P_a$ = {pa_q:g} Q (dots: loss of contact)")
     path = save_figure(fig, outp / f"hbm_branch_pa{pa_q:g}_H{H}.png")
     if as_json:
-        click.echo(json.dumps(payload))
+        _echo_json(payload)
         return
     for name, b in branches:
         click.echo(f"branch {name}: {len(b)} points, f_e {b.fe_hz.min():.1f}..{b.fe_hz.max():.1f} Hz, "

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from contactvib.cli.common import (
+    _echo_json,
     _excitation,
     _int,
     _mapped,
@@ -40,7 +41,7 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
     exc = _excitation(model, pa, pa_newton, fe)
     result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
     if as_json:
-        click.echo(result.to_json())
+        _echo_json(result.to_json())
         return
     click.echo(f"P_a = {exc.pa_over_q:g} Q ({exc.P_a:.4g} N), f_e = {exc.f_e:g} Hz, "
                f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "

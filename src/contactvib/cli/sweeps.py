@@ -6,19 +6,20 @@ Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.resona
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import click
 
 from contactvib.cli.common import (
     InputError,
+    LevelsCommand,
+    _echo_json,
     _frequency_range,
     _int,
+    _levels,
     _mapped,
     _model,
     _number,
-    _pa_level,
     _positive,
 )
 from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX
@@ -77,23 +78,16 @@ def _workers(text):
     return None if text is None else _int("--workers", text, 1, WORKERS_MAX)
 
 
-@click.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
-@click.option("--pa", default="0.65", show_default=True, metavar="Q [Q ...]",
+@click.command(cls=LevelsCommand)
+@click.option("--pa", multiple=True, default=("0.65",), show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
 @_sweep_options
 @click.option("--out", default="resonance", show_default=True, type=click.Path(file_okay=False),
               help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
                    "diagram per level.")
-@click.pass_context
-def resonance(ctx, pa, out, **sweep):
+def resonance(pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
-    for extra in ctx.args:
-        if extra.startswith("-"):
-            try:
-                float(extra)
-            except ValueError:
-                raise InputError(f"{extra}: no such option (see contactvib resonance --help)") from None
-    levels = [_pa_level(t) for t in [pa, *ctx.args]]
+    levels = _levels(pa)
     model = _model(sweep["settings"])
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
@@ -139,7 +133,7 @@ def query(dataset, pa, fe, as_json):
         except LookupError as e:
             raise InputError(str(e)) from None
     if as_json:
-        click.echo(json.dumps(res))
+        _echo_json(res)
         return
     click.echo(f"P_a = {res['pa_over_q']:g} Q, f_e = {res['fe_hz']:g} Hz (requested {p:g} Q, {f:g} Hz)")
     click.echo(f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "

@@ -75,8 +75,8 @@ class ParameterError(ValueError):
 
 def _fmt(value) -> str:
     try:
-        return format_number(float(value))
-    except (TypeError, ValueError):
+        return format_number(_to_float(value))
+    except (TypeError, ValueError, OverflowError):
         return repr(value)
 
 
@@ -89,17 +89,35 @@ def _suffix(unit: str) -> str:
     return f" {unit}" if unit and unit != "1" else ""
 
 
+#: A number written as text: plain ASCII decimal or scientific notation (``float()`` also takes
+#: other scripts' digits, ``3_60``, ``inf`` and ``nan``, which are refused).
+_NUMBER_TEXT = re.compile(r"\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*", re.ASCII)
+
+
+def _to_float(value) -> float:
+    """``float(value)``; text must be plain ASCII decimal or scientific notation (ValueError)."""
+    if isinstance(value, (str, bytes)):
+        text = value.decode("ascii", "replace") if isinstance(value, bytes) else value
+        if not _NUMBER_TEXT.fullmatch(text):
+            raise ValueError(value)
+        return float(text)
+    return float(value)
+
+
 def check_finite(symbol: str, value) -> float:
-    """Return ``value`` as a float; raise :class:`ParameterError` for non-numbers, NaN and ±inf."""
+    """Return ``value`` as a float; raise :class:`ParameterError` for non-numbers, NaN and ±inf.
+
+    Text must be plain ASCII decimal or scientific notation (``"1.5e-3"``); ``-0.0`` is returned
+    as ``0.0``."""
     if isinstance(value, bool):
         raise ParameterError(symbol, value, "must be a finite number")
     try:
-        v = float(value)
-    except (TypeError, ValueError):
+        v = _to_float(value)
+    except (TypeError, ValueError, OverflowError):
         raise ParameterError(symbol, value, "must be a finite number") from None
     if not math.isfinite(v):
         raise ParameterError(symbol, value, "must be a finite number")
-    return v
+    return v + 0.0  # -0.0 -> 0.0
 
 
 def _range_text(lower, inclusive, upper, upper_inclusive, unit, lower_name, upper_name) -> str:
@@ -172,8 +190,8 @@ def check_int(symbol: str, value, lower: int | None = None, upper: int | None = 
         n = int(value)
     else:
         try:
-            v = float(value)
-        except (TypeError, ValueError):
+            v = _to_float(value)
+        except (TypeError, ValueError, OverflowError):
             raise ParameterError(symbol, value, allowed) from None
         if not math.isfinite(v) or v != math.floor(v):
             raise ParameterError(symbol, value, allowed)

@@ -97,6 +97,11 @@ def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE,
     return rec, z_end, t_flight
 
 
+#: Peak-to-peak amplitude [y0] at or below which an orbit is an equilibrium (its "extrema" are
+#: round-off): it has no minima. The paper's smallest A_pp is about 0.1 µm, ~0.4 y0.
+EQUILIBRIUM_APP = 1e-9
+
+
 def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
                    monodromy=None, closure: float = math.inf, basin_fraction: float = 0.0,
                    hits: int = 0, n_periods_nonperiodic: int = 32) -> Attractor:
@@ -109,6 +114,8 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     n = period if period is not None else n_periods_nonperiodic
     rec, _z_end, t_flight = record(excitation, z, n)
     xmin, xmax, flight, n_min, t_ext, x_ext, is_min = measure_orbit(rec, t_flight, n, excitation.r)
+    if xmax - xmin <= EQUILIBRIUM_APP:  # an equilibrium (the rest state at P_a = 0): no extrema
+        n_min, t_ext, x_ext, is_min = 0, np.empty(0), np.empty(0), np.empty(0, bool)
     if period is not None:
         strobe = strobe_points(excitation, z, period)
         multipliers = np.linalg.eigvals(monodromy) if monodromy is not None else np.empty(0, complex)

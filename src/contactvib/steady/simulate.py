@@ -5,11 +5,18 @@ from __future__ import annotations
 import numpy as np
 
 from contactvib._kernels.orbit import sample_records
-from contactvib.model import ContactModel, Excitation, check_finite, check_int
+from contactvib.model import ContactModel, Excitation, ParameterError, check_finite, check_int
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor, TimeHistory
 
 __all__ = ["simulate", "attractor_history"]
+
+
+def _check_types(model, excitation) -> None:
+    if not isinstance(model, ContactModel):
+        raise ParameterError("model", model, "must be a ContactModel")
+    if not isinstance(excitation, Excitation):
+        raise ParameterError("excitation", excitation, "must be an Excitation (model.excitation(P_a/Q, f_e))")
 
 
 def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
@@ -38,6 +45,7 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     ``y_um`` defaults to the static deflection y0. The time history is sampled from the
     integrator's dense output (``samples_per_period`` points per excitation period).
     """
+    _check_types(model, excitation)
     u = model.units
     y_um = u.y_um if y_um is None else check_finite("y", y_um)
     ydot_mm_s = check_finite("ydot", ydot_mm_s)
@@ -50,6 +58,7 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
 def attractor_history(model: ContactModel, excitation: Excitation, attractor: Attractor,
                       n_periods: int | None = None, samples_per_period: int = 800) -> TimeHistory:
     """Time history over ``n_periods`` (default: two orbit periods, at least 3) of an attractor."""
+    _check_types(model, excitation)
     if n_periods is None:
         n_periods = max(3, 2 * (attractor.period or 4))
     return _history(model, excitation, attractor.state, n_periods, samples_per_period, 1e-12)

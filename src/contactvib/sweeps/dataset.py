@@ -275,13 +275,16 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
         raise LookupError(f"--pa (P_a/Q) = {pa_over_q:g}: not in the dataset; stored levels: "
                           + ", ".join(f"{v:g}" for v in levels))
     pa = levels[j]
-    settings = json.loads(ds.attrs["settings"])
-    df = float(settings["df_hz"])
+    try:  # the sweep's grid, stored as JSON: a damaged attribute is one line, not a traceback
+        settings = json.loads(ds.attrs["settings"])
+        df, fmin, fmax = (float(settings[k]) for k in ("df_hz", "fmin_hz", "fmax_hz"))
+    except (KeyError, TypeError, ValueError) as e:  # JSONDecodeError is a ValueError
+        raise LookupError(f"dataset attribute 'settings' is missing or damaged ({type(e).__name__}): "
+                          "recompute it") from None
     sel = np.nonzero(np.abs(ds["pa_over_q"].values - pa) <= 1e-9)[0]
     fes = ds["fe_hz"].values[sel]
     grid = np.unique(fes)
     g = grid[int(np.argmin(np.abs(grid - fe_hz)))]
-    fmin, fmax = float(settings["fmin_hz"]), float(settings["fmax_hz"])
     if abs(g - fe_hz) > 0.5 * df + 1e-9 or fe_hz < fmin - 0.5 * df or fe_hz > fmax + 0.5 * df:
         raise LookupError(f"--fe (f_e) = {fe_hz:g}: no grid point within half a step ({0.5 * df:g} Hz); "
                           f"grid {fmin:g}..{fmax:g} Hz step {df:g} Hz")
