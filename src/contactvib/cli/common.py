@@ -147,3 +147,24 @@ def _search_options(f):
     return f
 
 
+
+
+def _output_folder(path, option: str = "--out"):
+    """The output folder ``path`` as a :class:`~pathlib.Path`, created and checked writable
+    (a probe file is created and removed) before any computation; an InputError otherwise."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    p = Path(path)
+    try:
+        if p.exists() and not p.is_dir():
+            raise InputError(f"{option} = {path}: exists and is not a folder")
+        p.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".contactvib-probe-", dir=p)
+        os.close(fd)
+        os.remove(probe)
+    except OSError as e:
+        raise InputError(f"{option} = {path}: cannot create or write the folder "
+                         f"({e.strerror or type(e).__name__})") from None
+    return p

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import click
 
@@ -14,6 +13,7 @@ from contactvib.cli.common import (
     _int,
     _model,
     _operating_point_options,
+    _output_folder,
     _positive,
 )
 from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range
@@ -43,6 +43,8 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     )
 
     n = _int("--order", order, 1, MAX_ORDER)
+    if out is not None:
+        out = _output_folder(out)
 
     res = perturbation_series(model, exc, n, summation)
     if as_json and out is None:
@@ -69,8 +71,6 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     from contactvib.plotting.frequency import convergence_figure, overlay_figure
     from contactvib.steady.simulate import attractor_history
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
     hist_num = attractor_history(model, exc, num, n_periods=2, samples_per_period=1000)
     series = res.history(n_periods=2, samples_per_period=1000) if res.valid else None
@@ -121,6 +121,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
     f1, f2 = _frequency_range(fmin, fmax)
     etol = _positive("--energy-tol", "energy_tol", energy_tol)
+    outp = _output_folder(out)
     from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 
     hs = HBSettings(energy_tol=etol)
@@ -131,8 +132,6 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
     payload = {"pa_over_q": pa_q, "harmonics": H, "fmin_hz": f1, "fmax_hz": f2,
                "branches": [dict(b.to_dict(), start=name) for name, b in branches]}
-    outp = Path(out)
-    outp.mkdir(parents=True, exist_ok=True)
     (outp / "branch.json").write_text(json.dumps(payload))
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.frequency import hbm_figure

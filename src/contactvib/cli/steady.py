@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from contactvib.cli.common import (
@@ -13,6 +11,7 @@ from contactvib.cli.common import (
     _model,
     _number,
     _operating_point_options,
+    _output_folder,
     _search_options,
 )
 
@@ -70,7 +69,6 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     """Time histories and phase portraits (one figure per attractor, as Figs. 4–9)."""
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
-    out = Path(out)
     if from_state is not None:
         y = _number("--from-state", "y", from_state[0])
         yd = _number("--from-state", "ydot", from_state[1])
@@ -79,7 +77,7 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     from contactvib.steady.simulate import attractor_history
     from contactvib.steady.simulate import simulate as run
 
-    out.mkdir(parents=True, exist_ok=True)
+    out = _output_folder(out)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
     if from_state is not None:
         h = run(model, exc, y, yd, n_periods=n)

@@ -18,6 +18,7 @@ from contactvib.cli.common import (
     _mapped,
     _model,
     _number,
+    _output_folder,
     _pa_level,
     _positive,
 )
@@ -100,7 +101,7 @@ def resonance(ctx, pa, out, **sweep):
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
-    out = Path(out)
+    out = _output_folder(out)
     ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
                            progress=not sweep["no_progress"])
     for p in sorted(set(levels)):
@@ -161,6 +162,7 @@ def paper(out, **sweep):
     model = _model(sweep["settings"])
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
+    _output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper
 
     res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"], workers=n_workers,
