@@ -168,3 +168,11 @@ def _output_folder(path, option: str = "--out"):
         raise InputError(f"{option} = {path}: cannot create or write the folder "
                          f"({e.strerror or type(e).__name__})") from None
     return p
+
+
+def _feasible_frequencies(model: ContactModel, fmin: float, fmax: float,
+                          options: tuple[str, str] = ("--fmin", "--fmax")) -> None:
+    """Both ends of a frequency range are excitation frequencies the model can be integrated at
+    (checked by :class:`Excitation`, whose f_e range follows from the model's f_n0)."""
+    for option, f in zip(options, (fmin, fmax)):
+        _checked(option, Excitation, model, 0.0, f)

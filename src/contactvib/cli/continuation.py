@@ -14,6 +14,7 @@ import click
 from contactvib.cli.common import (
     InputError,
     _checked,
+    _feasible_frequencies,
     _frequency_range,
     _int,
     _mapped,
@@ -23,7 +24,8 @@ from contactvib.cli.common import (
     _pa_level,
     _positive,
 )
-from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, check_range
+from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, Excitation, check_range
+from contactvib.model.checks import PA_MAX, PA_NOTE
 
 __all__ = []
 
@@ -60,6 +62,7 @@ def _pa_range(pa_min: str, pa_max: str) -> tuple[float, float]:
     lo = _pa_level(pa_min, "--pa-min")
     hi = _checked("--pa-max", check_range, "P_a/Q", pa_max, lo, False, lower_name="pa_min",
                   names=_CONTINUATION_OPTIONS)
+    hi = _checked("--pa-max", check_range, "P_a/Q", hi, None, unit=PA_NOTE, upper=PA_MAX)
     return lo, hi
 
 
@@ -185,6 +188,8 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     if not by_pa:
         _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
+    _feasible_frequencies(model, s.fmin, s.fmax)
+    _checked("--from-fe", Excitation, model, p, fe)
     _output_folder(out)
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.steady.attractors import find_attractors
@@ -235,6 +240,7 @@ def bifurcations(ctx, pa, seed_fe, out, as_json, **cont):
                  for t in seed_fe.split(",") if t.strip()]
     if not seeds:
         raise InputError("--seed-fe: no seed frequency inside [--fmin, --fmax]")
+    _feasible_frequencies(model, s.fmin, s.fmax)
     _output_folder(out)
     from contactvib.continuation.branch import BranchSet
     from contactvib.continuation.diagram import bifurcation_diagram

@@ -9,6 +9,7 @@ import click
 from contactvib.cli.common import (
     _checked,
     _excitation,
+    _feasible_frequencies,
     _frequency_range,
     _int,
     _model,
@@ -17,6 +18,7 @@ from contactvib.cli.common import (
     _positive,
 )
 from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range
+from contactvib.model.checks import PA_MAX
 
 _CONV_ORDERS_MAX = 80
 
@@ -118,8 +120,10 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
     model = _model(settings)
     pa_q = _checked("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
+    pa_q = _checked("--pa", check_range, "P_a/Q", pa_q, None, unit=PA_NOTE, upper=PA_MAX)
     H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
     f1, f2 = _frequency_range(fmin, fmax)
+    _feasible_frequencies(model, f1, f2)
     etol = _positive("--energy-tol", "energy_tol", energy_tol)
     outp = _output_folder(out)
     from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation

@@ -13,6 +13,7 @@ import click
 
 from contactvib.cli.common import (
     InputError,
+    _feasible_frequencies,
     _frequency_range,
     _int,
     _mapped,
@@ -98,6 +99,7 @@ def resonance(ctx, pa, out, **sweep):
     model = _model(sweep["settings"])
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
+    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
@@ -162,6 +164,7 @@ def paper(out, **sweep):
     model = _model(sweep["settings"])
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
+    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
     _output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper
 
