@@ -46,7 +46,7 @@ from contactvib.model import (
     check_int,
     check_range,
 )
-from contactvib.model.checks import format_number
+from contactvib.model.checks import MEMORY_MAX, check_memory, format_number
 
 if TYPE_CHECKING:
     from contactvib._kernels.describe import TraceRows
@@ -115,7 +115,9 @@ class SweepSettings:
         check_int("max_periods", self.max_periods, 4 * self.kmax)
         check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True,
                     upper=MULTISTART_PER_OCTAVE_MAX)
-        check_int("multistart_starts", self.multistart_starts, 0)
+        n = check_int("multistart_starts", self.multistart_starts, 0)
+        # the arrays of one multi-start search, as the attractor search's (2 KiB per start, x2)
+        check_memory("multistart_starts", self.multistart_starts, 4096.0 * n, MEMORY_MAX // 4096)
         check_int("seed", self.seed, 0)
 
     def to_dict(self) -> dict:
