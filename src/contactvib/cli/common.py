@@ -220,3 +220,32 @@ def _search_options(f):
     return f
 
 
+
+
+def _output_folder(path, option: str = "--out"):
+    """The output folder ``path`` as a :class:`~pathlib.Path`, created and checked writable
+    (a probe file is created and removed) before any computation; an InputError otherwise."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    p = Path(path)
+    try:
+        if p.exists() and not p.is_dir():
+            raise InputError(f"{option} = {path}: exists and is not a folder")
+        p.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".contactvib-probe-", dir=p)
+        os.close(fd)
+        os.remove(probe)
+    except OSError as e:
+        raise InputError(f"{option} = {path}: cannot create or write the folder "
+                         f"({e.strerror or type(e).__name__})") from None
+    return p
+
+
+def _feasible_frequencies(model: ContactModel, fmin: float, fmax: float,
+                          options: tuple[str, str] = ("--fmin", "--fmax")) -> None:
+    """Both ends of a frequency range are excitation frequencies the model can be integrated at
+    (checked by :class:`Excitation`, whose f_e range follows from the model's f_n0)."""
+    for option, f in zip(options, (fmin, fmax)):
+        _checked(option, Excitation, model, 0.0, f)

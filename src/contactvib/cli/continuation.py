@@ -16,16 +16,19 @@ from contactvib.cli.common import (
     LevelsCommand,
     _checked,
     _echo_json,
+    _feasible_frequencies,
     _frequency_range,
     _int,
     _levels,
     _mapped,
     _model,
     _number,
+    _output_folder,
     _pa_level,
     _positive,
 )
-from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, check_range
+from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, Excitation, check_range
+from contactvib.model.checks import PA_MAX, PA_NOTE
 
 __all__ = []
 
@@ -62,6 +65,7 @@ def _pa_range(pa_min: str, pa_max: str) -> tuple[float, float]:
     lo = _pa_level(pa_min, "--pa-min")
     hi = _checked("--pa-max", check_range, "P_a/Q", pa_max, lo, False, lower_name="pa_min",
                   names=_CONTINUATION_OPTIONS)
+    hi = _checked("--pa-max", check_range, "P_a/Q", hi, None, unit=PA_NOTE, upper=PA_MAX)
     return lo, hi
 
 
@@ -187,6 +191,9 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     if not by_pa:
         _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
+    _feasible_frequencies(model, s.fmin, s.fmax)
+    _checked("--from-fe", Excitation, model, p, fe)
+    _output_folder(out)
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.steady.attractors import find_attractors
 
@@ -235,6 +242,8 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
                  for t in seed_fe.split(",") if t.strip()]
     if not seeds:
         raise InputError("--seed-fe: no seed frequency inside [--fmin, --fmax]")
+    _feasible_frequencies(model, s.fmin, s.fmax)
+    _output_folder(out)
     from contactvib.continuation.branch import BranchSet
     from contactvib.continuation.diagram import bifurcation_diagram
 
@@ -270,14 +279,13 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     m = _int("--order", order, 1, EVOLUTION_ORDER_MAX)
     lo, hi = _pa_range(pa_min, pa_max)
     n = _int("--levels", levels, 2, symbol="n_levels")
+    outp = _output_folder(out)
     from contactvib.continuation.evolution import evolution as run
     from contactvib.plotting.branches import evolution_figure
     from contactvib.plotting.figures import save_figure
 
     msgs = []
     res = run(model, m, lo, hi, n, log=msgs.append)
-    outp = Path(out)
-    outp.mkdir(parents=True, exist_ok=True)
     (outp / f"evolution_order{m}.json").write_text(res.to_json(indent=1))
     save_figure(evolution_figure(res, f"evolution of the 1/{m} resonance: folds and period doublings"),
                 outp / f"evolution_order{m}.png")

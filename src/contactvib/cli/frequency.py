@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import click
 
@@ -11,13 +10,16 @@ from contactvib.cli.common import (
     _checked,
     _echo_json,
     _excitation,
+    _feasible_frequencies,
     _frequency_range,
     _int,
     _model,
     _operating_point_options,
+    _output_folder,
     _positive,
 )
 from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range
+from contactvib.model.checks import PA_MAX
 
 _CONV_ORDERS_MAX = 80
 
@@ -44,6 +46,8 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     )
 
     n = _int("--order", order, 1, MAX_ORDER)
+    if out is not None:
+        out = _output_folder(out)
 
     res = perturbation_series(model, exc, n, summation)
     if as_json and out is None:
@@ -70,8 +74,6 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     from contactvib.plotting.frequency import convergence_figure, overlay_figure
     from contactvib.steady.simulate import attractor_history
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
     hist_num = attractor_history(model, exc, num, n_periods=2, samples_per_period=1000)
     series = res.history(n_periods=2, samples_per_period=1000) if res.valid else None
@@ -119,9 +121,12 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
     model = _model(settings)
     pa_q = _checked("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
+    pa_q = _checked("--pa", check_range, "P_a/Q", pa_q, None, unit=PA_NOTE, upper=PA_MAX)
     H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
     f1, f2 = _frequency_range(fmin, fmax)
+    _feasible_frequencies(model, f1, f2)
     etol = _positive("--energy-tol", "energy_tol", energy_tol)
+    outp = _output_folder(out)
     from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 
     hs = HBSettings(energy_tol=etol)
@@ -132,8 +137,6 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
     branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
     payload = {"pa_over_q": pa_q, "harmonics": H, "fmin_hz": f1, "fmax_hz": f2,
                "branches": [dict(b.to_dict(), start=name) for name, b in branches]}
-    outp = Path(out)
-    outp.mkdir(parents=True, exist_ok=True)
     (outp / "branch.json").write_text(json.dumps(payload))
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.frequency import hbm_figure

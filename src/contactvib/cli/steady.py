@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from contactvib.cli.common import (
@@ -14,6 +12,7 @@ from contactvib.cli.common import (
     _model,
     _number,
     _operating_point_options,
+    _output_folder,
     _search_options,
 )
 
@@ -22,12 +21,20 @@ _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
                    "max_periods": "--max-periods"}
 
 
+def _search(starts, seed, kmax, max_periods) -> dict:
+    """The search options, checked by the library (ranges and memory; we name the options)."""
+    from contactvib.steady.attractors import check_search
+
+    kw = {name: _number(option, name, text) for (name, option), text
+          in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax, max_periods))}
+    return dict(zip(_SEARCH_OPTIONS, _mapped(_SEARCH_OPTIONS, check_search, **kw)))
+
+
 def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
     """find_attractors with the search options (it checks them; we name the options)."""
     from contactvib.steady.attractors import find_attractors
 
-    kw = {name: _number(option, name, text) for (name, option), text
-          in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax, max_periods))}
+    kw = _search(starts, seed, kmax, max_periods)
     return _mapped(_SEARCH_OPTIONS, find_attractors, model, exc, seeds=not no_seeds, **kw)
 
 
@@ -71,16 +78,21 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     """Time histories and phase portraits (one figure per attractor, as Figs. 4–9)."""
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
-    out = Path(out)
     if from_state is not None:
         y = _number("--from-state", "y", from_state[0])
         yd = _number("--from-state", "ydot", from_state[1])
         n = _int("--periods", periods, 1, symbol="n_periods")
+        from contactvib.steady.simulate import check_start
+
+        y, yd, n, _ = _mapped({"y": "--from-state", "ydot": "--from-state", "n_periods": "--periods"},
+                              check_start, model, y, yd, n)
+    else:
+        _search(starts, seed, kmax, max_periods)
     from contactvib.plotting.figures import attractor_figure, history_figure, save_figure
     from contactvib.steady.simulate import attractor_history
     from contactvib.steady.simulate import simulate as run
 
-    out.mkdir(parents=True, exist_ok=True)
+    out = _output_folder(out)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
     if from_state is not None:
         h = run(model, exc, y, yd, n_periods=n)

@@ -14,12 +14,14 @@ from contactvib.cli.common import (
     InputError,
     LevelsCommand,
     _echo_json,
+    _feasible_frequencies,
     _frequency_range,
     _int,
     _levels,
     _mapped,
     _model,
     _number,
+    _output_folder,
     _positive,
 )
 from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX
@@ -91,10 +93,11 @@ def resonance(pa, out, **sweep):
     model = _model(sweep["settings"])
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
+    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
-    out = Path(out)
+    out = _output_folder(out)
     ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
                            progress=not sweep["no_progress"])
     for p in sorted(set(levels)):
@@ -155,6 +158,8 @@ def paper(out, **sweep):
     model = _model(sweep["settings"])
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
+    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
+    _output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper
 
     res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"], workers=n_workers,

@@ -18,7 +18,8 @@ import re
 __all__ = ["ParameterError", "check_finite", "check_range", "check_int", "check_choice",
            "check_frequency_range", "check_pa_level", "format_number", "PA_NOTE", "SHOOTING_RTOL_RANGE",
            "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX", "EVOLUTION_ORDER_MAX",
-           "HARMONICS_MAX", "CAPTURE_TOL_MAX", "WORKERS_MAX"]
+           "HARMONICS_MAX", "CAPTURE_TOL_MAX", "WORKERS_MAX", "PA_MAX", "R_RANGE", "MEMORY_MAX",
+           "check_memory"]
 
 #: How an amplitude P_a/Q is measured, appended to its allowed range in messages.
 PA_NOTE = "(multiple of Q = M g)"
@@ -38,6 +39,13 @@ HARMONICS_MAX = 1024
 WORKERS_MAX = 256
 #: Largest relative capture distance of the attractor search's second wave.
 CAPTURE_TOL_MAX = 0.1
+#: Largest excitation amplitude P_a/Q [1] (the paper's levels are below 1.3).
+PA_MAX = 1e3
+#: Frequency ratios r = f_e / f_n0 [1] the integration is feasible for, inclusive (below, one
+#: excitation period holds more than 1e4 natural periods; above, the force averages out).
+R_RANGE = (1e-4, 1e3)
+#: Largest memory [bytes] the arrays of one computation may take (checked before computing).
+MEMORY_MAX = 2 * 1024**3
 
 
 class ParameterError(ValueError):
@@ -218,4 +226,14 @@ def check_frequency_range(fmin, fmax, symbols: tuple[str, str] = ("f_min", "f_ma
 
 def check_pa_level(value, symbol: str = "P_a/Q") -> float:
     """An excitation level P_a/Q [1] that must be > 0 (a sweep or a continuation level)."""
-    return check_range(symbol, value, 0.0, False, PA_NOTE)
+    return check_range(symbol, check_range(symbol, value, 0.0, False, PA_NOTE), None, unit=PA_NOTE,
+                       upper=PA_MAX)
+
+
+def check_memory(symbol: str, value, nbytes: float, largest: int) -> None:
+    """Refuse a size ``value`` of ``symbol`` whose arrays would take ``nbytes`` > :data:`MEMORY_MAX`;
+    ``largest`` is the largest value allowed (the other sizes kept), named in the message."""
+    if not nbytes <= MEMORY_MAX:
+        raise ParameterError(symbol, value, f"must be <= {largest} (it would need about "
+                                            f"{nbytes / 1e9:.3g} GB of memory; at most "
+                                            f"{MEMORY_MAX / 1e9:.3g} GB)")

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from contactvib.model.checks import PA_NOTE, ParameterError, check_range
+from contactvib.model.checks import PA_MAX, PA_NOTE, R_RANGE, ParameterError, check_range, format_number
 from contactvib.model.contact_law import PowerLaw
 from contactvib.model.units import Units
 
@@ -52,16 +52,24 @@ PARAMETER_UNITS = {
     "l": "1",
 }
 
-# (lower bound, inclusive?) for each parameter; the allowed ranges of the issue.
+#: Largest exponents m2 and l of the contact law accepted (x^m2, x^l overflow in a transient
+#: far beyond; the paper's are 2 and 1).
+EXPONENT_MAX = 10.0
+
+# (lower bound, inclusive?, upper bound or None) for each parameter; the allowed ranges.
 _BOUNDS = {
-    "M": (0.0, False),
-    "g": (0.0, False),
-    "S": (0.0, False),
-    "c_n": (0.0, False),
-    "m2": (1.0, True),
-    "h_n": (0.0, True),
-    "l": (0.0, True),
+    "M": (0.0, False, None),
+    "g": (0.0, False, None),
+    "S": (0.0, False, None),
+    "c_n": (0.0, False, None),
+    "m2": (1.0, True, EXPONENT_MAX),
+    "h_n": (0.0, True, None),
+    "l": (0.0, True, EXPONENT_MAX),
 }
+
+#: Range [1] of the derived scales Q [N], y0 [m] and f_n0 [Hz] (finite, with room for the unit
+#: conversions and the kernels' products).
+DERIVED_RANGE = (1e-100, 1e100)
 
 
 #: Largest linear damping ratio accepted (the paper's is 0.018; above this the contact is stiff).
@@ -106,9 +114,12 @@ class ContactModel:
     _checked: bool = field(default=False, repr=False, compare=False)
 
     def __post_init__(self):
-        for name, (lower, inclusive) in _BOUNDS.items():
+        for name, (lower, inclusive, upper) in _BOUNDS.items():
             check_range(name, getattr(self, name), lower, inclusive, PARAMETER_UNITS[name])
+            if upper is not None:
+                check_range(name, getattr(self, name), None, unit=PARAMETER_UNITS[name], upper=upper)
             object.__setattr__(self, name, float(getattr(self, name)))
+        self._check_scales()
         if not self.zeta <= ZETA_MAX:
             # ζ is proportional to h_n: name the largest h_n allowed with this l
             h_max = self.h_n * ZETA_MAX / self.zeta
@@ -119,6 +130,27 @@ class ContactModel:
                 f"overdamped is stiff: explicit integration would take ~zeta steps per natural "
                 f"period; h_n scales as y0^(1-l), about {PAPER_DEFAULTS['h_n'] * self.y0 ** (1.0 - self.l):.3g} "
                 f"for the paper's zeta = 0.018 at this l)")
+
+    def _check_scales(self) -> None:
+        """The derived scales Q, y0, f_n0 and ζ must be finite (no overflow of the parameters'
+        combination); ParameterError names the scale, its formula and the parameters."""
+        lo, hi = DERIVED_RANGE
+        given = ", ".join(f"{k} = {format_number(v)}" for k, v in self.parameters().items())
+        for symbol, formula, unit, scale in (
+                ("Q", "M g", "N", lambda: self.Q),
+                ("y0", "(M g / (S c_n))^(1/m2)", "m", lambda: self.y0),
+                ("f_n0", "sqrt(m2 M g / y0 / M) / (2 pi)", "Hz", lambda: self.f_n0),
+                ("zeta", "S h_n y0^l / (2 sqrt(m2 M g M / y0))", "1", lambda: self.zeta)):
+            try:
+                v = scale()
+            except (OverflowError, ZeroDivisionError, ValueError):
+                v = math.inf
+            ok = math.isfinite(v) and (lo <= v <= hi if symbol != "zeta" else v >= 0.0)
+            if not ok:
+                where = "finite and >= 0" if symbol == "zeta" else \
+                    f"in [{format_number(lo)}, {format_number(hi)}] {unit}"
+                raise ParameterError(symbol, v, f"must be {where} ({symbol} = {formula} of the "
+                                                f"model's {given})")
 
     # ----------------------------------------------------------------- construction
     @classmethod
@@ -236,13 +268,26 @@ class Excitation:
     def __post_init__(self):
         if not isinstance(self.model, ContactModel):
             raise ParameterError("model", self.model, "must be a ContactModel")
-        object.__setattr__(self, "pa_over_q", check_range("P_a/Q", self.pa_over_q, 0.0, True, PA_NOTE))
-        object.__setattr__(self, "f_e", check_range("f_e", self.f_e, 0.0, False, "Hz"))
+        p = check_range("P_a/Q", self.pa_over_q, 0.0, True, PA_NOTE)
+        object.__setattr__(self, "pa_over_q", check_range("P_a/Q", p, None, unit=PA_NOTE, upper=PA_MAX))
+        f_e = check_range("f_e", self.f_e, 0.0, False, "Hz")
+        f_n0 = self.model.f_n0
+        lo, hi = R_RANGE
+        if not lo * f_n0 <= f_e <= hi * f_n0:
+            raise ParameterError(
+                "f_e", self.f_e,
+                f"must lie in [{format_number(lo)} f_n0, {format_number(hi)} f_n0] = "
+                f"[{format_number(lo * f_n0)}, {format_number(hi * f_n0)}] Hz with the model's "
+                f"f_n0 = {format_number(f_n0)} Hz (the frequency ratio r = f_e/f_n0 must be in "
+                f"[{format_number(lo)}, {format_number(hi)}] for the integration)")
+        object.__setattr__(self, "f_e", f_e)
 
     @classmethod
     def from_newtons(cls, model: ContactModel, P_a: float, f_e: float) -> Excitation:
         """Excitation from an amplitude P_a in newtons."""
         P_a = check_range("P_a", P_a, 0.0, True, "N")
+        P_a = check_range("P_a", P_a, None, unit=f"N (P_a/Q <= {format_number(PA_MAX)})",
+                          upper=PA_MAX * model.Q)
         return cls(model, P_a / model.Q, f_e)
 
     @property

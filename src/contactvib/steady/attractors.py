@@ -38,10 +38,11 @@ from contactvib.model import (
     check_int,
     check_range,
 )
+from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
 from contactvib.steady.results import AttractorSet
 
-__all__ = ["find_attractors", "start_box", "ballistic_seeds"]
+__all__ = ["find_attractors", "check_search", "start_box", "ballistic_seeds"]
 
 #: Box starts of the first wave, which run to the end and supply the capture points.
 FIRST_WAVE = 64
@@ -128,6 +129,31 @@ def _check_pair(model: ContactModel, excitation: Excitation) -> None:
                              f"model.excitation(P_a/Q, f_e)")
 
 
+#: Bytes per start of the search's arrays (start, outcome, 64-point tail, grouping; rounded up).
+_BYTES_PER_START = 2048
+#: Bytes per stroboscopic point of a transient's history (one history per numba thread).
+_BYTES_PER_HISTORY_ROW = 16
+
+
+def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int]:
+    """The checked sizes of :func:`find_attractors`: ``(n_starts, seed, kmax, max_periods)``.
+
+    Besides their ranges, their arrays must fit in :data:`~contactvib.model.checks.MEMORY_MAX`:
+    half of it for the per-start arrays, half for the transient histories (``max_periods + 1``
+    points per thread)."""
+    from numba import get_num_threads
+
+    n_starts = check_int("n_starts", n_starts, 1)
+    seed = check_int("seed", seed, 0)
+    kmax = check_int("kmax", kmax, 1, KMAX_SEARCH_MAX)
+    max_periods = check_int("max_periods", max_periods, 4 * kmax)
+    half = MEMORY_MAX // 2
+    check_memory("n_starts", n_starts, 2.0 * n_starts * _BYTES_PER_START, half // _BYTES_PER_START)
+    row = _BYTES_PER_HISTORY_ROW * get_num_threads()
+    check_memory("max_periods", max_periods, 2.0 * (max_periods + 1) * row, half // row - 1)
+    return n_starts, seed, kmax, max_periods
+
+
 def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
                     seed: int = 0, kmax: int = 8, max_periods: int = 400,
                     seeds: bool = True, detect_tol: float = 1e-4,
@@ -161,10 +187,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     AttractorSet
     """
     _check_pair(model, excitation)
-    n_starts = check_int("n_starts", n_starts, 1)
-    seed = check_int("seed", seed, 0)
-    kmax = check_int("kmax", kmax, 1, KMAX_SEARCH_MAX)
-    max_periods = check_int("max_periods", max_periods, 4 * kmax)
+    n_starts, seed, kmax, max_periods = check_search(n_starts, seed, kmax, max_periods)
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
     rtol_transient = check_range("rtol_transient", rtol_transient, 0.0, False)
     capture_tol = check_range("capture_tol", capture_tol, 0.0, True, upper=CAPTURE_TOL_MAX)

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib._kernels.flow import REC_WIDTH
 from contactvib._kernels.orbit import sample_records
-from contactvib.model import ContactModel, Excitation, ParameterError, check_finite, check_int
+from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
+from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor, TimeHistory
 
-__all__ = ["simulate", "attractor_history"]
+__all__ = ["simulate", "attractor_history", "check_start"]
 
 
 def _check_types(model, excitation) -> None:
@@ -37,6 +39,32 @@ def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
     )
 
 
+#: Largest |y| / y0 and |ẏ| / (y0 ω_n0) of an initial state.
+STATE_MAX = 1e6
+#: Bytes per excitation period of the integrator's initial step records (4096 rows of REC_WIDTH
+#: floats) and per sample of a time history (its arrays and the sampling's).
+_BYTES_PER_PERIOD = 4096 * REC_WIDTH * 8
+_BYTES_PER_SAMPLE = 64
+
+
+def check_start(model: ContactModel, y_um, ydot_mm_s, n_periods, samples_per_period=400):
+    """The checked inputs of :func:`simulate`: ``(y_um, ydot_mm_s, n_periods, samples_per_period)``.
+
+    The state must be bounded, ``|y| <= 1e6 y0`` and ``|ẏ| <= 1e6 y0 ω_n0``, and the time
+    history must fit in :data:`~contactvib.model.checks.MEMORY_MAX`."""
+    u = model.units
+    ymax, vmax = STATE_MAX * u.y_um, STATE_MAX * u.ydot_mm_s
+    y_um = u.y_um if y_um is None else check_range("y", y_um, -ymax, True, "um (|y| <= 1e6 y0)",
+                                                  upper=ymax)
+    ydot_mm_s = check_range("ydot", ydot_mm_s, -vmax, True, "mm/s (|ydot| <= 1e6 y0 omega_n0)",
+                            upper=vmax)
+    n_periods = check_int("n_periods", n_periods, 1)
+    samples_per_period = check_int("samples_per_period", samples_per_period, 2)
+    per_period = _BYTES_PER_PERIOD + _BYTES_PER_SAMPLE * samples_per_period
+    check_memory("n_periods", n_periods, float(n_periods) * per_period, MEMORY_MAX // per_period)
+    return y_um, ydot_mm_s, n_periods, samples_per_period
+
+
 def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = None,
              ydot_mm_s: float = 0.0, n_periods: int = 20, samples_per_period: int = 400,
              rtol: float = 1e-10) -> TimeHistory:
@@ -46,12 +74,9 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     integrator's dense output (``samples_per_period`` points per excitation period).
     """
     _check_types(model, excitation)
-    u = model.units
-    y_um = u.y_um if y_um is None else check_finite("y", y_um)
-    ydot_mm_s = check_finite("ydot", ydot_mm_s)
-    n_periods = check_int("n_periods", n_periods, 1)
-    samples_per_period = check_int("samples_per_period", samples_per_period, 2)
-    z = np.array(u.state(y_um, ydot_mm_s))
+    y_um, ydot_mm_s, n_periods, samples_per_period = check_start(model, y_um, ydot_mm_s, n_periods,
+                                                                 samples_per_period)
+    z = np.array(model.units.state(y_um, ydot_mm_s))
     return _history(model, excitation, z, n_periods, samples_per_period, rtol)
 
 
