@@ -47,7 +47,7 @@ def readme_commands(text: str | None = None) -> list[str]:
 # and Fig. 4's operating point); two multi-start frequencies with 4 starts each.
 _PAPER_GRID = ["--fmin", "340", "--fmax", "380", "--df", "4", "--multistart-per-octave", "2",
                "--starts", "4", "--workers", "1", "--no-progress"]
-_RESONANCE = ["resonance", "--pa", "0.65", "--fmin", "300", "--fmax", "340", "--df", "4",
+_RESONANCE = ["resonance", "--pa", "0.6", "0.65", "--fmin", "300", "--fmax", "340", "--df", "4",
               "--multistart-per-octave", "2", "--starts", "4", "--workers", "1", "--no-progress",
               "--out", "res/"]
 
@@ -79,7 +79,7 @@ REDUCED: dict[str, list[str]] = {
         ["continue", "--parameter", "pa", "--pa", "0.65", "--from-fe", "360", "--pa-min", "0.6",
          "--pa-max", "0.7", "--max-points", "10", "--out", "branch_pa/"],
     "contactvib bifurcations --pa 0.5 0.6 0.65 0.7 0.75 0.8 0.85 0.9 --out bif/":
-        ["bifurcations", "--pa", "0.65", "--seed-fe", "1200", "--fmin", "1100", "--fmax", "1300",
+        ["bifurcations", "--pa", "0.6", "0.65", "--seed-fe", "1200", "--fmin", "1100", "--fmax", "1300",
          "--max-points", "20", "--out", "bif/"],
     "contactvib evolution --order 2 --pa-min 0.3 --pa-max 0.9 --out evo/":
         ["evolution", "--order", "2", "--pa-min", "0.65", "--pa-max", "0.7", "--levels", "2",
@@ -192,11 +192,13 @@ def _check_paper(out: Path, stdout: str) -> None:
 
 
 def _check_resonance(out: Path, stdout: str) -> None:
-    _dataset(out / "resonance.nc", [0.65])
-    assert [p.name for p in (out / ".chunks").glob("level_pa*.nc")] == ["level_pa0.650000.nc"]
-    _figures(out, "resonance_pa0.65.png", 1)
-    _figures(out, "extrema_pa0.65.png", 1)
-    assert "1 levels" in stdout
+    _dataset(out / "resonance.nc", [0.6, 0.65])
+    assert sorted(p.name for p in (out / ".chunks").glob("level_pa*.nc")) == ["level_pa0.600000.nc",
+                                                                              "level_pa0.650000.nc"]
+    for p in ("0.60", "0.65"):
+        assert_figure_file(out / f"resonance_pa{p}.png")
+        assert_figure_file(out / f"extrema_pa{p}.png")
+    assert "2 levels" in stdout
 
 
 def _check_query(stdout: str) -> None:
@@ -341,6 +343,7 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     elif cmd == "continue":
         _branches(folder, "pa0.65_fe1200")
     elif cmd == "bifurcations":
+        _branches(folder, "pa0.6")
         _branches(folder, "pa0.65")
         _special_points_json(json.loads((folder / "bifurcations.json").read_text()))
     elif cmd == "evolution":
