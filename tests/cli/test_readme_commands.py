@@ -1,0 +1,378 @@
+"""Every command line of the README runs (at a reduced size) and writes what the README says.
+
+The command lines are read from the README's ```bash blocks, so a new line is picked up by
+itself: :data:`REDUCED` must then map it to a reduced form (fewer levels, a narrower range, fewer
+starts, fewer points), or :func:`test_every_readme_command_has_a_reduced_form` fails and says so.
+Each reduced form keeps the README line's options otherwise, runs in-process through
+:func:`contactvib.cli.main` with the working directory in a temporary folder (so ``--out X/``
+writes into it, and the ``DATASET`` ``paper/paper.nc`` is the one that the reduced ``paper`` run
+wrote there), and its outputs are checked: files exist, NetCDF files open with xarray and hold
+the documented variables, figures are readable PNGs, JSON parses and has the documented keys.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import re
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+from contactvib.cli import main
+from figure_files import assert_figure_file
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+
+
+def readme_commands(text: str | None = None) -> list[str]:
+    """The ``contactvib ...`` command lines of the README's ```bash blocks, without their
+    trailing comments (for ``pip install . && contactvib paper``: ``contactvib paper``)."""
+    text = README.read_text() if text is None else text
+    lines = []
+    for block in re.findall(r"^```bash\n(.*?)^```", text, re.S | re.M):
+        for line in block.splitlines():
+            command = line.split("#", 1)[0].strip()
+            for part in command.split("&&"):
+                part = part.strip()
+                if part == "contactvib" or part.startswith("contactvib "):
+                    lines.append(part)
+    return lines
+
+
+# The sweep grid of the reduced `paper` run: 340–380 Hz at 4 Hz holds 360 Hz (the `query` line
+# and Fig. 4's operating point); two multi-start frequencies with 4 starts each.
+_PAPER_GRID = ["--fmin", "340", "--fmax", "380", "--df", "4", "--multistart-per-octave", "2",
+               "--starts", "4", "--workers", "1", "--no-progress"]
+_RESONANCE = ["resonance", "--pa", "0.6", "0.65", "--fmin", "300", "--fmax", "340", "--df", "4",
+              "--multistart-per-octave", "2", "--starts", "4", "--workers", "1", "--no-progress",
+              "--out", "res/"]
+
+#: README command line (comment stripped) -> the reduced argument list it is tested with.
+REDUCED: dict[str, list[str]] = {
+    "contactvib paper": ["paper", *_PAPER_GRID],
+    "contactvib paper --out paper/": ["paper", "--out", "paper/", *_PAPER_GRID],
+    "contactvib resonance --pa 0.5 0.6 0.65 0.7 0.75 0.8 0.85 0.9 --fmin 30 --fmax 2000 --df 1 --out res/":
+        _RESONANCE,
+    "contactvib resonance ... --resume": [*_RESONANCE, "--resume"],
+    "contactvib query paper/paper.nc --pa 0.65 --fe 360 --json":
+        ["query", "paper/paper.nc", "--pa", "0.65", "--fe", "360", "--json"],
+    "contactvib attractors --pa 0.65 --fe 360":
+        ["attractors", "--pa", "0.65", "--fe", "360", "--starts", "32"],
+    "contactvib attractors --pa 0.65 --fe 360 --json":
+        ["attractors", "--pa", "0.65", "--fe", "360", "--json", "--starts", "32"],
+    "contactvib simulate --pa 0.65 --fe 360 --out fig4/":
+        ["simulate", "--pa", "0.65", "--fe", "360", "--out", "fig4/", "--starts", "32"],
+    "contactvib simulate --pa 0.9 --fe 50 --from-state 0.3 0 --periods 10 --out traj/":
+        ["simulate", "--pa", "0.9", "--fe", "50", "--from-state", "0.3", "0", "--periods", "10",
+         "--out", "traj/"],
+    "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
+        ["attractors", "--pa", "0.5", "--fe", "700", "--set", "m2=1.5", "--set", "c_n=1e14",
+         "--starts", "16"],
+    "contactvib continue --pa 0.65 --from-fe 1200 --attractor 0 --fmin 30 --fmax 2000 --out branch/":
+        ["continue", "--pa", "0.65", "--from-fe", "1200", "--attractor", "0", "--fmin", "1100",
+         "--fmax", "1300", "--max-points", "20", "--out", "branch/"],
+    "contactvib continue --parameter pa --pa 0.65 --from-fe 360 --pa-min 0.05 --pa-max 0.9 --out branch_pa/":
+        ["continue", "--parameter", "pa", "--pa", "0.65", "--from-fe", "360", "--pa-min", "0.6",
+         "--pa-max", "0.7", "--max-points", "10", "--out", "branch_pa/"],
+    "contactvib bifurcations --pa 0.5 0.6 0.65 0.7 0.75 0.8 0.85 0.9 --out bif/":
+        ["bifurcations", "--pa", "0.6", "0.65", "--seed-fe", "1200", "--fmin", "1100", "--fmax", "1300",
+         "--max-points", "20", "--out", "bif/"],
+    "contactvib evolution --order 2 --pa-min 0.3 --pa-max 0.9 --out evo/":
+        ["evolution", "--order", "2", "--pa-min", "0.65", "--pa-max", "0.7", "--levels", "2",
+         "--out", "evo/"],
+    "contactvib perturbation --pa 0.65 --fe 287 --order 40 --out pert/":
+        ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--out", "pert/"],
+    "contactvib perturbation --pa 0.65 --fe 287 --order 40 --json":
+        ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--json"],
+    "contactvib hbm --pa 0.65 --harmonics 32 --fmin 300 --fmax 2000 --out hbm/":
+        ["hbm", "--pa", "0.65", "--harmonics", "16", "--fmin", "300", "--fmax", "340", "--out", "hbm/"],
+}
+
+#: The README lines whose reduced run is too long for the default suite (opt-in: pytest -m slow).
+SLOW: set[str] = set()
+
+# ------------------------------------------------------------------ documented contents
+
+#: `attractors --json` (README, "JSON contract").
+ATTRACTORS_KEYS = {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "n_box", "n_seeds", "n_failed", "units",
+                   "attractors"}
+ATTRACTOR_KEYS = {"period", "minima_per_period", "app_um", "ymin_um", "ymax_um", "loses_contact",
+                  "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_multipliers",
+                  "closure", "hits", "strobe_points", "extrema"}
+#: `query --json`: the attractors contract plus the dataset's labels (README, "Dataset layout");
+#: the dataset stores no start counts and no `hits`.
+QUERY_TOP_KEYS = {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "requested", "units", "attractors"}
+QUERY_KEYS = (ATTRACTOR_KEYS - {"hits"}) | {"resonance", "branch", "branch_label", "attractor_type",
+                               "lyapunov_per_period", "found_by", "reached_by_sweep", "origin"}
+#: The resonance dataset (`paper.nc`, `resonance.nc`), README "Dataset layout".
+DATASET_VARS = {"pa_over_q", "fe_hz", "kind", "period", "minima_per_period", "app_um", "ymin_um",
+                "ymax_um", "loses_contact", "contact_loss_fraction", "basin_fraction", "floquet_re",
+                "floquet_im", "floquet_abs_max", "closure", "lyapunov_per_period", "attractor_type",
+                "dominant_harmonic", "resonance", "branch_index", "origin", "found_by", "state_y_um",
+                "state_ydot_mm_s", "harmonics_um", "extrema_start", "extrema_count", "strobe_start",
+                "strobe_count", "extremum_t_ms", "extremum_y_um", "extremum_is_min", "strobe_y_um",
+                "strobe_ydot_mm_s", "branch_id", "branch_label", "branch_pa_over_q", "branch_period",
+                "branch_minima", "branch_fmin_hz", "branch_fmax_hz", "branch_npoints",
+                "branch_app_max_um", "branch_reached_by_sweep", "trace_label", "trace_root",
+                "trace_direction", "trace_f_start_hz", "trace_f_stop_hz", "trace_stop"}
+DATASET_ATTRS = {"model", "settings", "fn0_hz", "y0_um", "levels_pa_over_q"}
+#: A branch file `branch_<id>.nc` (README, "Continuation and bifurcations").
+BRANCH_VARS = {"fe_hz", "pa_over_q", "app_um", "ymin_um", "ymax_um", "floquet_re", "floquet_im",
+               "stable", "state_x", "state_xdot", "minima_per_period", "contact_loss_fraction",
+               "arclength"}
+#: `continue/bifurcations --json` and `special_points_<tag>.json`.
+SPECIAL_KEYS = {"type", "fe_hz", "pa_over_q", "app_um", "period", "branch"}
+STOP_KEYS = {"fe_hz", "pa_over_q", "reason", "branch"}
+#: `perturbation --json`.
+PERTURBATION_KEYS = {"app_um", "ymin_um", "ymax_um", "valid", "order", "error_estimate", "fe_hz",
+                     "pa_over_q", "harmonics_um", "reason", "summation"}
+
+
+def _dataset(path: Path, levels) -> None:
+    with xr.open_dataset(path) as d:
+        assert DATASET_VARS <= set(d.variables), sorted(DATASET_VARS - set(d.variables))
+        assert DATASET_ATTRS <= set(d.attrs), sorted(DATASET_ATTRS - set(d.attrs))
+        assert sorted({round(float(p), 6) for p in d["pa_over_q"].values}) == sorted(levels)
+        assert d.sizes["point"] > 0 and d.sizes["branch"] > 0
+
+
+def _figures(folder: Path, pattern: str, at_least: int = 1) -> list[Path]:
+    pngs = sorted(folder.glob(pattern))
+    assert len(pngs) >= at_least, (folder, pattern, [p.name for p in folder.iterdir()])
+    for p in pngs:
+        assert_figure_file(p)
+    return pngs
+
+
+def _special_points_json(d: dict) -> None:
+    assert set(d) >= {"special_points", "stops"}
+    assert d["stops"], "every direction of every branch ends with a stop"
+    for s in d["special_points"]:
+        assert SPECIAL_KEYS <= set(s) and s["type"] in {"fold", "period-doubling", "neimark-sacker", "grazing"}
+    for s in d["stops"]:
+        assert STOP_KEYS <= set(s) and s["reason"]
+
+
+def _branches(folder: Path, tag: str) -> None:
+    files = sorted(folder.glob("branch_*.nc"))
+    assert files, [p.name for p in folder.iterdir()]
+    for f in files:
+        with xr.open_dataset(f) as b:
+            assert BRANCH_VARS <= set(b.variables), (f.name, sorted(BRANCH_VARS - set(b.variables)))
+            assert b.sizes[next(iter(b["app_um"].dims))] >= 1
+    _special_points_json(json.loads((folder / f"special_points_{tag}.json").read_text()))
+    assert_figure_file(folder / f"branches_{tag}.png")
+
+
+def _attractors_json(d: dict, pa: float, fe: float) -> None:
+    assert ATTRACTORS_KEYS <= set(d), sorted(ATTRACTORS_KEYS - set(d))
+    assert d["pa_over_q"] == pytest.approx(pa) and d["fe_hz"] == pytest.approx(fe)
+    atts = d["attractors"]
+    assert atts and [a["app_um"] for a in atts] == sorted((a["app_um"] for a in atts), reverse=True)
+    for a in atts:
+        assert ATTRACTOR_KEYS <= set(a), sorted(ATTRACTOR_KEYS - set(a))
+
+
+# ------------------------------------------------------------------ checks, one per README line
+
+def _check_paper(out: Path, stdout: str) -> None:
+    _dataset(out / "paper.nc", [0.5, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9])
+    assert len(list((out / ".chunks").glob("level_pa*.nc"))) == 8
+    _figures(out, "fig2?_pa*.png", 8)
+    _figures(out, "fig3?_pa*.png", 8)
+    assert (out / "fig2a_pa0.50.png").is_file() and (out / "fig3h_pa0.90.png").is_file()
+    _figures(out, "fig4_*.png", 1)  # 360 Hz, 0.65 Q lies on the reduced grid
+    index = (out / "index.md").read_text()
+    assert "fig2a_pa0.50.png" in index and "S3." in index
+    assert "wrote" in stdout and "paper.nc" in stdout
+
+
+def _check_resonance(out: Path, stdout: str) -> None:
+    _dataset(out / "resonance.nc", [0.6, 0.65])
+    assert sorted(p.name for p in (out / ".chunks").glob("level_pa*.nc")) == ["level_pa0.600000.nc",
+                                                                              "level_pa0.650000.nc"]
+    for p in ("0.60", "0.65"):
+        assert_figure_file(out / f"resonance_pa{p}.png")
+        assert_figure_file(out / f"extrema_pa{p}.png")
+    assert "2 levels" in stdout
+
+
+def _check_query(stdout: str) -> None:
+    d = json.loads(stdout)
+    assert d["pa_over_q"] == pytest.approx(0.65) and d["fe_hz"] == pytest.approx(360.0)
+    assert QUERY_TOP_KEYS <= set(d), sorted(QUERY_TOP_KEYS - set(d))
+    assert d["requested"]
+    assert d["attractors"]
+    for a in d["attractors"]:
+        assert QUERY_KEYS <= set(a), sorted(QUERY_KEYS - set(a))
+
+
+def _check_attractors_table(stdout: str, pa: float, fe: float) -> None:
+    lines = stdout.splitlines()
+    assert lines[0].startswith(f"P_a = {pa:g} Q (") and f"f_e = {fe:g} Hz" in lines[0]
+    assert lines[1].split()[:3] == ["#", "period", "minima"]
+    assert len(lines) >= 3 and lines[2].split()[0] == "0"
+
+
+# ------------------------------------------------------------------ the runs
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    """The working directory of every run (``--out X/`` and ``paper/paper.nc`` are relative)."""
+    return tmp_path_factory.mktemp("readme")
+
+
+def _run(args: list[str], workdir: Path, capsys) -> str:
+    old = os.getcwd()
+    os.chdir(workdir)
+    try:
+        capsys.readouterr()
+        rc = main(list(args))
+        captured = capsys.readouterr()
+    finally:
+        os.chdir(old)
+    assert rc == 0, (args, captured.err)
+    return captured.out
+
+
+@pytest.fixture(scope="module")
+def paper_run(workdir):
+    """The reduced ``contactvib paper --out paper/``: the DATASET of the ``query`` line."""
+    old = os.getcwd()
+    os.chdir(workdir)
+    buf = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(buf):
+            rc = main(REDUCED["contactvib paper --out paper/"])
+    finally:
+        os.chdir(old)
+    assert rc == 0
+    return buf.getvalue()
+
+
+def test_readme_commands_are_found():
+    cmds = readme_commands()
+    assert "contactvib paper" in cmds  # from `pip install . && contactvib paper`
+    assert len(cmds) == len(set(cmds)) >= 15
+    text = "```bash\npip install . && contactvib paper   # x\ncontactvib a --b 1\n```\n```\ncontactvib no\n```\n"
+    assert readme_commands(text) == ["contactvib paper", "contactvib a --b 1"]
+
+
+def _uncovered(commands: list[str]) -> str:
+    """The failure message for README command lines that have no reduced form ('' if none)."""
+    missing = [c for c in commands if c not in REDUCED]
+    return ("" if not missing else "README command lines without a reduced form: add each to "
+            f"REDUCED in tests/cli/test_readme_commands.py (and its output check): {missing}")
+
+
+def test_a_new_readme_line_without_a_reduced_form_is_reported():
+    text = README.read_text() + "\n```bash\ncontactvib attractors --pa 0.7 --fe 400\n```\n"
+    msg = _uncovered(readme_commands(text))
+    assert "add each to REDUCED" in msg and "'contactvib attractors --pa 0.7 --fe 400'" in msg
+
+
+def test_every_readme_command_has_a_reduced_form():
+    msg = _uncovered(readme_commands())
+    assert not msg, msg
+    stale = [c for c in REDUCED if c not in readme_commands()]
+    assert not stale, f"REDUCED names lines that are no longer in the README: {stale}"
+
+
+def _params():
+    return [pytest.param(c, marks=pytest.mark.slow, id=c) if c in SLOW else pytest.param(c, id=c)
+            for c in REDUCED]
+
+
+@pytest.mark.parametrize("line", _params())
+def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, capsys):
+    args = REDUCED[line]
+    if "paper/" in line:  # the line writes or reads the module's dataset run
+        paper_run = request.getfixturevalue("paper_run")
+    # the reduced form keeps the command and the README's output folder
+    assert args[0] == line.split()[1]
+    m = re.search(r"--out (\S+)", line)
+    if m:
+        assert args[args.index("--out") + 1] == m.group(1)
+    if line == "contactvib paper --out paper/":  # the module's dataset run
+        _check_paper(workdir / "paper", paper_run)
+        return
+    if line == "contactvib resonance ... --resume":
+        res = workdir / "res"
+        if not (res / "resonance.nc").is_file():
+            _run(_RESONANCE, workdir, capsys)
+        chunks = {p: p.stat().st_mtime_ns for p in (res / ".chunks").glob("level_pa*.nc")}
+        assert chunks
+        out = _run(args, workdir, capsys)
+        assert {p: p.stat().st_mtime_ns for p in (res / ".chunks").glob("level_pa*.nc")} == chunks
+        _check_resonance(res, out)
+        return
+    if line == "contactvib paper":  # the default folder, paper/, in a folder of its own
+        sub = workdir / "default"
+        sub.mkdir(exist_ok=True)
+        out = _run(args, sub, capsys)
+        _check_paper(sub / "paper", out)
+        return
+    out = _run(args, workdir, capsys)
+    cmd = args[0]
+    folder = workdir / m.group(1) if m else None
+    if cmd == "resonance":
+        _check_resonance(folder, out)
+    elif cmd == "query":
+        _check_query(out)
+    elif cmd == "attractors" and "--json" in args:
+        _attractors_json(json.loads(out), 0.65, 360.0)
+    elif cmd == "attractors":
+        pa, fe = float(args[args.index("--pa") + 1]), float(args[args.index("--fe") + 1])
+        _check_attractors_table(out, pa, fe)
+    elif cmd == "simulate" and "--from-state" in args:
+        assert_figure_file(folder / "trajectory_pa0.9_fe50.png")
+    elif cmd == "simulate":
+        pngs = _figures(folder, "*.png", 1)
+        d = json.loads((folder / "attractors.json").read_text())
+        _attractors_json(d, 0.65, 360.0)
+        assert len(d["attractors"]) == len(pngs)
+    elif cmd == "continue" and "--parameter" in args:
+        _branches(folder, "pa0.65_fe360_in_pa")
+        for f in folder.glob("branch_*.nc"):
+            with xr.open_dataset(f) as b:
+                assert float(b["pa_over_q"].min()) >= 0.6 - 1e-9 and float(b["pa_over_q"].max()) <= 0.7 + 1e-9
+    elif cmd == "continue":
+        _branches(folder, "pa0.65_fe1200")
+    elif cmd == "bifurcations":
+        _branches(folder, "pa0.6")
+        _branches(folder, "pa0.65")
+        _special_points_json(json.loads((folder / "bifurcations.json").read_text()))
+    elif cmd == "evolution":
+        d = json.loads((folder / "evolution_order2.json").read_text())
+        assert {"order", "levels_pa_over_q", "curves", "points", "extremes"} <= set(d)
+        assert d["order"] == 2 and len(d["levels_pa_over_q"]) == 2
+        assert d["curves"] and d["points"]  # the 1/2's fold curve at least, and its folds
+        for c in d["curves"]:
+            assert {"type", "fe_hz", "pa_over_q", "stops"} <= set(c) and c["type"] in {"fold", "period-doubling"}
+        for sp in d["points"]:
+            assert SPECIAL_KEYS <= set(sp)
+        for onset in d["extremes"].values():
+            assert {"fe_hz", "pa_over_q"} <= set(onset)
+        assert_figure_file(folder / "evolution_order2.png")
+    elif cmd == "perturbation" and "--json" in args:
+        d = json.loads(out)
+        assert PERTURBATION_KEYS <= set(d), sorted(PERTURBATION_KEYS - set(d))
+        assert d["fe_hz"] == 287.0 and d["order"] == 16
+    elif cmd == "perturbation":
+        _figures(folder, "perturbation_*.png", 1)
+        _figures(folder, "convergence_*.png", 1)
+        (csv,) = folder.glob("convergence_*.csv")
+        rows = csv.read_text().splitlines()
+        assert rows[0].split(",")[:2] == ["N", "app_plain_um"] and len(rows) >= 3
+        assert int(rows[-1].split(",")[0]) == 16  # orders up to --order
+    elif cmd == "hbm":
+        _figures(folder, "hbm_branch_*.png", 1)
+        d = json.loads((folder / "branch.json").read_text())
+        assert {"pa_over_q", "harmonics", "fmin_hz", "fmax_hz", "branches"} <= set(d)
+        assert d["harmonics"] == 16 and (d["fmin_hz"], d["fmax_hz"]) == (300.0, 340.0) and d["branches"]
+    else:
+        raise AssertionError(f"no output check for {line!r}: add one to this test")
