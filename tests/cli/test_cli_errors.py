@@ -194,16 +194,6 @@ def test_bad_sweep_input_is_one_line(tmp_path, capsys, args, needle):
     assert not (tmp_path / "x").exists()
 
 
-@pytest.fixture(scope="module")
-def small_dataset(tmp_path_factory):
-    """A resonance dataset of one level (0.65 Q) over 340–380 Hz, 2 Hz step."""
-    from contactvib.sweeps.resonance import resonance_dataset
-    from contactvib.sweeps.sweep import SweepSettings
-
-    out = tmp_path_factory.mktemp("res")
-    st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=2.0, multistart_per_octave=0)
-    resonance_dataset(ContactModel(), [0.65], st, out=out, workers=1, progress=False)
-    return out / "resonance.nc"
 
 
 @pytest.mark.parametrize("args, needle", [

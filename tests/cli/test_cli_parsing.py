@@ -11,11 +11,13 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from contactvib.cli import main
-from contactvib.cli.common import InputError, _echo_json, _model
+from contactvib.cli.common import InputError, _echo_json, _model, one_line
 from contactvib.model import PAPER_DEFAULTS, ContactModel, ParameterError, check_finite, check_int
 from contactvib.model.checks import _NUMBER_TEXT
 
-FAST = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+#: fixed examples (derandomized: the same cases on every run)
+FAST = settings(max_examples=100, deadline=None, derandomize=True,
+                suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 
 def _one_line(capsys, needle=""):
@@ -87,7 +89,8 @@ def test_set_given_twice(capsys):
 @pytest.mark.parametrize("text", ["٣٦٠", "3_60", "３６０", "360\u00a0", "0x10", "1e", "--1", "inf", "nan", ""])
 def test_only_plain_ascii_numbers(capsys, text):
     assert main(["attractors", "--fe", text]) == 2
-    assert _one_line(capsys) == f"contactvib: error: --fe (f_e) = {text}: must be a finite number\n"
+    # the value is echoed as typed, invisible characters escaped (one line)
+    assert _one_line(capsys) == f"contactvib: error: --fe (f_e) = {one_line(text)}: must be a finite number\n"
     with pytest.raises(ParameterError, match="must be a finite number"):
         check_finite("f_e", text)
     with pytest.raises(ParameterError, match="must be an integer"):
@@ -118,16 +121,6 @@ def test_json_output_has_no_bare_nan(capsys):
     assert json.loads(capsys.readouterr().out) == {"x": None, "y": [1, 2.0]}
 
 
-@pytest.fixture(scope="module")
-def tiny_dataset(tmp_path_factory):
-    """A resonance dataset of one level (0.65 Q) at 355 and 360 Hz."""
-    from contactvib.sweeps.resonance import resonance_dataset
-    from contactvib.sweeps.sweep import SweepSettings
-
-    out = tmp_path_factory.mktemp("res")
-    st_ = SweepSettings(fmin_hz=355.0, fmax_hz=360.0, df_hz=5.0, multistart_per_octave=0)
-    resonance_dataset(ContactModel(), [0.65], st_, out=out, workers=1, progress=False)
-    return out / "resonance.nc"
 
 
 def _damaged(src, dst, **changes):
@@ -144,8 +137,8 @@ def _damaged(src, dst, **changes):
     return dst
 
 
-def test_query_json_is_strict_on_damaged_files(tiny_dataset, tmp_path, capsys):
-    bad = _damaged(tiny_dataset, tmp_path / "nan.nc", app_um=np.nan, ymin_um=np.nan, contact_loss_fraction=np.nan)
+def test_query_json_is_strict_on_damaged_files(small_dataset, tmp_path, capsys):
+    bad = _damaged(small_dataset, tmp_path / "nan.nc", app_um=np.nan, ymin_um=np.nan, contact_loss_fraction=np.nan)
     assert main(["query", str(bad), "--pa", "0.65", "--fe", "360", "--json"]) == 0
     res = json.loads(capsys.readouterr().out, parse_constant=lambda c: pytest.fail(f"bare {c}"))
     assert res["attractors"] and all(a["app_um"] is None for a in res["attractors"])
@@ -153,8 +146,8 @@ def test_query_json_is_strict_on_damaged_files(tiny_dataset, tmp_path, capsys):
 
 @pytest.mark.parametrize("settings_attr", ["{not json", "[]", '{"df_hz": 5}',
                                            '{"df_hz": "x", "fmin_hz": 1, "fmax_hz": 2}'])
-def test_query_on_damaged_settings_is_one_line(tiny_dataset, tmp_path, capsys, settings_attr):
-    bad = _damaged(tiny_dataset, tmp_path / "settings.nc", settings=settings_attr)
+def test_query_on_damaged_settings_is_one_line(small_dataset, tmp_path, capsys, settings_attr):
+    bad = _damaged(small_dataset, tmp_path / "settings.nc", settings=settings_attr)
     assert main(["query", str(bad), "--pa", "0.65", "--fe", "360"]) == 2
     _one_line(capsys, "dataset attribute 'settings' is missing or damaged")
 

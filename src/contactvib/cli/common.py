@@ -32,8 +32,18 @@ from contactvib.model import (
 from contactvib.model.checks import _to_float, format_number
 
 
+def one_line(message: str) -> str:
+    """``message`` with its control characters (e.g. a newline typed into an option value)
+    escaped, so that an error is always one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+
+
 class InputError(Exception):
-    """A user input error: printed as one line, no traceback, no usage banner."""
+    """A user input error: printed as one line (control characters escaped), no traceback, no
+    usage banner."""
+
+    def __init__(self, message: str):
+        super().__init__(one_line(str(message)))
 
 
 def _error(option: str, e: ParameterError, names: dict[str, str] | None = None) -> InputError:

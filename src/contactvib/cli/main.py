@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import click
 
-from contactvib.cli.common import InputError
+from contactvib.cli.common import InputError, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.steady import attractors, simulate
@@ -40,7 +40,7 @@ def main(argv=None) -> int:
         click.echo("contactvib: interrupted", err=True)
         return 130
     except click.ClickException as e:
-        click.echo(f"contactvib: error: {e.format_message()}", err=True)
+        click.echo(f"contactvib: error: {one_line(e.format_message())}", err=True)
     return 2
 
 
