@@ -6,19 +6,14 @@
   0.90 Q bends fast: its predictor converges to the scipy reference orbit at 170 Hz (DOP853,
   rtol 1e-12, ``tests/data/reference.json``) where a zero-order predictor does not; and it
   refuses to cross the end of that branch (near 167 Hz).
-* The kernels' on-disk cache folder is keyed by their sources (stale kernels cannot be loaded).
 """
-import hashlib
 import json
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import contactvib._kernels
 from contactvib import ContactModel, find_attractors
-from contactvib._kernels import _kernel_cache_dir
 from contactvib._kernels.shooting import newton_orbit
 from contactvib._kernels.status import STATUS_NEWTON_DIVERGED, STATUS_NEWTON_MAXITER, STATUS_NEWTON_SINGULAR
 from contactvib._kernels.trace import bridge_orbit
@@ -79,27 +74,3 @@ def test_bridge_follows_a_fast_bend_and_stops_at_the_branch_end():
     # the branch ends between 168 and 166 Hz: no bridge across 170 -> 162 Hz
     assert bridge_orbit(z170, r(170.0), z174, r(174.0), True, r(162.0), 1, par174, 1e-12,
                         1e-10, zg, zb) == 0
-
-
-def test_kernel_cache_folder_is_keyed_by_the_sources(monkeypatch, tmp_path):
-    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    folder = _kernel_cache_dir()
-    assert folder is not None and folder.is_dir()
-    assert folder.parent == tmp_path / "contactvib" / "numba"
-    # the name is the hash of the kernel sources, recomputed here independently
-    kernels = Path(contactvib._kernels.__file__).parent
-    digest = hashlib.sha256()
-    for path in sorted(kernels.glob("*.py")):
-        digest.update(path.name.encode() + path.read_bytes())
-    assert folder.name == digest.hexdigest()[:16]
-    assert _kernel_cache_dir() == folder  # deterministic
-    # an edited kernel (one byte in one file) gets another folder: no stale kernel is loaded
-    copy = tmp_path / "kernels"
-    shutil.copytree(kernels, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    flow = copy / "flow.py"
-    flow.write_bytes(flow.read_bytes() + b"\n")
-    other = _kernel_cache_dir(copy)
-    assert other is not None and other != folder and other.parent == folder.parent
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "mine"))
-    assert _kernel_cache_dir() is None  # the user's choice wins

@@ -29,8 +29,16 @@ for _command in (attractors, simulate, resonance, query, paper, continue_, bifur
     cli.add_command(_command)
 
 
+def _warning_line(message, category, filename, lineno, line=None) -> str:
+    """Warnings of the library as one line each on stderr."""
+    return f"contactvib: warning: {one_line(str(message))}\n"
+
+
 def main(argv=None) -> int:
     """Entry point of the ``contactvib`` console script."""
+    import warnings
+
+    warnings.formatwarning = _warning_line
     try:
         rv = cli.main(args=argv, prog_name="contactvib", standalone_mode=False)
         return rv if isinstance(rv, int) else 0
