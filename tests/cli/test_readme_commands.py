@@ -193,8 +193,8 @@ def _check_paper(out: Path, stdout: str) -> None:
 
 def _check_resonance(out: Path, stdout: str) -> None:
     _dataset(out / "resonance.nc", [0.6, 0.65])
-    assert sorted(p.name for p in (out / ".chunks").glob("level_pa*.nc")) == ["level_pa0.600000.nc",
-                                                                              "level_pa0.650000.nc"]
+    assert sorted(p.name for p in (out / ".chunks").glob("level_pa*.nc")) == ["level_pa0.6.nc",
+                                                                              "level_pa0.65.nc"]
     for p in ("0.60", "0.65"):
         assert_figure_file(out / f"resonance_pa{p}.png")
         assert_figure_file(out / f"extrema_pa{p}.png")

@@ -361,9 +361,14 @@ def test_resume_recomputes_only_missing_levels(tmp_path, monkeypatch):
     assert calls == [0.65] and kept.stat().st_mtime_ns == mtime
     for name in ("fe_hz", "app_um", "period", "resonance", "branch_index"):
         np.testing.assert_array_equal(first[name].values, again[name].values)
-    # other settings: the chunks are not reused
+    # other settings: the chunks are not reused, the resume is refused before computing
+    # (tests/sweeps/test_resume_safety.py); without resume they are recomputed
     calls.clear()
-    resonance_dataset(model, [0.6, 0.65], _small(seed=1), out=tmp_path, resume=True, workers=1,
+    with pytest.raises(ParameterError, match="seed"):
+        resonance_dataset(model, [0.6, 0.65], _small(seed=1), out=tmp_path, resume=True,
+                          workers=1, progress=False)
+    assert calls == []
+    resonance_dataset(model, [0.6, 0.65], _small(seed=1), out=tmp_path, workers=1,
                       progress=False)
     assert sorted(calls) == [0.6, 0.65]
 

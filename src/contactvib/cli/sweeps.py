@@ -6,6 +6,7 @@ Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.resona
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 import click
@@ -29,6 +30,22 @@ from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX
 __all__: list = []
 
 
+@contextmanager
+def _writing_into(out: Path):
+    """Hold the output folder's lock for the whole command (sweeps and figures); the library's
+    lock and resume refusals become one-line errors (exit 2)."""
+    from contactvib.sweeps.resonance import OutputLocked, ResumeMismatch, output_lock
+
+    try:
+        with output_lock(out):
+            yield
+    except OutputLocked as e:
+        raise InputError(f"--out = {e.out}: another contactvib run is writing there ({e.lock})") from None
+    except ResumeMismatch as e:
+        raise InputError(f"--resume: {e.chunk} was {e.difference} "
+                         "(use another --out, or delete the chunk)") from None
+
+
 def _sweep_options(f):
     """The options of a sweep; the command receives them as keyword arguments (``**sweep``)."""
     for opt in reversed([
@@ -45,7 +62,8 @@ def _sweep_options(f):
         click.option("--workers", default=None, metavar="N",
                      help="Worker processes (default: one per CPU core, at most one per level)."),
         click.option("--resume", is_flag=True,
-                     help="Reuse the finished levels in OUT/.chunks (same model and settings)."),
+                     help="Reuse the finished levels in OUT/.chunks; refused if one was made with "
+                          "another model or settings."),
         click.option("--no-progress", is_flag=True, help="No progress bar."),
         click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
                      help="Override a model parameter by its paper symbol (M, g, S, c_n, m2, h_n, l)."),
@@ -98,10 +116,12 @@ def resonance(pa, out, **sweep):
     from contactvib.sweeps.resonance import resonance_dataset
 
     out = _output_folder(out)
-    ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
-                           progress=not sweep["no_progress"])
-    for p in sorted(set(levels)):
-        write_level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png", model)
+    with _writing_into(out):
+        ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
+                               progress=not sweep["no_progress"])
+        for p in sorted(set(levels)):
+            write_level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png",
+                                model)
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 
@@ -159,11 +179,12 @@ def paper(out, **sweep):
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
     _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
-    _output_folder(out)
+    folder = _output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper
 
-    res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"], workers=n_workers,
-                          progress=not sweep["no_progress"])
+    with _writing_into(folder):
+        res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"],
+                              workers=n_workers, progress=not sweep["no_progress"])
     ds = res.dataset
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches; "
                f"{res.timing['sweeps_and_figures_s']:.1f} s")

@@ -5,23 +5,131 @@ Each P_a level is one task (:func:`contactvib.sweep.trace_level`); tasks run in 
 atomically to ``OUT/.chunks/`` as NetCDF, so an interrupted run loses at most the levels in
 progress and ``resume=True`` recomputes nothing that was finished. The merged dataset is written
 atomically to ``OUT/<name>.nc``.
+
+Resume is safe: a chunk is named by its exact level (``repr``) and stores it; a finished chunk
+of a requested level made with another model or other settings is refused (ParameterError
+``resume``) before anything is computed. One run at a time writes into a folder: it holds an
+exclusive lock on ``OUT/.lock`` (a second run fails at once, ParameterError ``out``), and at its
+start removes the temporary files ``.*.tmp<pid>`` of runs that are no longer running.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
+from contextlib import contextmanager
 from pathlib import Path
 
 from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
 from contactvib.sweeps.sweep import SweepSettings
 
-__all__ = ["resonance_dataset", "chunk_path"]
+__all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked"]
+
+#: Chunk attribute holding the exact level P_a/Q the chunk was computed for.
+_LEVEL_ATTR = "chunk_pa_over_q"
+_TMP = re.compile(r"^\..+\.tmp(\d+)$")
+
+
+class ResumeMismatch(ParameterError):
+    """``resume``: a finished chunk was made with another model or other settings."""
+
+    def __init__(self, chunk: Path, name: str, stored, requested):
+        self.chunk, self.name, self.stored, self.requested = Path(chunk), name, stored, requested
+        self.difference = f"made with {name} = {_show(stored)}, not {_show(requested)}"
+        super().__init__("resume", str(chunk),
+                         f"{self.difference} (use another output folder, or delete the chunk)")
+
+
+class OutputLocked(ParameterError):
+    """``out``: another run holds the output folder's lock file."""
+
+    def __init__(self, out: Path, lock: Path):
+        self.out, self.lock = Path(out), Path(lock)
+        super().__init__("out", str(out), f"another contactvib run is writing there ({lock})")
+
+
+def _show(v) -> str:
+    """A stored value in a message: floats shortest (4.0 -> 4), others as text."""
+    if isinstance(v, float):
+        return f"{v:g}" if float(f"{v:g}") == v else repr(v)
+    return str(v)
 
 
 def chunk_path(out: Path, pa_over_q: float) -> Path:
-    """Path of the finished-level chunk for P_a [Q] under the output folder."""
-    return Path(out) / ".chunks" / f"level_pa{pa_over_q:.6f}.nc"
+    """Path of the finished-level chunk for P_a [Q] under the output folder (named by the exact
+    level, ``repr``: 0.5 -> ``level_pa0.5.nc``, so that distinct levels never share a chunk)."""
+    return Path(out) / ".chunks" / f"level_pa{float(pa_over_q)!r}.nc"
+
+
+_HELD: dict[str, list] = {}  # resolved folder -> [open lock file, depth] held by this process
+
+
+@contextmanager
+def output_lock(out):
+    """Hold the exclusive lock ``OUT/.lock`` while writing into ``out`` (re-entrant within this
+    process); raise :class:`OutputLocked` at once if another run holds it. On entry (outermost)
+    the temporary files ``.*.tmp<pid>`` of dead processes in ``OUT`` and ``OUT/.chunks`` are
+    removed."""
+    out = Path(out)
+    key = str(out.resolve())
+    if key in _HELD:
+        _HELD[key][1] += 1
+        try:
+            yield
+        finally:
+            _HELD[key][1] -= 1
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    lock = out / ".lock"
+    f = open(lock, "a+")
+    try:
+        try:
+            import fcntl
+        except ImportError:  # not POSIX: no lock
+            fcntl = None
+        if fcntl is not None:
+            try:
+                fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                raise OutputLocked(out, lock) from None
+        _HELD[key] = [f, 1]
+        try:
+            _remove_stale_temporaries(out)
+            yield
+        finally:
+            del _HELD[key]
+    finally:
+        f.close()  # releases the lock
+
+
+def _pid_running(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, ValueError):
+        return True
+    return True
+
+
+def _remove_stale_temporaries(out: Path) -> list[Path]:
+    """Remove ``.*.tmp<pid>`` files in ``out`` and ``out/.chunks`` whose process is not running."""
+    removed = []
+    for folder in (out, out / ".chunks"):
+        if not folder.is_dir():
+            continue
+        for p in folder.iterdir():
+            m = _TMP.match(p.name)
+            if m and p.is_file() and not _pid_running(int(m.group(1))):
+                try:
+                    p.unlink()
+                    removed.append(p)
+                except OSError:
+                    pass
+    return removed
 
 
 def _worker_init():
@@ -39,22 +147,36 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     level = trace_level(model, pa, st)
     ds = level_dataset(model, level, settings)
     if chunk is not None:
-        write_atomic(ds, chunk)
+        write_atomic(ds.assign_attrs({_LEVEL_ATTR: float(pa)}), chunk)
     return ds, (on_level(model, ds) if on_level is not None else None)
 
 
-def _chunk_matches(path: Path, model: ContactModel, settings: dict) -> bool:
+def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -> bool:
+    """Whether the chunk at ``path`` is the finished level ``pa`` of this model and settings.
+
+    False for an unreadable or foreign file, another layout version or another level (these are
+    recomputed); :class:`ResumeMismatch` naming the first difference for another model or
+    other settings.
+    """
     import xarray as xr
 
     from contactvib.sweeps.dataset import FORMAT
 
     try:
         with xr.open_dataset(path) as ds:
-            return (ds.attrs.get("format") == FORMAT
-                    and json.loads(ds.attrs["settings"]) == settings
-                    and json.loads(ds.attrs["model"]) == model.parameters())
+            attrs = dict(ds.attrs)
+        if attrs.get("format") != FORMAT or float(attrs.get(_LEVEL_ATTR, "nan")) != float(pa):
+            return False
+        stored_settings = json.loads(attrs["settings"])
+        stored_model = json.loads(attrs["model"])
     except Exception:  # unreadable or foreign file: recompute it
         return False
+    for stored, requested in ((stored_settings, settings), (stored_model, model.parameters())):
+        for name in list(requested) + [k for k in stored if k not in requested]:
+            if name not in stored or name not in requested or stored[name] != requested[name]:
+                raise ResumeMismatch(path, name, stored.get(name, "nothing"),
+                                     requested.get(name, "nothing"))
+    return True
 
 
 def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, out=None,
@@ -67,7 +189,10 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     out : path or None
         Output folder; ``OUT/<name>.nc`` and the chunks ``OUT/.chunks/`` are written there.
     resume : bool
-        Reuse finished chunks of the same model and settings.
+        Reuse finished chunks of the same model and settings; a finished chunk of a requested
+        level made with another model or settings raises ParameterError ``resume``
+        (:class:`ResumeMismatch`) before anything is computed. Without resume, chunks are
+        recomputed and overwritten.
     workers : int or None
         Processes, 1..``WORKERS_MAX`` (default: ``min(levels, CPU count)``); 1 runs in this
         process.
@@ -80,12 +205,12 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     -------
     xarray.Dataset
         Layout in :mod:`contactvib.dataset`.
+
+    Raises
+    ------
+    ParameterError
+        ``out`` (:class:`OutputLocked`) when another run is writing into ``out``.
     """
-    import xarray as xr
-    from tqdm import tqdm
-
-    from contactvib.sweeps.dataset import merge_levels, write_atomic
-
     if workers is not None:
         workers = check_int("workers", workers, 1, WORKERS_MAX)
     levels = []
@@ -97,15 +222,30 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     if not levels:
         raise ParameterError("P_a/Q", "", "give at least one level")
     sd = settings.to_dict()
-    out = Path(out) if out is not None else None
+    if out is None:
+        return _resonance(model, levels, sd, None, name, resume, workers, progress, on_level,
+                          level_results)
+    out = Path(out)
+    with output_lock(out):
+        return _resonance(model, levels, sd, out, name, resume, workers, progress, on_level,
+                          level_results)
+
+
+def _resonance(model, levels, sd, out, name, resume, workers, progress, on_level, level_results):
+    import xarray as xr
+    from tqdm import tqdm
+
+    from contactvib.sweeps.dataset import merge_levels, write_atomic
+
     done = {}
     if out is not None and resume:
-        for pa in levels:
-            c = chunk_path(out, pa)
-            if c.exists() and _chunk_matches(c, model, sd):
-                done[pa] = xr.load_dataset(c)
-                if on_level is not None and level_results is not None:
-                    level_results[pa] = on_level(model, done[pa])
+        reuse = [pa for pa in levels
+                 if chunk_path(out, pa).exists() and _chunk_matches(chunk_path(out, pa), model, sd, pa)]
+        for pa in reuse:  # every chunk checked before any figure is drawn
+            done[pa] = xr.load_dataset(chunk_path(out, pa))
+            done[pa].attrs.pop(_LEVEL_ATTR, None)
+            if on_level is not None and level_results is not None:
+                level_results[pa] = on_level(model, done[pa])
     todo = [pa for pa in levels if pa not in done]
     n_workers = workers or min(len(todo), os.cpu_count() or 1)
     bar = tqdm(total=len(levels), initial=len(done), unit="level", desc="resonance",
