@@ -94,6 +94,16 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
     return _mapped(_SWEEP_OPTIONS, SweepSettings, **kw)
 
 
+def _sweep_inputs(sweep: dict):
+    """The model, the SweepSettings and the worker count of the sweep options, all checked (the
+    grid's ends must be frequencies the model can be integrated at)."""
+    model = _model(sweep["settings"])
+    st = _sweep_settings(**sweep)
+    n_workers = _workers(sweep["workers"])
+    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
+    return model, st, n_workers
+
+
 def _workers(text):
     return None if text is None else _int("--workers", text, 1, WORKERS_MAX)
 
@@ -108,10 +118,7 @@ def _workers(text):
 def resonance(pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     levels = _levels(pa)
-    model = _model(sweep["settings"])
-    st = _sweep_settings(**sweep)
-    n_workers = _workers(sweep["workers"])
-    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
+    model, st, n_workers = _sweep_inputs(sweep)
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
@@ -175,10 +182,7 @@ def query(dataset, pa, fe, as_json):
 @_sweep_options
 def paper(out, **sweep):
     """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
-    model = _model(sweep["settings"])
-    st = _sweep_settings(**sweep)
-    n_workers = _workers(sweep["workers"])
-    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
+    model, st, n_workers = _sweep_inputs(sweep)
     folder = _output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper
 
