@@ -132,7 +132,7 @@ def measure_orbit(rec, t_flight, n_periods, r):
     Returns
     -------
     xmin, xmax : float
-        Smallest and largest x [y0]: over the extrema (:func:`find_extrema`); the
+        Smallest and largest x [y0]: over the extrema (:func:`find_extrema`) and the ends; the
         peak-to-peak amplitude is ``A_pp = xmax − xmin``.
     flight : float
         Fraction of the span with x ≤ 0: ``t_flight / (n_periods · 2π/r)``.
@@ -145,14 +145,15 @@ def measure_orbit(rec, t_flight, n_periods, r):
 
     Notes
     -----
-    Without an extremum, x is monotone over the record and its range is attained at the ends
-    of the span; the range is then taken over the x at the step starts (``rec[:, REC_X]``),
-    which include the start and reach to within one step of the end. (A zero range at the
-    orbit point, ``x(0)``, would be exact only for a constant x.) On a closed orbit x' changes
-    sign, so this case arises only for a record that is not an orbit.
+    The range of a continuous x over the span is attained at an extremum or at an end of the
+    span, so both ends (x at the first step's start and at the last step's end) are included.
+    On a closed orbit the ends lie between the extrema and change nothing; on a record that is
+    not an orbit (a transient, a chaotic piece, a flight longer than the record) they can hold
+    the range.
     """
     t_e, x_e, m_e = find_extrema(rec)
     n_e = t_e.shape[0]
+    n_rec = rec.shape[0]
     xmin = math.inf
     xmax = -math.inf
     n_min = 0
@@ -161,10 +162,12 @@ def measure_orbit(rec, t_flight, n_periods, r):
         xmax = max(xmax, x_e[j])
         if m_e[j]:
             n_min += 1
-    if n_e == 0:
-        for j in range(rec.shape[0]):
-            xmin = min(xmin, rec[j, REC_X])
-            xmax = max(xmax, rec[j, REC_X])
+    if n_rec > 0:
+        F, y = _step_arrays(rec, n_rec - 1)
+        x_start = rec[0, REC_X]
+        x_end = dense_value(F, y, 1.0, 0)
+        xmin = min(xmin, x_start, x_end)
+        xmax = max(xmax, x_start, x_end)
     T = 2.0 * math.pi / r
     return xmin, xmax, t_flight / (n_periods * T), n_min, t_e, x_e, m_e
 

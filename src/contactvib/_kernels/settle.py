@@ -30,7 +30,14 @@ from .shooting import (
     state_scale,
     strobe_map,
 )
-from .status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, STATUS_OK
+from .status import (
+    SETTLE_CAPTURED,
+    SETTLE_FAILED,
+    SETTLE_INTERRUPTED,
+    SETTLE_NONPERIODIC,
+    SETTLE_PERIODIC,
+    STATUS_OK,
+)
 from .taylor import advance_state
 
 
@@ -59,10 +66,13 @@ def _refine(z, k, par, rtol, close_tol, out_z, out_M):
     return True, k, res
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-                rtol_refine, close_tol, cap_pts, cap_id, capture_tol, hist, out_z, out_M):
+                rtol_refine, close_tol, cap_pts, cap_id, capture_tol, hist, out_z, out_M, stop):
     """Integrate from ``z_init`` at phase ``phase0`` (fraction of a period) to an attractor.
+
+    ``stop`` (int64[1]) is read after every period: nonzero ends the run with
+    ``SETTLE_INTERRUPTED`` (another thread sets it on Ctrl-C).
 
     After each period the stroboscopic point is first compared with the points ``cap_pts``
     (float64[m, 2], e.g. the strobe points of attractors already known here): within
@@ -72,7 +82,8 @@ def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
     Returns
     -------
     status : int
-        ``SETTLE_PERIODIC``, ``SETTLE_NONPERIODIC``, ``SETTLE_FAILED`` or ``SETTLE_CAPTURED``.
+        ``SETTLE_PERIODIC``, ``SETTLE_NONPERIODIC``, ``SETTLE_FAILED``, ``SETTLE_CAPTURED`` or
+        ``SETTLE_INTERRUPTED``.
     k : int
         Minimal period (periodic), or the captured ``cap_id``.
     n_periods : int
@@ -100,6 +111,8 @@ def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
             return SETTLE_FAILED, 0, n, math.inf
         hist[n, 0] = y[0]
         hist[n, 1] = y[1]
+        if stop[0] != 0:
+            return SETTLE_INTERRUPTED, 0, n, math.inf
         sc = state_scale(y[0], y[1])
         for j in range(cap_pts.shape[0]):
             if max(abs(y[0] - cap_pts[j, 0]), abs(y[1] - cap_pts[j, 1])) <= capture_tol * sc:
@@ -136,7 +149,7 @@ def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol
     """
     return settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
                        rtol_transient, rtol_refine, close_tol, np.empty((0, 2)),
-                       np.empty(0, np.int64), 0.0, hist, out_z, out_M)
+                       np.empty(0, np.int64), 0.0, hist, out_z, out_M, np.zeros(1, np.int64))
 
 
 @njit(cache=True)
@@ -146,13 +159,16 @@ def settle_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol
     with nothing to capture; the same outputs."""
     return settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol,
                                rtol_transient, rtol_refine, close_tol, n_tail, np.empty((0, 2)),
-                               np.empty(0, np.int64), 0.0)
+                               np.empty(0, np.int64), 0.0, np.zeros(1, np.int64))
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-                        rtol_refine, close_tol, n_tail, cap_pts, cap_id, capture_tol):
+                        rtol_refine, close_tol, n_tail, cap_pts, cap_id, capture_tol, stop):
     """:func:`settle_core` for many starts at once, in parallel over the starts (numba threads).
+
+    Releases the GIL, so that it can run in a helper thread while the main thread waits for
+    Ctrl-C and then sets ``stop[0]`` (:func:`contactvib.interrupt.run_interruptible`).
 
     A start whose stroboscopic point comes within ``capture_tol`` (relative) of one of
     ``cap_pts`` stops there with ``SETTLE_CAPTURED`` and that point's ``cap_id`` as its period.
@@ -181,7 +197,7 @@ def settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_t
         oM = np.zeros((2, 2))
         s, k, n, res = settle_core(Z[i], phases[i], par, kmax, min_periods, max_periods,
                                    detect_tol, rtol_transient, rtol_refine, close_tol, cap_pts,
-                                   cap_id, capture_tol, hist, oz, oM)
+                                   cap_id, capture_tol, hist, oz, oM, stop)
         status[i] = s
         period[i] = k
         n_periods[i] = n

@@ -43,6 +43,7 @@ SETTLE_PERIODIC = 0
 SETTLE_NONPERIODIC = 1
 SETTLE_FAILED = 2
 SETTLE_CAPTURED = 3
+SETTLE_INTERRUPTED = 4
 # ---------------------------------------------------------------- trace stop reasons
 STOP_GRID_END = 0
 STOP_KNOWN = 1
@@ -72,6 +73,7 @@ MESSAGES = {
     ("settle", SETTLE_NONPERIODIC): "non-periodic",
     ("settle", SETTLE_FAILED): "failed",
     ("settle", SETTLE_CAPTURED): "captured",
+    ("settle", SETTLE_INTERRUPTED): "interrupted",
     ("stop", STOP_GRID_END): "end of frequency grid",
     ("stop", STOP_KNOWN): "joined an attractor already traced this way",
     ("stop", STOP_FAILED): "integration or Newton failure",

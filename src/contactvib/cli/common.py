@@ -221,8 +221,9 @@ def _operating_point_options(f):
 
 def _search_options(f):
     f = click.option("--no-seeds", is_flag=True, help="Skip the ballistic seeds (box starts only).")(f)
-    f = click.option("--max-periods", default="400", show_default=True,
-                     help="Transient limit per start [excitation periods].")(f)
+    f = click.option("--max-periods", default="auto", show_default=True,
+                     help="Transient limit per start [excitation periods]; auto: twice the linear "
+                          "decay time in contact, at least 400.")(f)
     f = click.option("--kmax", default="8", show_default=True,
                      help=f"Largest period searched (1..{KMAX_SEARCH_MAX}).")(f)
     f = click.option("--seed", default="0", show_default=True, help="Random seed of the start box.")(f)

@@ -25,7 +25,8 @@ def _search(starts, seed, kmax, max_periods) -> dict:
     """The search options, checked by the library (ranges and memory; we name the options)."""
     from contactvib.steady.attractors import check_search
 
-    kw = {name: _number(option, name, text) for (name, option), text
+    kw = {name: None if (name == "max_periods" and text.strip().lower() == "auto")
+          else _number(option, name, text) for (name, option), text
           in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax, max_periods))}
     return dict(zip(_SEARCH_OPTIONS, _mapped(_SEARCH_OPTIONS, check_search, **kw)))
 
@@ -35,7 +36,19 @@ def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
     from contactvib.steady.attractors import find_attractors
 
     kw = _search(starts, seed, kmax, max_periods)
-    return _mapped(_SEARCH_OPTIONS, find_attractors, model, exc, seeds=not no_seeds, **kw)
+    names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
+    return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, **kw)
+
+
+def _none_settled(result) -> None:
+    """Exit 1 with one line when no start reached an attractor (all unsettled or failed)."""
+    if len(result):
+        return
+    n = result.n_box + result.n_seeds
+    click.echo(f"contactvib: error: no attractor: none of the {n} starts settled within "
+               f"{result.settings['max_periods']} periods ({result.n_unsettled} unsettled, "
+               f"{result.n_failed} failed); raise --max-periods", err=True)
+    click.get_current_context().exit(1)
 
 
 @click.command()
@@ -49,6 +62,7 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
     result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
     if as_json:
         _echo_json(result.to_json())
+        _none_settled(result)
         return
     click.echo(f"P_a = {exc.pa_over_q:g} Q ({exc.P_a:.4g} N), f_e = {exc.f_e:g} Hz, "
                f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
@@ -57,11 +71,16 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
             f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}")
     click.echo(head)
     for i, a in enumerate(result):
-        per = "-" if a.period is None else str(a.period)
+        per = {"chaotic": "chaos", "quasi-periodic": "q-per"}.get(a.kind, "-") if a.period is None \
+            else str(a.period)
         mins = "-" if a.minima_per_period is None else str(a.minima_per_period)
         mu = "-" if a.floquet_abs_max is None else f"{a.floquet_abs_max:.4f}"
         click.echo(f"{i:>2} {per:>6} {mins:>6} {a.app_um:>11.5g} {a.ymin_um:>11.5g} {a.ymax_um:>10.5g} "
                    f"{a.contact_loss_fraction:>10.3f} {mu:>8} {a.basin_fraction:>7.2%}")
+    if result.n_unsettled:
+        click.echo(f"   unsettled within {result.settings['max_periods']} periods: "
+                   f"{result.n_unsettled} starts ({result.unsettled_fraction:.2%} of the box)")
+    _none_settled(result)
 
 
 @click.command()
@@ -95,13 +114,14 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     out = _output_folder(out)
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
     if from_state is not None:
-        h = run(model, exc, y, yd, n_periods=n)
+        h = _mapped({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
         fig = history_figure(h, f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz, from "
                                 f"y = {y:g} µm, ẏ = {yd:g} mm/s")
         path = save_figure(fig, out / f"trajectory_{tag}.png")
         click.echo(str(path))
         return
     result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
+    _none_settled(result)
     (out / "attractors.json").write_text(result.to_json(indent=1))
     for i, a in enumerate(result):
         hist = attractor_history(model, exc, a)

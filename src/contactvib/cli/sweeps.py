@@ -14,6 +14,7 @@ import click
 from contactvib.cli.common import (
     InputError,
     LevelsCommand,
+    _checked,
     _echo_json,
     _feasible_frequencies,
     _frequency_range,
@@ -97,7 +98,10 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
 def _sweep_inputs(sweep: dict):
     """The model, the SweepSettings and the worker count of the sweep options, all checked (the
     grid's ends must be frequencies the model can be integrated at)."""
+    from contactvib.steady.transients import check_damped
+
     model = _model(sweep["settings"])
+    _checked("--set h_n", check_damped, model, "a resonance sweep")
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
     _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)

@@ -13,22 +13,36 @@ Procedure
    cycle of period ``k ≤ kmax``; the cycle is refined by Newton shooting and accepted when it
    closes to 1e-10, is stable and has no shorter period (:mod:`contactvib._kernels.settle`).
 3. Orbits are de-duplicated by the sameness rule (same period, stroboscopic sets equal to 1e-6
-   relative in some cyclic order); non-periodic attractors by the overlap of their
-   stroboscopic clouds.
+   relative in some cyclic order). A start that finds no period within ``max_periods`` (by
+   default long enough for the linear decay in contact, :func:`.transients.transient_periods`)
+   is a non-periodic attractor only if its strobe cloud is recurrent and its largest Lyapunov
+   exponent is not negative (:func:`.transients.cloud_verdict`); otherwise it is *unsettled*:
+   counted in ``n_unsettled``, with an :class:`UnsettledWarning`, never reported as an
+   attractor. Non-periodic attractors are de-duplicated by the overlap of their clouds.
 4. Two waves: the first ``FIRST_WAVE`` box starts and the seeds run to the end (step 2); the
    other box starts are stopped as soon as a stroboscopic point comes within ``capture_tol``
    (relative) of a strobe point of a stable periodic orbit found by the first wave, and are
    counted for that orbit without another Newton refinement. Starts that are not captured run
    to the end as in step 2, so attractors the first wave missed are still found.
 5. The basin fraction of an attractor is the share of the *box* starts that reached it.
+
+The starts run in a helper thread (:func:`contactvib.interrupt.run_interruptible`), so that
+Ctrl-C ends the search within one excitation period of integration; a search estimated
+beyond :data:`.transients.WORK_MAX_STEPS` steps is refused before it starts, and an undamped
+model (h_n = 0) is refused: it has no attractors.
 """
 
 from __future__ import annotations
 
+import math
+import warnings
+
 import numpy as np
 
+from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib._kernels.settle import settle_capture_many
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+from contactvib.interrupt import new_stop_flag, run_interruptible
 from contactvib.model import (
     CAPTURE_TOL_MAX,
     KMAX_SEARCH_MAX,
@@ -41,11 +55,22 @@ from contactvib.model import (
 from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, describe_orbit, same_orbit, strobe_points
 from contactvib.steady.results import AttractorSet
+from contactvib.steady.transients import (
+    WINDOW,
+    check_damped,
+    check_work,
+    cloud_verdict,
+    transient_periods,
+)
 
-__all__ = ["find_attractors", "check_search", "start_box", "ballistic_seeds"]
+__all__ = ["find_attractors", "check_search", "start_box", "ballistic_seeds", "UnsettledWarning"]
 
 #: Box starts of the first wave, which run to the end and supply the capture points.
 FIRST_WAVE = 64
+
+
+class UnsettledWarning(RuntimeWarning):
+    """Some starts of an attractor search did not settle within ``max_periods``."""
 
 
 def start_box(excitation: Excitation, n: int, seed: int = 0):
@@ -81,11 +106,23 @@ def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
     return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
 
 
-def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, status, period, _n_periods,
-                    residual, z_star, monodromy, tail) -> int:
+def _nonperiodic_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> tuple[bool, str, float]:
+    """Whether a start without a period reached a non-periodic attractor: ``(ok, type or reason,
+    λ)`` (:func:`.transients.cloud_verdict`; λ is computed only for a recurrent cloud)."""
+    ok, why = cloud_verdict(tail, 0.0)
+    if not ok:
+        return False, why, math.nan
+    lyap = float(lyapunov_strobe(tail[-1].copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
+    ok, why = cloud_verdict(tail, lyap)
+    return ok, why, lyap
+
+
+def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, status, period,
+                    _n_periods, residual, z_star, monodromy, tail) -> tuple[int, int, int]:
     """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
-    period, strobe or tail, z, M, res, hits, box) by the sameness rules; return the failures."""
-    n_failed = 0
+    period, strobe or tail, z, M, res, hits, box, type, lyap) by the sameness rules; return the
+    failures, the unsettled starts and the unsettled box starts."""
+    n_failed = n_unsettled = n_unsettled_box = 0
     for i in range(status.shape[0]):
         if status[i] == SETTLE_CAPTURED:
             g = groups[int(period[i])]
@@ -96,23 +133,29 @@ def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, status, 
                 if g["period"] == k and same_orbit(g["strobe"], pts):
                     break
             else:
-                g = {"period": k, "strobe": pts, "z": z_star[i].copy(),
-                     "M": monodromy[i].copy(), "res": float(residual[i]), "hits": 0, "box": 0}
+                g = {"period": k, "strobe": pts, "z": z_star[i].copy(), "M": monodromy[i].copy(),
+                     "res": float(residual[i]), "hits": 0, "box": 0, "type": "periodic",
+                     "lyap": math.nan}
                 groups.append(g)
         elif status[i] == SETTLE_NONPERIODIC:
+            ok, kind, lyap = _nonperiodic_verdict(excitation, tail[i], rtol)
+            if not ok:
+                n_unsettled += 1
+                n_unsettled_box += int(in_box[i])
+                continue
             for g in groups:
                 if g["period"] is None and _same_cloud(g["tail"], tail[i]):
                     break
             else:
-                g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(),
-                     "M": None, "res": np.inf, "hits": 0, "box": 0}
+                g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(), "M": None,
+                     "res": np.inf, "hits": 0, "box": 0, "type": kind, "lyap": lyap}
                 groups.append(g)
         else:
             n_failed += 1
             continue
         g["hits"] += 1
         g["box"] += int(in_box[i])
-    return n_failed
+    return n_failed, n_unsettled, n_unsettled_box
 
 
 def _check_pair(model: ContactModel, excitation: Excitation) -> None:
@@ -135,8 +178,9 @@ _BYTES_PER_START = 2048
 _BYTES_PER_HISTORY_ROW = 16
 
 
-def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int]:
-    """The checked sizes of :func:`find_attractors`: ``(n_starts, seed, kmax, max_periods)``.
+def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int | None]:
+    """The checked sizes of :func:`find_attractors`: ``(n_starts, seed, kmax, max_periods)``
+    (``max_periods`` None: chosen by :func:`find_attractors` from the damping).
 
     Besides their ranges, their arrays must fit in :data:`~contactvib.model.checks.MEMORY_MAX`:
     half of it for the per-start arrays, half for the transient histories (``max_periods + 1``
@@ -146,16 +190,18 @@ def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int]
     n_starts = check_int("n_starts", n_starts, 1)
     seed = check_int("seed", seed, 0)
     kmax = check_int("kmax", kmax, 1, KMAX_SEARCH_MAX)
-    max_periods = check_int("max_periods", max_periods, 4 * kmax)
     half = MEMORY_MAX // 2
     check_memory("n_starts", n_starts, 2.0 * n_starts * _BYTES_PER_START, half // _BYTES_PER_START)
+    if max_periods is None:
+        return n_starts, seed, kmax, None
+    max_periods = check_int("max_periods", max_periods, 4 * kmax)
     row = _BYTES_PER_HISTORY_ROW * get_num_threads()
     check_memory("max_periods", max_periods, 2.0 * (max_periods + 1) * row, half // row - 1)
     return n_starts, seed, kmax, max_periods
 
 
 def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
-                    seed: int = 0, kmax: int = 8, max_periods: int = 400,
+                    seed: int = 0, kmax: int = 8, max_periods: int | None = None,
                     seeds: bool = True, detect_tol: float = 1e-4,
                     rtol_transient: float = 1e-8, capture_tol: float = 3e-3) -> AttractorSet:
     """All attractors reached from the start box and the ballistic seeds.
@@ -163,15 +209,19 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     Parameters
     ----------
     model, excitation
-        The oscillator and the harmonic force.
+        The oscillator and the harmonic force. The model must be damped (h_n > 0).
     n_starts : int
         Random starts in the box (≥ 1).
     seed : int
         Random seed of the box sample (≥ 0).
     kmax : int
         Largest period searched, in excitation periods (1..64).
-    max_periods : int
-        Transient limit per start; a start that finds no cycle by then is non-periodic.
+    max_periods : int or None
+        Transient limit per start [excitation periods] (≥ 4 kmax; a non-periodic attractor needs
+        ≥ 128 to be proven one); None: twice the
+        linear decay time in contact from the box to ``detect_tol``, at least 400
+        (:func:`.transients.transient_periods`). A start that finds no period by then is a
+        non-periodic attractor if its strobe cloud proves one, else it is counted as unsettled.
     seeds : bool
         Add the ballistic seeds.
     detect_tol : float
@@ -185,29 +235,35 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     Returns
     -------
     AttractorSet
+        With ``n_unsettled`` starts that did not settle (an :class:`UnsettledWarning` says so).
     """
     _check_pair(model, excitation)
+    check_damped(model, "the attractor search")
     n_starts, seed, kmax, max_periods = check_search(n_starts, seed, kmax, max_periods)
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
     rtol_transient = check_range("rtol_transient", rtol_transient, 0.0, False)
     capture_tol = check_range("capture_tol", capture_tol, 0.0, True, upper=CAPTURE_TOL_MAX)
-
     Zb, phb = start_box(excitation, n_starts, seed)
     if seeds:
         Zs, phs = ballistic_seeds(excitation)
     else:
         Zs, phs = np.empty((0, 2)), np.empty(0)
+    if max_periods is None:
+        max_periods = transient_periods(excitation, detect_tol, 3.0 + 10.0 * excitation.pa_over_q)
+        check_work(excitation, n_starts + Zs.shape[0], max_periods)
+        check_search(n_starts, seed, kmax, max_periods)
+    check_work(excitation, n_starts + Zs.shape[0], max_periods)
     par = excitation.kernel_parameters()
-    n_tail = 64
     n_first = min(n_starts, FIRST_WAVE)
-    groups: list[dict] = []  # each: period, strobe, z, M, res, hits, box, tail
-    n_failed = 0
+    groups: list[dict] = []  # each: period, strobe or tail, z, M, res, hits, box, type, lyap
+    counts = np.zeros(3, np.int64)  # failed, unsettled, unsettled box starts
 
     def run(Z, ph, in_box, cap_pts, cap_id):
-        nonlocal n_failed
-        out = settle_capture_many(Z, ph, par, kmax, 4, max_periods, detect_tol, rtol_transient,
-                                  RTOL_REFINE, CLOSE_TOL, n_tail, cap_pts, cap_id, capture_tol)
-        n_failed += _group_outcomes(groups, excitation, in_box, *out)
+        stop = new_stop_flag()
+        out = run_interruptible(settle_capture_many, Z, ph, par, kmax, 4, max_periods, detect_tol,
+                                rtol_transient, RTOL_REFINE, CLOSE_TOL, 2 * WINDOW, cap_pts, cap_id,
+                                capture_tol, stop, stop=stop)
+        counts[:] += _group_outcomes(groups, excitation, in_box, rtol_transient, *out)
 
     no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
     run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),
@@ -217,10 +273,18 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         cap_pts = np.vstack([g["strobe"] for _j, g in periodic]) if periodic else no_pts
         cap_id = np.array([j for j, g in periodic for _p in range(g["period"])], np.int64)
         run(Zb[n_first:], phb[n_first:], np.ones(n_starts - n_first, bool), cap_pts, cap_id)
+    n_failed, n_unsettled, n_unsettled_box = (int(c) for c in counts)
+    if n_unsettled:
+        warnings.warn(UnsettledWarning(
+            f"{n_unsettled} of {n_starts + Zs.shape[0]} starts ({n_unsettled_box / n_starts:.1%} of "
+            f"the box) did not settle within {max_periods} periods and are not counted as "
+            f"attractors: raise max_periods (--max-periods), or kmax (--kmax) if an orbit's period "
+            f"exceeds {kmax}"), stacklevel=2)
 
     attractors = [
         describe_orbit(model, excitation, g["z"], g["period"], g["M"], g["res"],
-                       basin_fraction=g["box"] / n_starts, hits=g["hits"])
+                       basin_fraction=g["box"] / n_starts, hits=g["hits"], kind=g["type"],
+                       lyapunov=g["lyap"])
         for g in groups
     ]
     attractors.sort(key=lambda a: -a.app_um)
@@ -233,6 +297,8 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         n_box=n_starts,
         n_seeds=Zs.shape[0],
         n_failed=n_failed,
+        n_unsettled=n_unsettled,
+        unsettled_fraction=n_unsettled_box / n_starts,
         settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
                   "seeds": seeds, "detect_tol": detect_tol, "rtol_transient": rtol_transient,
                   "capture_tol": capture_tol, "first_wave": n_first,

@@ -104,11 +104,14 @@ EQUILIBRIUM_APP = 1e-9
 
 def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
                    monodromy=None, closure: float = math.inf, basin_fraction: float = 0.0,
-                   hits: int = 0, n_periods_nonperiodic: int = 32) -> Attractor:
+                   hits: int = 0, n_periods_nonperiodic: int = 32, kind: str | None = None,
+                   lyapunov: float = math.nan) -> Attractor:
     """Measure an orbit through the nondimensional state ``z`` at phase 0.
 
     For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
-    k-period; for a non-periodic attractor over ``n_periods_nonperiodic`` periods.
+    k-period; for a non-periodic attractor (of type ``kind``, "chaotic" or "quasi-periodic",
+    with largest Lyapunov exponent ``lyapunov`` [1/period]) over ``n_periods_nonperiodic``
+    periods.
     """
     u = model.units
     n = period if period is not None else n_periods_nonperiodic
@@ -125,7 +128,7 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         strobe = np.asarray(z, float)[None, :]
         multipliers = np.empty(0, complex)
         minima = None
-        kind = "non-periodic"
+        kind = kind or "non-periodic"
     return Attractor(
         period=period,
         kind=kind,
@@ -145,4 +148,5 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         closure=float(closure),
         hits=int(hits),
         state=np.asarray(z, float).copy(),
+        lyapunov_per_period=float(lyapunov) if period is None else math.nan,
     )

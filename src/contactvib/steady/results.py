@@ -8,6 +8,7 @@ Q = M g.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -55,7 +56,8 @@ class Attractor:
     period : int or None
         Minimal period in excitation periods (None: non-periodic).
     kind : str
-        ``"periodic"`` or ``"non-periodic"``.
+        ``"periodic"``, or for a proven non-periodic attractor ``"chaotic"`` (λ > 0.02) or
+        ``"quasi-periodic"`` (|λ| ≤ 0.02); ``"non-periodic"`` when not classified.
     minima_per_period : int or None
         Local minima of y(t) over the whole period-k orbit, counted cyclically.
     app_um, ymin_um, ymax_um : float
@@ -79,6 +81,9 @@ class Attractor:
         Number of starts (box and seeds) that reached it.
     state : ndarray
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0, for reuse.
+    lyapunov_per_period : float
+        Largest Lyapunov exponent of the stroboscopic map [1/excitation period] of a
+        non-periodic attractor (NaN for periodic orbits).
     """
 
     period: int | None
@@ -99,6 +104,7 @@ class Attractor:
     closure: float
     hits: int
     state: np.ndarray = field(repr=False)
+    lyapunov_per_period: float = math.nan
 
     @property
     def floquet_abs_max(self) -> float | None:
@@ -122,6 +128,8 @@ class Attractor:
             "floquet_abs_max": self.floquet_abs_max,
             "floquet_multipliers": [[float(m.real), float(m.imag)] for m in self.floquet_multipliers],
             "closure": float(self.closure) if np.isfinite(self.closure) else None,
+            "lyapunov_per_period": (float(self.lyapunov_per_period)
+                                    if math.isfinite(self.lyapunov_per_period) else None),
             "hits": int(self.hits),
             "strobe_points": [
                 {"y_um": float(a), "ydot_mm_s": float(b)}
@@ -152,6 +160,12 @@ class AttractorSet:
         Starts that neither converged nor stayed bounded (integration failure).
     settings : dict
         Search settings used.
+    n_unsettled : int
+        Starts (box and seeds) that found no period within ``max_periods`` and whose strobe
+        cloud is not a proven non-periodic attractor: still in a transient, not counted.
+    unsettled_fraction : float
+        Share of the box starts among them [1]; the basin fractions add up to 1 minus this
+        (and the failed box starts).
     """
 
     attractors: list
@@ -163,6 +177,8 @@ class AttractorSet:
     n_seeds: int
     n_failed: int
     settings: dict
+    n_unsettled: int = 0
+    unsettled_fraction: float = 0.0
 
     def __len__(self):
         return len(self.attractors)
@@ -183,6 +199,9 @@ class AttractorSet:
             "n_box": int(self.n_box),
             "n_seeds": int(self.n_seeds),
             "n_failed": int(self.n_failed),
+            "n_unsettled": int(self.n_unsettled),
+            "unsettled_fraction": float(self.unsettled_fraction),
+            "max_periods": int(self.settings.get("max_periods", 0)),
             "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
                       "f": "Hz", "P_a": "Q = M g"},
             "attractors": [a.to_dict() for a in self.attractors],

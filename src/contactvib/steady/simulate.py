@@ -10,6 +10,7 @@ from contactvib.model import ContactModel, Excitation, ParameterError, check_int
 from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor, TimeHistory
+from contactvib.steady.transients import check_work, steps_per_period
 
 __all__ = ["simulate", "attractor_history", "check_start"]
 
@@ -76,6 +77,10 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     _check_types(model, excitation)
     y_um, ydot_mm_s, n_periods, samples_per_period = check_start(model, y_um, ydot_mm_s, n_periods,
                                                                  samples_per_period)
+    check_work(excitation, 1, n_periods, "the periods (n_periods, --periods)")
+    rows = max(4096.0, 2.0 * steps_per_period(excitation))  # step records per period, with room
+    row_bytes = rows * REC_WIDTH * 8
+    check_memory("n_periods", n_periods, n_periods * row_bytes, int(MEMORY_MAX // row_bytes))
     z = np.array(model.units.state(y_um, ydot_mm_s))
     return _history(model, excitation, z, n_periods, samples_per_period, rtol)
 

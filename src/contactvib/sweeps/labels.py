@@ -16,12 +16,11 @@ from fractions import Fraction
 
 import numpy as np
 
+# One threshold on the largest Lyapunov exponent for the sweep's labels and the attractor search.
+from contactvib.steady.transients import LYAPUNOV_ZERO
+
 __all__ = ["dominant_ratio", "resonance_label", "smooth_labels", "attractor_type", "level_labels",
            "resonance_order", "label_family", "period_one_order", "LYAPUNOV_ZERO", "LABEL_FLICKER"]
-
-#: Largest Lyapunov exponent [1/period] separating the non-periodic types (the 64-period estimate
-#: scatters by about ±0.02 at the paper's attractors).
-LYAPUNOV_ZERO = 0.02
 
 
 def resonance_order(label) -> int | None:

@@ -22,6 +22,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
+from contactvib.steady.transients import check_damped
 from contactvib.sweeps.sweep import SweepSettings
 
 __all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked"]
@@ -211,6 +212,7 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     ParameterError
         ``out`` (:class:`OutputLocked`) when another run is writing into ``out``.
     """
+    check_damped(model, "a resonance sweep")
     if workers is not None:
         workers = check_int("workers", workers, 1, WORKERS_MAX)
     levels = []

@@ -1,0 +1,139 @@
+"""Transients: how long a search must integrate, how much work that is, and whether a start
+that found no period has reached a non-periodic attractor or has simply not settled yet.
+
+Transient length
+    In contact the linearised oscillator loses ``exp(−2π ζ / r)`` of its amplitude per
+    excitation period (``r = f_e/f_n0``), so a start at distance ``a`` [y0] from its attractor
+    needs ``n = ln(a / detect_tol) / (2π ζ / r)`` periods to come within the detection
+    tolerance. :func:`transient_periods` takes twice that (free flights are undamped), at least
+    :data:`MIN_TRANSIENT_PERIODS`.
+
+Work
+    The integrator takes about :data:`STEPS_PER_NATURAL_PERIOD` steps per natural period in
+    contact, so ``max(1, 1/r)`` times that per excitation period. :func:`check_work` refuses a
+    search whose step count is beyond :data:`WORK_MAX_STEPS` (about a quarter of an hour on two
+    cores), naming f_n0 and the options that reduce it.
+
+Non-periodic or unsettled
+    A start whose stroboscopic points found no period ``≤ kmax`` is a non-periodic attractor
+    only when (i) its cloud is *recurrent*: the last window of :data:`WINDOW` strobe points
+    lies in the window before it, point by point no farther from it than twice the typical
+    spacing of points within a window (a transient drifts out of its earlier window; an
+    attractor's cloud refills it) and keeps its spread (not below :data:`SPREAD_RATIO_MIN` of
+    the window before: a spiral into a focus shrinks), and (ii) its largest Lyapunov exponent of the stroboscopic
+    map is not negative (λ ≥ −:data:`~contactvib.sweeps.labels.LYAPUNOV_ZERO`; a negative one
+    means it is still converging, e.g. to an orbit of period above ``kmax``). Others are
+    *unsettled* and are counted, not reported.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from contactvib.model import ContactModel, Excitation, ParameterError
+
+__all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "WINDOW",
+           "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO"]
+
+#: Strobe points per window of the recurrence test (two windows are compared).
+WINDOW = 64
+#: Smallest automatic transient limit [excitation periods] (the search's former fixed default).
+MIN_TRANSIENT_PERIODS = 400
+#: Integration steps per natural period in contact (measured: 18–20 for the Taylor flow).
+STEPS_PER_NATURAL_PERIOD = 25.0
+#: Largest search refused beyond: integration steps in all (~0.2 µs each per core).
+WORK_MAX_STEPS = 1e10
+#: Largest Lyapunov exponent [1/period] separating the non-periodic types: below −LYAPUNOV_ZERO a
+#: cloud is still converging, above +LYAPUNOV_ZERO it is chaotic (the 64-period estimate scatters
+#: by about ±0.02 at the paper's attractors). The sweep's labels use the same threshold.
+LYAPUNOV_ZERO = 0.02
+#: Median distance of the last window from the one before, in units of the median spacing of
+#: points within a window, up to which the cloud is recurrent.
+RECURRENCE_RATIO = 2.0
+#: Smallest ratio of the last window's spread (RMS distance from its centroid) to the one
+#: before: a cloud spiralling into a focus with |μ| per period shrinks by |μ|^WINDOW (0.33 for
+#: |μ| = 0.983, the paper's linear decay at 10 kHz); an attractor's cloud keeps its spread.
+SPREAD_RATIO_MIN = 0.8
+
+
+def transient_periods(excitation: Excitation, detect_tol: float, extent_y0: float) -> int:
+    """Excitation periods for a start ``extent_y0`` [y0] away to settle within ``detect_tol``
+    (relative), twice the linear decay time in contact; at least :data:`MIN_TRANSIENT_PERIODS`.
+    ``zeta = 0`` gives the minimum (the caller refuses undamped models)."""
+    zeta = excitation.model.zeta
+    decay = 2.0 * math.pi * zeta / excitation.r  # amplitude decrement per period (log)
+    if not decay > 0.0:
+        return MIN_TRANSIENT_PERIODS
+    n = 2.0 * math.log(max(extent_y0, 1.0) / detect_tol) / decay
+    return int(max(MIN_TRANSIENT_PERIODS, math.ceil(min(n, 1e9))))
+
+
+def steps_per_period(excitation: Excitation) -> float:
+    """Estimated integration steps per excitation period."""
+    return STEPS_PER_NATURAL_PERIOD * max(1.0, 1.0 / excitation.r)
+
+
+def check_work(excitation: Excitation, n_trajectories: int, n_periods: int,
+               options: str = "the starts (n_starts, --starts) or the transient limit "
+                              "(max_periods, --max-periods)") -> float:
+    """Refuse a computation of ``n_trajectories × n_periods`` excitation periods whose estimated
+    step count exceeds :data:`WORK_MAX_STEPS`, naming f_n0 and ``options``; return the
+    estimate [steps]."""
+    steps = float(n_trajectories) * float(n_periods) * steps_per_period(excitation)
+    if steps > WORK_MAX_STEPS:
+        m = excitation.model
+        raise ParameterError(
+            "f_e", f"{excitation.f_e:g} Hz",
+            f"needs about {steps:.2g} integration steps: {n_trajectories} trajectories × "
+            f"{n_periods:.3g} periods (damping ratio zeta = {m.zeta:.2g}) × "
+            f"{steps_per_period(excitation):.3g} steps per period (f_e/f_n0 = {excitation.r:.3g}, "
+            f"f_n0 = {m.f_n0:.6g} Hz); at most {WORK_MAX_STEPS:.0e} can be done in reasonable "
+            f"time: raise f_e, lower f_n0 (c_n, m2, M), or reduce {options}")
+    return steps
+
+
+def check_damped(model: ContactModel, what: str) -> None:
+    """Refuse an undamped model (h_n = 0) for an analysis that needs attractors."""
+    if not model.zeta > 0.0:
+        raise ParameterError(
+            "h_n", model.h_n,
+            f"must be > 0 for {what}: an undamped contact is conservative, its motions neither "
+            f"settle nor have attractors (simulate works with h_n = 0)")
+
+
+def _spacing(a: np.ndarray, b: np.ndarray, same: bool) -> np.ndarray:
+    """Distance (max norm) of each row of ``a`` to the nearest row of ``b`` (not itself)."""
+    d = np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2)
+    if same:
+        np.fill_diagonal(d, np.inf)
+    return d.min(axis=1)
+
+
+def cloud_verdict(tail: np.ndarray, lyapunov: float) -> tuple[bool, str]:
+    """Whether the strobe points ``tail`` (float[2·WINDOW, 2], oldest first, nondimensional) with
+    largest Lyapunov exponent ``lyapunov`` [1/period] are a non-periodic attractor.
+
+    Returns ``(True, "chaotic" | "quasi-periodic")`` or ``(False, reason)``.
+    """
+    if tail.shape[0] < 2 * WINDOW or not np.all(np.isfinite(tail)):
+        return False, "too few strobe points"
+    if not math.isfinite(lyapunov):
+        return False, "Lyapunov exponent not finite"
+    scale = np.ptp(tail, axis=0)
+    scale = np.where(scale > 0.0, scale, 1.0)
+    old, new = tail[:WINDOW] / scale, tail[WINDOW:] / scale
+    spacing = max(float(np.median(_spacing(old, old, True))),
+                  float(np.median(_spacing(new, new, True))), 1e-12)
+    drift = max(float(np.median(_spacing(new, old, False))),
+                float(np.median(_spacing(old, new, False))))
+    if drift > RECURRENCE_RATIO * spacing:
+        return False, "strobe cloud still drifting"
+    spread_old = float(np.sqrt(np.mean(np.sum((old - old.mean(axis=0)) ** 2, axis=1))))
+    spread_new = float(np.sqrt(np.mean(np.sum((new - new.mean(axis=0)) ** 2, axis=1))))
+    if not spread_new >= SPREAD_RATIO_MIN * spread_old:
+        return False, "strobe cloud still contracting"
+    if lyapunov < -LYAPUNOV_ZERO:
+        return False, "still converging"
+    return True, "chaotic" if lyapunov > LYAPUNOV_ZERO else "quasi-periodic"
