@@ -110,7 +110,9 @@ class SweepSettings:
             raise ParameterError("df", self.df_hz, f"must be <= f_max - f_min = {format_number(span)} Hz "
                                  "(the grid needs at least two frequencies)", ("f_min", "f_max"))
         if (self.fmax_hz - self.fmin_hz) / self.df_hz > 1e6:
-            raise ParameterError("df", self.df_hz, "gives more than 1e6 frequencies; use a larger step")
+            raise ParameterError("df", self.df_hz, f"gives more than 1e6 frequencies over f_max - f_min = "
+                                 f"{format_number(span)} Hz; use a larger step or a narrower range",
+                                 ("f_min", "f_max"))
         check_int("kmax", self.kmax, 1, KMAX_SWEEP_MAX)
         check_int("max_periods", self.max_periods, 4 * self.kmax)
         check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True,
