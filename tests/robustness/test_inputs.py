@@ -204,21 +204,29 @@ ANY_OBJECT = st.one_of(
     st.complex_numbers(max_magnitude=1e3), st.binary(max_size=4),
     st.lists(st.floats(), max_size=2), st.just(object()), st.just(np.array([1.0, 2.0])), st.just({}),
 )
+#: The API properties are cheap: more examples.
+API = settings(PROPERTY, max_examples=200)
 #: Values of a parameter near its range (over many decades), to reach the combination checks.
 PARAMETER = st.one_of(st.floats(min_value=1e-320, max_value=1e308), st.floats(min_value=0.5, max_value=12))
 DERIVED = {"Q", "y0", "f_n0", "zeta"}
 
 
 def _api_refusal(e, names):
-    """A ParameterError of the API names the parameter: its symbol is one of ``names``, or a
-    derived scale whose message names every parameter of the model."""
+    """A ParameterError of the API names the parameter: its symbol is one of ``names``, or its
+    range names one (``f_max = 20: must be > f_min = 30 Hz``), or it is a derived scale whose
+    message names every parameter of the model, or — for the damping ratio, which every parameter
+    changes — h_n with the largest h_n allowed."""
     assert isinstance(e, ParameterError), repr(e)
     assert "\n" not in str(e)
-    if e.symbol not in names:
+    if e.symbol in names or set(e.bounds) & set(names):
+        return
+    if e.symbol == "h_n":
+        assert "damping ratio zeta" in str(e) and "i.e. h_n <= " in str(e), str(e)
+    else:
         assert e.symbol in DERIVED and all(f"{n} = " in str(e) for n in PAPER_DEFAULTS), str(e)
 
 
-@PROPERTY
+@API
 @given(params=st.dictionaries(st.sampled_from(list(PAPER_DEFAULTS)), st.one_of(ANY_OBJECT, PARAMETER), max_size=7))
 def test_contact_model_accepts_or_names_the_parameter(params):
     try:
@@ -231,7 +239,7 @@ def test_contact_model_accepts_or_names_the_parameter(params):
     assert all(math.isfinite(x) and x > 0 for x in (model.Q, model.y0, model.f_n0))
 
 
-@PROPERTY
+@API
 @given(pa=st.one_of(ANY_OBJECT, st.floats(min_value=0, max_value=2e3)),
        fe=st.one_of(ANY_OBJECT, st.floats(min_value=1e-3, max_value=1e7)),
        params=st.dictionaries(st.sampled_from(list(PAPER_DEFAULTS)), PARAMETER, max_size=3))
@@ -249,7 +257,7 @@ def test_excitation_accepts_or_names_the_parameter(pa, fe, params):
     assert np.all(np.isfinite(exc.kernel_parameters()))
 
 
-@PROPERTY
+@API
 @given(sizes=st.fixed_dictionaries({k: st.one_of(ANY_OBJECT, st.integers(-5, 10**12))
                                     for k in ("n_starts", "seed", "kmax", "max_periods")}))
 def test_search_sizes_accept_or_name_the_parameter(sizes):
@@ -262,3 +270,82 @@ def test_search_sizes_accept_or_name_the_parameter(sizes):
         _api_refusal(e, set(sizes))
         return
     assert all(isinstance(v, int) for v in (n_starts, seed, kmax, max_periods))
+
+
+#: Values of sizes, tolerances and frequencies of the settings objects.
+SETTING = st.one_of(ANY_OBJECT, st.integers(-5, 10**7), st.floats(min_value=1e-20, max_value=1e7))
+
+
+@API
+@given(kw=st.dictionaries(st.sampled_from(["fmin_hz", "fmax_hz", "df_hz", "kmax", "max_periods",
+                                           "multistart_per_octave", "multistart_starts", "seed"]),
+                          SETTING, max_size=4))
+def test_sweep_settings_accept_or_name_the_parameter(kw):
+    from contactvib.sweeps.sweep import SweepSettings
+
+    symbols = {"fmin_hz": "f_min", "fmax_hz": "f_max", "df_hz": "df"}
+    try:
+        SweepSettings(**kw)
+    except Exception as e:
+        _api_refusal(e, {symbols.get(k, k) for k in kw})
+
+
+@API
+@given(kw=st.dictionaries(st.sampled_from(["fmin", "fmax", "pa_min", "pa_max", "max_points", "app_max_um",
+                                           "rtol", "tol", "ds0", "ds_min", "ds_max"]),
+                          SETTING, max_size=4))
+def test_continuation_settings_accept_or_name_the_parameter(kw):
+    from contactvib.continuation.shooting import ContinuationSettings
+
+    symbols = {"fmin": "f_min", "fmax": "f_max"}
+    try:
+        ContinuationSettings(**kw)
+    except Exception as e:
+        _api_refusal(e, set(kw) | {symbols.get(k, k) for k in kw})
+
+
+@API
+@given(y=st.one_of(ANY_OBJECT, st.floats()), ydot=st.one_of(ANY_OBJECT, st.floats()),
+       n=st.one_of(ANY_OBJECT, st.integers(-5, 10**9)), samples=st.one_of(ANY_OBJECT, st.integers(-5, 10**6)))
+def test_simulation_start_accepts_or_names_the_parameter(y, ydot, n, samples):
+    from contactvib.steady.simulate import check_start
+
+    try:
+        check_start(ContactModel(), y, ydot, n, samples)
+    except Exception as e:
+        _api_refusal(e, {"y", "ydot", "n_periods", "samples_per_period"})
+
+
+@API
+@given(kw=st.dictionaries(st.sampled_from(["ds", "ds_min", "ds_max", "df_max", "max_points", "energy_tol", "tol"]),
+                          SETTING, max_size=4))
+def test_harmonic_balance_settings_accept_or_name_the_parameter(kw):
+    from contactvib.frequency.harmonic_balance import HBSettings
+
+    try:
+        HBSettings(**kw)
+    except Exception as e:
+        _api_refusal(e, set(kw))
+
+
+def test_settings_store_their_checked_values():
+    """Numbers given as text are stored as floats, counts as ints (they used to be stored as given,
+    and text raised TypeError in the next comparison); a fractional count is refused."""
+    from contactvib.continuation.shooting import ContinuationSettings
+    from contactvib.frequency.harmonic_balance import HBSettings
+    from contactvib.sweeps.sweep import SweepSettings
+
+    s = SweepSettings(fmin_hz="30", fmax_hz=Decimal("400"), df_hz="5", kmax=3.0, multistart_starts="8")
+    assert (s.fmin_hz, s.fmax_hz, s.df_hz, s.kmax, s.multistart_starts) == (30.0, 400.0, 5.0, 3, 8)
+    assert type(s.fmax_hz) is float and type(s.kmax) is int and type(s.multistart_starts) is int
+    c = ContinuationSettings(fmin="30", pa_min="0.1", ds_min="1e-7", max_points=16.0)
+    assert (c.fmin, c.pa_min, c.ds_min, c.max_points) == (30.0, 0.1, 1e-7, 16) and type(c.max_points) is int
+    h = HBSettings(ds_min="1e-6", max_points="10")
+    assert (h.ds_min, h.max_points) == (1e-6, 10)
+    for make, symbol in ((lambda: ContinuationSettings(max_points=16.7), "max_points"),
+                         (lambda: ContinuationSettings(fmin=100, fmax=50), "fmax"),
+                         (lambda: HBSettings(ds_min=1.0, ds_max=0.5), "ds_max")):
+        with pytest.raises(ParameterError) as e:
+            make()
+        assert e.value.symbol == symbol
+    assert SweepSettings() == SweepSettings(fmin_hz=30, fmax_hz=2000, df_hz=1)

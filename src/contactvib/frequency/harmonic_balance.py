@@ -201,13 +201,16 @@ class HBSettings:
     stability: bool = True
 
     def __post_init__(self):
-        check_range("ds", self.ds, 0.0, False)
-        check_range("ds_min", self.ds_min, 0.0, False)
-        check_range("ds_max", self.ds_max, self.ds_min, True)
-        check_range("energy_tol", self.energy_tol, 0.0, False)
-        check_int("max_points", self.max_points, 2)
-        check_range("df_max", self.df_max, 0.0, False, "Hz")
-        check_range("tol", self.tol, 0.0, False)
+        # stored as checked (a number given as text is a float, a count an int)
+        v = {"ds": check_range("ds", self.ds, 0.0, False),
+             "ds_min": check_range("ds_min", self.ds_min, 0.0, False)}
+        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds_min"], True, lower_name="ds_min")
+        v["energy_tol"] = check_range("energy_tol", self.energy_tol, 0.0, False)
+        v["max_points"] = check_int("max_points", self.max_points, 2)
+        v["df_max"] = check_range("df_max", self.df_max, 0.0, False, "Hz")
+        v["tol"] = check_range("tol", self.tol, 0.0, False)
+        for name, value in v.items():
+            object.__setattr__(self, name, value)
 
 
 def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
