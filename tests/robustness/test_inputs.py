@@ -349,3 +349,29 @@ def test_settings_store_their_checked_values():
             make()
         assert e.value.symbol == symbol
     assert SweepSettings() == SweepSettings(fmin_hz=30, fmax_hz=2000, df_hz=1)
+
+
+def _api_calls():
+    from contactvib import continue_orbit, hb_continuation, hb_solve, simulate
+
+    model = ContactModel()
+    exc = model.excitation(0.65, 360)
+    return {  # values that raised TypeError, ValueError, ZeroDivisionError or AttributeError
+        "simulate rtol text": (lambda: simulate(model, exc, rtol="a"), "rtol"),
+        "simulate rtol 0": (lambda: simulate(model, exc, rtol=0), "rtol"),
+        "hb_solve start text": (lambda: hb_solve(model, exc, 4, start="abc"), "start"),
+        "hb_solve start nan": (lambda: hb_solve(model, exc, 4, start=[np.nan, 0.0]), "start"),
+        "hb_solve tol text": (lambda: hb_solve(model, exc, 4, tol="x"), "tol"),
+        "hb_solve max_iter text": (lambda: hb_solve(model, exc, 4, max_iter="x"), "max_iter"),
+        "hb_continuation settings": (lambda: hb_continuation(model, 0.65, 300, 400, settings="x"), "settings"),
+        "continue_orbit state text": (lambda: continue_orbit(model, exc, "ab", 1), "state"),
+        "continue_orbit settings": (lambda: continue_orbit(model, exc, [1.0, 0.0], 1, settings="x"), "settings"),
+    }
+
+
+@pytest.mark.parametrize("case", list(_api_calls()))
+def test_api_refuses_wrong_values_by_name(case):
+    call, symbol = _api_calls()[case]
+    with pytest.raises(ParameterError) as e:
+        call()
+    assert e.value.symbol == symbol

@@ -347,7 +347,10 @@ def _check_common(excitation, state, period, parameter, direction):
         raise ParameterError("period", period, "must be <= 64")
     if direction not in ("both", "down", "up", -1, 1):
         raise ParameterError("direction", direction, "must be 'both', 'down' or 'up'")
-    z = np.asarray(state, float).reshape(-1)
+    try:
+        z = np.asarray(state, float).reshape(-1)
+    except (TypeError, ValueError):
+        z = np.array([np.nan])
     if z.shape != (2,) or not np.all(np.isfinite(z)):
         raise ParameterError("state", state, "must be two finite numbers (x = y/y0, x' = ẏ/(y0 ω_n0))")
     return k, z
@@ -388,6 +391,8 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
         The seed does not converge to a period-k orbit.
     """
     settings = settings or ContinuationSettings()
+    if not isinstance(settings, ContinuationSettings):
+        raise ParameterError("settings", settings, "must be a ContinuationSettings")
     k, z = _check_common(excitation, state, period, parameter, direction)
     prob = OrbitProblem(model, excitation, k, parameter, settings, merge_check=k % 2 == 0)
     q0 = prob.par[prob.ip]

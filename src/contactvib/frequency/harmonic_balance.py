@@ -151,11 +151,17 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
         If Newton does not converge.
     """
     H, n_time = _check_harmonics(harmonics, n_time)
+    tol, max_iter = check_range("tol", tol, 0.0, False), check_int("max_iter", max_iter, 1)
     aft = _AFT(H, n_time)
     if start is None:
         X = _initial_guess(model, excitation, H)
     else:
-        s = start.coefficients if isinstance(start, HBSolution) else np.asarray(start, float)
+        try:
+            s = start.coefficients if isinstance(start, HBSolution) else np.asarray(start, float).reshape(-1)
+        except (TypeError, ValueError):
+            s = np.array([np.nan])
+        if s.size == 0 or not np.all(np.isfinite(s)):
+            raise ParameterError("start", start, "must be an HBSolution or finite harmonic coefficients")
         X = np.zeros(2 * H + 1)
         n = min(s.size, X.size)
         X[:n] = s[:n]
@@ -255,6 +261,8 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     if not fmin < fmax:
         raise ParameterError("fmax", fmax, f"must be > fmin = {fmin:g} Hz")
     s = settings or HBSettings()
+    if not isinstance(s, HBSettings):
+        raise ParameterError("settings", settings, "must be an HBSettings")
     dr_max = s.df_max / model.f_n0
     H, n_time = _check_harmonics(harmonics, s.n_time)
     aft = _AFT(H, n_time)

@@ -76,6 +76,7 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     _check_types(model, excitation)
     y_um, ydot_mm_s, n_periods, samples_per_period = check_start(model, y_um, ydot_mm_s, n_periods,
                                                                  samples_per_period)
+    rtol = check_range("rtol", rtol, 0.0, False)
     z = np.array(model.units.state(y_um, ydot_mm_s))
     return _history(model, excitation, z, n_periods, samples_per_period, rtol)
 
