@@ -1,6 +1,21 @@
 """Shared test setup: ``tests/`` is on ``sys.path`` (for the helper modules :mod:`scipy_contact`
-and :mod:`figure_files`), and figures are drawn without a display."""
+and :mod:`figure_files`), figures are drawn without a display, and the fixtures more than one test
+folder uses (:func:`small_dataset`)."""
 
 import matplotlib
+import pytest
 
 matplotlib.use("Agg")
+
+
+@pytest.fixture(scope="session")
+def small_dataset(tmp_path_factory):
+    """A resonance dataset of one level (0.65 Q) over 340–380 Hz, 2 Hz step."""
+    from contactvib import ContactModel
+    from contactvib.sweeps.resonance import resonance_dataset
+    from contactvib.sweeps.sweep import SweepSettings
+
+    out = tmp_path_factory.mktemp("res")
+    st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=2.0, multistart_per_octave=0)
+    resonance_dataset(ContactModel(), [0.65], st, out=out, workers=1, progress=False)
+    return out / "resonance.nc"

@@ -1,17 +1,2 @@
-"""Fixtures shared by the CLI tests."""
-
-import pytest
-
-from contactvib import ContactModel
-
-
-@pytest.fixture(scope="session")
-def small_dataset(tmp_path_factory):
-    """A resonance dataset of one level (0.65 Q) over 340–380 Hz, 2 Hz step."""
-    from contactvib.sweeps.resonance import resonance_dataset
-    from contactvib.sweeps.sweep import SweepSettings
-
-    out = tmp_path_factory.mktemp("res")
-    st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=2.0, multistart_per_octave=0)
-    resonance_dataset(ContactModel(), [0.65], st, out=out, workers=1, progress=False)
-    return out / "resonance.nc"
+"""Fixtures shared by the CLI tests (the resonance dataset ``small_dataset`` is in tests/conftest.py,
+shared with tests/robustness)."""

@@ -17,7 +17,7 @@ import xarray as xr
 
 from contactvib.cli import main
 from contactvib.model import ContactModel, ParameterError
-from contactvib.sweeps.dataset import attractors_at
+from contactvib.sweeps.dataset import attractors_at, check_consistency
 from contactvib.sweeps.facts import coexisting_resonances, resonance_facts
 from contactvib.sweeps.labels import dominant_ratio, resonance_label
 from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
@@ -435,6 +435,7 @@ def test_full_paper_run(tmp_path):
     """`contactvib paper` at 1 Hz: every reference orbit, the 1/5 with two minima at 287 Hz."""
     res = reproduce_paper(tmp_path, workers=2, progress=False)
     d = res.dataset
+    assert check_consistency(d) == []  # no row contradicts itself (issue 13)
     for orbit in REF["orbits"]:
         test_sweep_points_match_scipy_reference(d, orbit)
     fives = [a for a in attractors_at(d, 0.65, 287.0)["attractors"] if a["resonance"] == "1/5"]

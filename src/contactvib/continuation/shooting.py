@@ -46,7 +46,14 @@ from contactvib.continuation.engine import (
     continue_branch,
     correct,
 )
-from contactvib.model import SHOOTING_RTOL_RANGE, ContactModel, Excitation, ParameterError, check_range
+from contactvib.model import (
+    SHOOTING_RTOL_RANGE,
+    ContactModel,
+    Excitation,
+    ParameterError,
+    check_int,
+    check_range,
+)
 
 __all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "ContinuationError",
            "OrbitProblem", "OrbitRecord"]
@@ -106,21 +113,25 @@ class ContinuationSettings:
     max_failures: int = 200
 
     def __post_init__(self):
-        check_range("fmin", self.fmin, 0.0, False, "Hz")
-        check_range("fmax", self.fmax, self.fmin, False, "Hz")
-        check_range("pa_min", self.pa_min, 0.0, True)
-        check_range("pa_max", self.pa_max, self.pa_min, False)
-        check_range("ds_min", self.ds_min, 0.0, False)
-        check_range("ds0", self.ds0, self.ds_min, True)
-        check_range("ds_max", self.ds_max, self.ds0, True)
-        check_range("max_points", self.max_points, 1, True)
-        check_range("app_max_um", self.app_max_um, 0.0, False, "µm")
-        check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
-        check_range("tol", self.tol, 0.0, False)
-        check_range("max_iter", self.max_iter, 1, True)
-        check_range("max_turn", self.max_turn, 0.0, False, "rad")
-        check_range("locate_tol", self.locate_tol, 0.0, False)
-        check_range("max_failures", self.max_failures, 1, True)
+        # each value checked against the checked values before it, and stored as checked (a
+        # number given as text is a float, a count an int)
+        v = {"fmin": check_range("fmin", self.fmin, 0.0, False, "Hz")}
+        v["fmax"] = check_range("fmax", self.fmax, v["fmin"], False, "Hz", lower_name="fmin")
+        v["pa_min"] = check_range("pa_min", self.pa_min, 0.0, True)
+        v["pa_max"] = check_range("pa_max", self.pa_max, v["pa_min"], False, lower_name="pa_min")
+        v["ds_min"] = check_range("ds_min", self.ds_min, 0.0, False)
+        v["ds0"] = check_range("ds0", self.ds0, v["ds_min"], True, lower_name="ds_min")
+        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds0"], True, lower_name="ds0")
+        v["max_points"] = check_int("max_points", self.max_points, 1)
+        v["app_max_um"] = check_range("app_max_um", self.app_max_um, 0.0, False, "µm")
+        v["rtol"] = check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
+        v["tol"] = check_range("tol", self.tol, 0.0, False)
+        v["max_iter"] = check_int("max_iter", self.max_iter, 1)
+        v["max_turn"] = check_range("max_turn", self.max_turn, 0.0, False, "rad")
+        v["locate_tol"] = check_range("locate_tol", self.locate_tol, 0.0, False)
+        v["max_failures"] = check_int("max_failures", self.max_failures, 1)
+        for name, value in v.items():
+            object.__setattr__(self, name, value)
 
 
 #: Stop reason of a branch that closed on itself (an isola, or a loop through both directions).
@@ -336,7 +347,10 @@ def _check_common(excitation, state, period, parameter, direction):
         raise ParameterError("period", period, "must be <= 64")
     if direction not in ("both", "down", "up", -1, 1):
         raise ParameterError("direction", direction, "must be 'both', 'down' or 'up'")
-    z = np.asarray(state, float).reshape(-1)
+    try:
+        z = np.asarray(state, float).reshape(-1)
+    except (TypeError, ValueError):
+        z = np.array([np.nan])
     if z.shape != (2,) or not np.all(np.isfinite(z)):
         raise ParameterError("state", state, "must be two finite numbers (x = y/y0, x' = ẏ/(y0 ω_n0))")
     return k, z
@@ -377,6 +391,8 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
         The seed does not converge to a period-k orbit.
     """
     settings = settings or ContinuationSettings()
+    if not isinstance(settings, ContinuationSettings):
+        raise ParameterError("settings", settings, "must be a ContinuationSettings")
     k, z = _check_common(excitation, state, period, parameter, direction)
     prob = OrbitProblem(model, excitation, k, parameter, settings, merge_check=k % 2 == 0)
     q0 = prob.par[prob.ip]

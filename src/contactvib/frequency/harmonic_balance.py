@@ -151,11 +151,17 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
         If Newton does not converge.
     """
     H, n_time = _check_harmonics(harmonics, n_time)
+    tol, max_iter = check_range("tol", tol, 0.0, False), check_int("max_iter", max_iter, 1)
     aft = _AFT(H, n_time)
     if start is None:
         X = _initial_guess(model, excitation, H)
     else:
-        s = start.coefficients if isinstance(start, HBSolution) else np.asarray(start, float)
+        try:
+            s = start.coefficients if isinstance(start, HBSolution) else np.asarray(start, float).reshape(-1)
+        except (TypeError, ValueError):
+            s = np.array([np.nan])
+        if s.size == 0 or not np.all(np.isfinite(s)):
+            raise ParameterError("start", start, "must be an HBSolution or finite harmonic coefficients")
         X = np.zeros(2 * H + 1)
         n = min(s.size, X.size)
         X[:n] = s[:n]
@@ -201,13 +207,16 @@ class HBSettings:
     stability: bool = True
 
     def __post_init__(self):
-        check_range("ds", self.ds, 0.0, False)
-        check_range("ds_min", self.ds_min, 0.0, False)
-        check_range("ds_max", self.ds_max, self.ds_min, True)
-        check_range("energy_tol", self.energy_tol, 0.0, False)
-        check_int("max_points", self.max_points, 2)
-        check_range("df_max", self.df_max, 0.0, False, "Hz")
-        check_range("tol", self.tol, 0.0, False)
+        # stored as checked (a number given as text is a float, a count an int)
+        v = {"ds": check_range("ds", self.ds, 0.0, False),
+             "ds_min": check_range("ds_min", self.ds_min, 0.0, False)}
+        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds_min"], True, lower_name="ds_min")
+        v["energy_tol"] = check_range("energy_tol", self.energy_tol, 0.0, False)
+        v["max_points"] = check_int("max_points", self.max_points, 2)
+        v["df_max"] = check_range("df_max", self.df_max, 0.0, False, "Hz")
+        v["tol"] = check_range("tol", self.tol, 0.0, False)
+        for name, value in v.items():
+            object.__setattr__(self, name, value)
 
 
 def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
@@ -252,6 +261,8 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     if not fmin < fmax:
         raise ParameterError("fmax", fmax, f"must be > fmin = {fmin:g} Hz")
     s = settings or HBSettings()
+    if not isinstance(s, HBSettings):
+        raise ParameterError("settings", settings, "must be an HBSettings")
     dr_max = s.df_max / model.f_n0
     H, n_time = _check_harmonics(harmonics, s.n_time)
     aft = _AFT(H, n_time)

@@ -40,7 +40,7 @@ from contactvib._kernels.status import STOP_FAILED, STOP_GRID_END, STOP_KNOWN, S
 from contactvib.model import ContactModel
 from contactvib.sweeps.labels import attractor_type, level_labels
 
-__all__ = ["level_dataset", "merge_levels", "attractors_at", "write_atomic",
+__all__ = ["level_dataset", "merge_levels", "attractors_at", "write_atomic", "check_consistency",
            "STOP_REASONS"]
 
 #: Layout version written into every dataset (``format`` attribute); chunks and datasets of
@@ -246,6 +246,30 @@ def merge_levels(datasets: list):
     ds.attrs["levels_pa_over_q"] = json.dumps([float(p["pa_over_q"].values[0]) for p in parts])
     assert all(dm in ds.dims for dm in dims if dm in parts[0].dims)
     return ds
+
+
+def check_consistency(ds, rtol: float = 1e-9, atol: float = 1e-12) -> list[str]:
+    """The rows of a resonance dataset that contradict themselves, one line each (empty: none).
+
+    Per point: ``app_um`` = ``ymax_um`` − ``ymin_um`` (within ``rtol`` relative / ``atol`` µm),
+    and ``loses_contact`` ⇔ ``ymin_um`` < 0 ⇔ ``contact_loss_fraction`` > 0."""
+    app, lo, hi = (np.asarray(ds[v].values, dtype=float) for v in ("app_um", "ymin_um", "ymax_um"))
+    loses = np.asarray(ds["loses_contact"].values).astype(bool)
+    flight = np.asarray(ds["contact_loss_fraction"].values, dtype=float)
+    span = hi - lo
+    wrong_app = ~(np.abs(app - span) <= np.maximum(rtol * np.abs(span), atol))
+    wrong_contact = (loses != (lo < 0.0)) | (loses != (flight > 0.0))
+    pa, fe = ds["pa_over_q"].values, ds["fe_hz"].values
+    out = []
+    for p in np.nonzero(wrong_app | wrong_contact)[0]:
+        what = []
+        if wrong_app[p]:
+            what.append(f"app_um = {app[p]:.17g} but ymax_um - ymin_um = {span[p]:.17g}")
+        if wrong_contact[p]:
+            what.append(f"loses_contact = {bool(loses[p])}, ymin_um = {lo[p]:.17g}, "
+                        f"contact_loss_fraction = {flight[p]:.17g}")
+        out.append(f"point {p} (P_a = {float(pa[p]):g} Q, f_e = {float(fe[p]):g} Hz): " + "; ".join(what))
+    return out
 
 
 def write_atomic(ds, path) -> None:

@@ -103,22 +103,29 @@ class SweepSettings:
     capture_tol: float = 1e-3
 
     def __post_init__(self):
-        check_frequency_range(self.fmin_hz, self.fmax_hz)
-        check_range("df", self.df_hz, 0.0, False, "Hz")
-        span = float(self.fmax_hz) - float(self.fmin_hz)
-        if float(self.df_hz) > span * (1.0 + 1e-9):
+        # stored as checked (a number given as text is a float, a count an int)
+        fmin, fmax = check_frequency_range(self.fmin_hz, self.fmax_hz)
+        df = check_range("df", self.df_hz, 0.0, False, "Hz")
+        span = fmax - fmin
+        if df > span * (1.0 + 1e-9):
             raise ParameterError("df", self.df_hz, f"must be <= f_max - f_min = {format_number(span)} Hz "
                                  "(the grid needs at least two frequencies)", ("f_min", "f_max"))
-        if (self.fmax_hz - self.fmin_hz) / self.df_hz > 1e6:
-            raise ParameterError("df", self.df_hz, "gives more than 1e6 frequencies; use a larger step")
-        check_int("kmax", self.kmax, 1, KMAX_SWEEP_MAX)
-        check_int("max_periods", self.max_periods, 4 * self.kmax)
-        check_range("multistart_per_octave", self.multistart_per_octave, 0.0, True,
-                    upper=MULTISTART_PER_OCTAVE_MAX)
-        n = check_int("multistart_starts", self.multistart_starts, 0)
+        if span / df > 1e6:
+            raise ParameterError("df", self.df_hz, f"gives more than 1e6 frequencies over f_max - f_min = "
+                                 f"{format_number(span)} Hz; use a larger step or a narrower range",
+                                 ("f_min", "f_max"))
+        kmax = check_int("kmax", self.kmax, 1, KMAX_SWEEP_MAX)
+        v = dict(fmin_hz=fmin, fmax_hz=fmax, df_hz=df, kmax=kmax,
+                 max_periods=check_int("max_periods", self.max_periods, 4 * kmax),
+                 multistart_per_octave=check_range("multistart_per_octave", self.multistart_per_octave,
+                                                   0.0, True, upper=MULTISTART_PER_OCTAVE_MAX),
+                 multistart_starts=check_int("multistart_starts", self.multistart_starts, 0))
         # the arrays of one multi-start search, as the attractor search's (2 KiB per start, x2)
-        check_memory("multistart_starts", self.multistart_starts, 4096.0 * n, MEMORY_MAX // 4096)
-        check_int("seed", self.seed, 0)
+        check_memory("multistart_starts", self.multistart_starts, 4096.0 * v["multistart_starts"],
+                     MEMORY_MAX // 4096)
+        v["seed"] = check_int("seed", self.seed, 0)
+        for name, value in v.items():
+            object.__setattr__(self, name, value)
 
     def to_dict(self) -> dict:
         return asdict(self)

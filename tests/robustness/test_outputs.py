@@ -1,0 +1,81 @@
+"""Every command that writes checks its output folder before computing (issue 13, class 4): an
+unwritable ``--out`` (a folder that cannot be created, a path under a regular file) is refused in
+under 2 s with one ``contactvib: error:`` line naming ``--out``, exit status 2, and nothing is
+computed (the computations are replaced by stubs, tests/robustness/conftest.py)."""
+
+import time
+
+import pytest
+
+from contactvib.cli import main
+
+
+def _writes_nothing(command):
+    return pytest.param(command, [], marks=pytest.mark.skip(reason=f"{command} writes nothing (no --out)"),
+                        id=f"{command}-writes-nothing")
+
+
+#: Every command of `contactvib --help`, with options that keep it otherwise valid.
+COMMANDS = [
+    pytest.param("simulate", [], id="simulate"),
+    pytest.param("simulate", ["--from-state", "0.1", "0", "--periods", "5"], id="simulate-from-state"),
+    pytest.param("resonance", ["--pa", "0.5", "0.65", "--df", "5"], id="resonance"),
+    pytest.param("resonance", ["--resume", "--workers", "1"], id="resonance-resume"),
+    pytest.param("paper", [], id="paper"),
+    pytest.param("continue", [], id="continue"),
+    pytest.param("continue", ["--parameter", "pa", "--pa-min", "0.3", "--pa-max", "0.9"], id="continue-in-pa"),
+    pytest.param("bifurcations", ["--pa", "0.6", "0.7"], id="bifurcations"),
+    pytest.param("evolution", [], id="evolution"),
+    pytest.param("hbm", [], id="hbm"),
+    pytest.param("perturbation", [], id="perturbation"),
+    pytest.param("perturbation", ["--json"], id="perturbation-json"),
+    _writes_nothing("attractors"),
+    _writes_nothing("query"),
+]
+
+
+def test_every_command_is_listed():
+    from contactvib.cli.main import cli
+
+    listed = {p.values[0] for p in COMMANDS}
+    assert listed == set(cli.commands)
+
+
+def _unwritable(kind, tmp_path):
+    if kind == "proc":
+        return "/proc/contactvib_robustness/x"
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    return str(blocker / "x")
+
+
+@pytest.mark.parametrize("kind", ["proc", "under-a-file"])
+@pytest.mark.parametrize("command, args", COMMANDS)
+def test_unwritable_out_refused_before_computing(no_computation, capsys, tmp_path, command, args, kind):
+    out = _unwritable(kind, tmp_path)
+    t0 = time.perf_counter()
+    rc = main([command, *args, "--out", out])
+    elapsed = time.perf_counter() - t0
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert err.count("\n") == 1 and err.startswith(f"contactvib: error: --out = {out}: cannot create"), err
+    assert elapsed < 2.0, f"{elapsed:.2f} s"
+
+
+@pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks])
+def test_out_that_is_a_file_refused_before_computing(no_computation, capsys, tmp_path, command, args):
+    out = tmp_path / "a_file"
+    out.write_text("kept")
+    assert main([command, *args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("contactvib: error: ") and "--out" in err and str(out) in err, err
+    assert out.read_text() == "kept"
+
+
+@pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks])
+def test_a_writable_out_reaches_the_computation(no_computation, tmp_path, command, args):
+    """The control: with a writable --out each command gets past its checks to a stubbed
+    computation (so the stubs are the ones the commands call)."""
+    with pytest.raises(no_computation):
+        main([command, *args, "--out", str(tmp_path / "out")])
+    assert (tmp_path / "out").is_dir()
