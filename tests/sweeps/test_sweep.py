@@ -74,6 +74,15 @@ def test_every_variable_states_its_unit_or_meaning(ds):
                               "_npoints", "_id")), name
 
 
+def test_no_row_contradicts_itself(ds):
+    """Issue 13: app_um = ymax_um − ymin_um and loses_contact ⇔ ymin_um < 0 ⇔
+    contact_loss_fraction > 0 on every row of all eight levels (contact-losing rows included)."""
+    from contactvib.sweeps.dataset import check_consistency
+
+    assert bool(ds.loses_contact.any()) and not bool(ds.loses_contact.all())
+    assert check_consistency(ds) == []
+
+
 # ------------------------------------------------------------------ against the scipy reference
 
 @pytest.mark.parametrize("orbit", [o for o in REF["orbits"]
