@@ -14,6 +14,7 @@ import click
 from contactvib.cli.common import (
     InputError,
     LevelsCommand,
+    RunInterrupted,
     _echo_json,
     _feasible_frequencies,
     _frequency_range,
@@ -33,12 +34,18 @@ __all__: list = []
 @contextmanager
 def _writing_into(out: Path):
     """Hold the output folder's lock for the whole command (sweeps and figures); the library's
-    lock and resume refusals become one-line errors (exit 2)."""
-    from contactvib.sweeps.resonance import OutputLocked, ResumeMismatch, output_lock
+    lock and resume refusals become one-line errors (exit 2), Ctrl-C the one line
+    ``contactvib: interrupted: N levels kept in OUT/.chunks; rerun with --resume`` (exit 130)."""
+    from contactvib.sweeps.resonance import Interrupted, OutputLocked, ResumeMismatch, output_lock
 
     try:
         with output_lock(out):
             yield
+    except Interrupted as e:
+        raise RunInterrupted(e.summary("--resume")) from None
+    except KeyboardInterrupt:  # after the sweeps (figures, index page): every level is kept
+        n = len(list((out / ".chunks").glob("level_pa*.nc")))
+        raise RunInterrupted(Interrupted(n, out / ".chunks").summary("--resume")) from None
     except OutputLocked as e:
         raise InputError(f"--out = {e.out}: another contactvib run is writing there ({e.lock})") from None
     except ResumeMismatch as e:
