@@ -91,10 +91,11 @@ def reference(tmp_path_factory):
     return xr.load_dataset(out / "resonance.nc")
 
 
-def _resumed_equals(reference, out: Path, workers: str):
-    """``--resume`` reuses the kept chunks, completes and gives the uninterrupted dataset."""
+def _resumed_equals(reference, out: Path):
+    """``--resume`` reuses the kept chunks, completes and gives the uninterrupted dataset (in
+    one process: the pool is what the interrupted runs test)."""
     kept = {c: c.stat().st_mtime_ns for c in (out / ".chunks").glob("level_pa*.nc")}
-    p = _contactvib("--out", str(out), "--workers", workers, "--resume")
+    p = _contactvib("--out", str(out), "--workers", "1", "--resume")
     stdout, stderr = p.communicate(timeout=300)
     assert p.returncode == 0, stderr
     assert stderr == ""
@@ -122,7 +123,7 @@ def test_sigint_one_line_130_no_process_and_resume(tmp_path, reference, workers)
                         "rerun with --resume")
     assert stdout == ""
     assert not _gone(family)
-    _resumed_equals(reference, out, workers)
+    _resumed_equals(reference, out)
 
 
 @pytest.mark.parametrize("workers", ["1", "2"])
@@ -136,27 +137,39 @@ def test_sigkill_leaves_no_process_and_resume(tmp_path, reference, workers):
     p.kill()
     _stdout, stderr = p.communicate(timeout=60)
     assert p.returncode == -signal.SIGKILL
-    assert "Traceback" not in stderr
+    assert stderr == ""  # nothing from the workers nor from multiprocessing's resource tracker
     assert not _gone(family)  # the workers end with their parent
-    _resumed_equals(reference, out, workers)
+    _resumed_equals(reference, out)
 
 
 # ------------------------------------------------------------------ in this process (library)
 
-def test_deferred_sigint_raises_between_kernel_calls():
+def _numba_frame():
+    """A frame whose code lies in a ``numba`` folder (as numba's call-backs into Python)."""
+    ns: dict = {}
+    exec(compile("import sys\nframe = sys._getframe()", os.path.join(os.sep, "x", "numba", "f.py"),
+                 "exec"), ns)
+    return ns["frame"]
+
+
+def test_deferred_sigint_only_defers_inside_numba():
     from contactvib.sweeps.interrupts import check_interrupt, deferred_sigint
 
+    with pytest.raises(KeyboardInterrupt):  # Python code on the stack: at once
+        with deferred_sigint():
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(100):
+                time.sleep(0.01)
+            pytest.fail("SIGINT not raised")
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     with pytest.raises(KeyboardInterrupt):
         with deferred_sigint():
-            os.kill(os.getpid(), signal.SIGINT)
-            time.sleep(0.05)  # the handler has run: only a flag was set
-            check_interrupt()
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, _numba_frame())  # only a flag
+            check_interrupt()  # raised where Python regains control
             pytest.fail("check_interrupt did not raise")
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     with pytest.raises(KeyboardInterrupt):  # not checked inside: raised at the end of the block
         with deferred_sigint():
-            os.kill(os.getpid(), signal.SIGINT)
-            time.sleep(0.05)
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, _numba_frame())
     check_interrupt()  # nothing pending any more
 
 
@@ -183,8 +196,8 @@ def test_library_interrupted_keeps_finished_levels_and_releases_lock(tmp_path):
 
 
 def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
-    """SIGINT while ``settle_known_many`` runs in this thread is honoured after the call, not in
-    it: that parallel kernel calls back into Python (``_numba_unpickle``), and a KeyboardInterrupt
+    """SIGINT while ``settle_known_many`` runs in this thread is honoured as the call returns,
+    not in it: that parallel kernel calls back into Python (``_numba_unpickle``), and a KeyboardInterrupt
     raised there came out as ``SystemError: CPUDispatcher(...) returned a result with an
     exception set`` (issue 13)."""
     import threading
@@ -208,6 +221,7 @@ def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
                        multistart_starts=600)
     with pytest.raises(Interrupted) as e:
         resonance_dataset(ContactModel(), [0.9], st, workers=1, progress=False)
+    t_end = time.monotonic()
     assert e.value.chunks is None and str(e.value) == "interrupted"
-    assert len(calls) == 2 and calls[1] - calls[0] > 0.05  # interrupted in the first call
-    assert time.monotonic() - calls[1] < 1.0  # and honoured right after it
+    # raised as the first call returned, or (numba was on the stack) at the next check after it
+    assert len(calls) == 1 or (len(calls) == 2 and t_end - calls[1] < 1.0)

@@ -1,14 +1,17 @@
-"""Clean interrupts of long runs: Ctrl-C (SIGINT) between kernel calls, workers that end with
+"""Clean interrupts of long runs: Ctrl-C (SIGINT) never inside numba, workers that end with
 their parent.
 
-A KeyboardInterrupt must not be raised while a compiled kernel runs: the parallel kernels
-(``prange``, e.g. ``settle_known_many``) call back into Python (``_numba_unpickle``) and an
-exception raised there by the default SIGINT handler comes out as ``SystemError:
-CPUDispatcher(...) returned a result with an exception set`` (or worse). Levels that run in the
-main thread therefore run under :func:`deferred_sigint`: SIGINT only sets a flag, and
-:func:`check_interrupt`, called wherever Python regains control between kernel calls (every
-trace and multi-start frequency of :mod:`contactvib.sweeps.sweep`, every level), raises the
-KeyboardInterrupt there.
+A KeyboardInterrupt must not be raised inside numba: compiled kernels call back into Python
+(boxing typed records through ``_numba_unpickle``, in ``settle_known_many`` for one), and so
+does the compiler (llvmlite's object-cache call-back); an exception raised there by the default
+SIGINT handler comes out as ``SystemError: CPUDispatcher(...) returned a result with an
+exception set``, as "Exception ignored" noise, or worse.
+:func:`contactvib.sweeps.resonance.resonance_dataset` (and the CLI's sweep commands, figures
+included) therefore run under :func:`deferred_sigint`: SIGINT raises KeyboardInterrupt at once
+where only Python code is on the stack (a kernel that is running returns first), but while
+numba or llvmlite code is on the stack it only sets a flag, which :func:`check_interrupt` raises
+wherever Python regains control between kernel calls (every trace and multi-start frequency of
+:mod:`contactvib.sweeps.sweep`, every level, every 0.2 s while waiting for the workers).
 
 Worker processes ignore SIGINT (the parent handles it and terminates them) and end when their
 parent dies, even by SIGKILL (:func:`end_with_parent`).
@@ -50,31 +53,40 @@ class Interrupted(KeyboardInterrupt):
         return f"interrupted: {self.n_kept} {levels} kept in {self.chunks}; rerun with {resume}"
 
 
-_PENDING = threading.Event()  # SIGINT received under deferred_sigint, not yet raised
+_PENDING = [False]  # SIGINT received under deferred_sigint, not yet raised (no lock: a handler sets it)
+_NUMBA = tuple(f"{os.sep}{name}{os.sep}" for name in ("numba", "llvmlite"))
 
 
 def _note_sigint(signum, frame):
-    _PENDING.set()
+    """SIGINT under :func:`deferred_sigint`: a flag while numba or llvmlite code is on the stack,
+    else KeyboardInterrupt."""
+    while frame is not None:
+        if any(part in frame.f_code.co_filename for part in _NUMBA):
+            _PENDING[0] = True
+            return
+        frame = frame.f_back
+    raise KeyboardInterrupt
 
 
 def check_interrupt() -> None:
-    """Raise KeyboardInterrupt if SIGINT arrived under :func:`deferred_sigint` (call it where no
-    kernel runs)."""
-    if _PENDING.is_set():
-        _PENDING.clear()
+    """Raise KeyboardInterrupt if SIGINT arrived under :func:`deferred_sigint` while numba was on
+    the stack (call it where no kernel runs)."""
+    if _PENDING[0]:
+        _PENDING[0] = False
         raise KeyboardInterrupt
 
 
 @contextmanager
 def deferred_sigint():
-    """Within: SIGINT sets a flag that :func:`check_interrupt` raises (and, if nothing did, the
-    exit of this block). Only in the main thread and while SIGINT has Python's default handler;
+    """Within: SIGINT raises KeyboardInterrupt, except while numba or llvmlite code is on the
+    stack, where it sets a flag that :func:`check_interrupt` raises (or, if nothing did, the exit
+    of this block). Only in the main thread and while SIGINT has Python's default handler;
     otherwise (another handler installed, a thread) nothing changes."""
     if (threading.current_thread() is not threading.main_thread()
             or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
         yield
         return
-    _PENDING.clear()
+    _PENDING[0] = False
     signal.signal(signal.SIGINT, _note_sigint)
     try:
         yield

@@ -259,14 +259,14 @@ def _resonance(model, levels, sd, out, name, resume, workers, progress, on_level
     started = time.time()
     done: dict = {}
     try:
-        with deferred_sigint():  # kernels run in this thread: SIGINT is honoured between them
+        with deferred_sigint():  # SIGINT is honoured between kernel calls, never inside one
             if out is not None and resume:
                 _reuse_chunks(model, levels, sd, out, on_level, level_results, done)
-        _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, workers, progress,
-                      on_level, level_results, done, len(levels))
-        ds = merge_levels([done[pa] for pa in levels])
-        if out is not None:
-            write_atomic(ds, out / f"{name}.nc")
+            _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, workers,
+                          progress, on_level, level_results, done, len(levels))
+            ds = merge_levels([done[pa] for pa in levels])
+            if out is not None:
+                write_atomic(ds, out / f"{name}.nc")
     except KeyboardInterrupt:
         raise _interrupted(out, levels, done, started) from None
     return ds
@@ -288,8 +288,8 @@ def _reuse_chunks(model, levels, sd, out, on_level, level_results, done):
 
 
 def _sweep_levels(model, todo, sd, out, workers, progress, on_level, level_results, done, n_levels):
-    """Sweep the levels ``todo`` into ``done`` (and ``level_results``): in this process (under
-    :func:`deferred_sigint`) or in a pool of spawned workers."""
+    """Sweep the levels ``todo`` into ``done`` (and ``level_results``): in this process or in a
+    pool of spawned workers."""
     from tqdm import tqdm
 
     n_workers = workers or min(len(todo), os.cpu_count() or 1)
@@ -305,11 +305,10 @@ def _sweep_levels(model, todo, sd, out, workers, progress, on_level, level_resul
 
     try:
         if n_workers <= 1 or len(todo) <= 1:
-            with deferred_sigint():
-                for pa in todo:
-                    c = str(chunk_path(out, pa)) if out is not None else None
-                    finished(pa, _run_level(model.parameters(), pa, sd, c, on_level))
-                    check_interrupt()
+            for pa in todo:
+                c = str(chunk_path(out, pa)) if out is not None else None
+                finished(pa, _run_level(model.parameters(), pa, sd, c, on_level))
+                check_interrupt()
         else:
             _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished)
     finally:
@@ -318,8 +317,9 @@ def _sweep_levels(model, todo, sd, out, workers, progress, on_level, level_resul
 
 def _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished):
     import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
+    _quiet_resource_tracker()
     pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=mp.get_context("spawn"),
                                initializer=_worker_init, initargs=(os.getpid(),))
     futs = {}
@@ -327,12 +327,33 @@ def _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished):
         for pa in sorted(todo, key=lambda p: -p):
             futs[pool.submit(_run_level, model.parameters(), pa, sd,
                              str(chunk_path(out, pa)) if out is not None else None, on_level)] = pa
-        for fut in as_completed(futs):
-            finished(futs[fut], fut.result())
+        pending = set(futs)
+        while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
+            ready, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+            for fut in ready:
+                finished(futs[fut], fut.result())
+            check_interrupt()
     except BaseException:
         _stop_pool(pool)
         raise
     pool.shutdown(wait=True)
+
+
+def _quiet_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker (if not running) without warnings: when this
+    process is killed (SIGKILL) it still removes the pool's semaphores, but silently instead of
+    two lines about "leaked semaphore objects" on the terminal."""
+    import sys
+
+    try:
+        from multiprocessing import resource_tracker
+    except ImportError:  # not POSIX
+        return
+    sys.warnoptions.append("ignore::UserWarning")  # passed on as -W to the tracker it starts
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        sys.warnoptions.remove("ignore::UserWarning")
 
 
 def _stop_pool(pool) -> None:
@@ -346,16 +367,22 @@ def _stop_pool(pool) -> None:
     try:
         processes = list((getattr(pool, "_processes", None) or {}).values())
         manager = getattr(pool, "_executor_manager_thread", None)
+        results = getattr(pool, "_result_queue", None)
         for p in processes:
             p.terminate()
         pool.shutdown(wait=False, cancel_futures=True)
-        if manager is not None:
-            manager.join(10.0)
         for p in processes:
             p.join(5.0)
             if p.is_alive():
                 p.kill()
                 p.join(5.0)
+        # A worker terminated while sending a level leaves the pool's thread reading a partial
+        # message forever (and the interpreter's exit joins that thread): with every worker
+        # gone, closing this process's end for writing gives it end-of-file instead.
+        if results is not None and getattr(results, "_writer", None) is not None:
+            results._writer.close()
+        if manager is not None:
+            manager.join(10.0)
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
