@@ -225,3 +225,27 @@ def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
     assert e.value.chunks is None and str(e.value) == "interrupted"
     # raised as the first call returned, or (numba was on the stack) at the next check after it
     assert len(calls) == 1 or (len(calls) == 2 and t_end - calls[1] < 1.0)
+
+
+@pytest.mark.parametrize("prctl", [True, False])
+def test_worker_ends_with_its_killed_parent(tmp_path, prctl):
+    """``end_with_parent``: PR_SET_PDEATHSIG, or (elsewhere) the thread polling the parent id."""
+    child = ("import os, sys, time\n"
+             "import contactvib.sweeps.interrupts as i\n"
+             f"if not {prctl}:\n"
+             "    i._prctl_pdeathsig = lambda sig: False\n"
+             "i.end_with_parent(os.getppid())\n"
+             "print('ready', flush=True)\n"
+             "time.sleep(60)\n")
+    parent = ("import subprocess, sys, time\n"
+              f"c = subprocess.Popen([sys.executable, '-c', {child!r}], stdout=subprocess.PIPE, text=True)\n"
+              "assert c.stdout.readline() == 'ready\\n'\n"
+              "print(c.pid, flush=True)\n"
+              "time.sleep(60)\n")
+    p = subprocess.Popen([sys.executable, "-c", parent], env=_ENV, stdout=subprocess.PIPE, text=True)
+    pid = int(p.stdout.readline())
+    family = {(q, s) for q, s in _descendants(p.pid) if q == pid}
+    assert family
+    p.kill()
+    p.wait()
+    assert not _gone(family, wait=5.0)
