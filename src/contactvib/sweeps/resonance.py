@@ -259,7 +259,7 @@ def _resonance(model, levels, sd, out, name, resume, workers, progress, on_level
     started = time.time()
     done: dict = {}
     try:
-        with deferred_sigint():  # SIGINT is honoured between kernel calls, never inside one
+        with deferred_sigint():  # SIGINT never raised inside numba (see interrupts.py)
             if out is not None and resume:
                 _reuse_chunks(model, levels, sd, out, on_level, level_results, done)
             _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, workers,
