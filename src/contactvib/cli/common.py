@@ -46,6 +46,11 @@ class InputError(Exception):
         super().__init__(one_line(str(message)))
 
 
+class RunInterrupted(Exception):
+    """A command stopped by Ctrl-C (SIGINT): ``main`` prints ``contactvib: <message>`` as one
+    line and exits 130 (not a KeyboardInterrupt, so that click adds nothing)."""
+
+
 def _error(option: str, e: ParameterError, names: dict[str, str] | None = None) -> InputError:
     """The one-line message ``--fe (f_e) = -5: must be > 0 Hz`` of a library ParameterError."""
     return InputError(f"{option} ({e.symbol}) = {_show(e.value)}: {e.allowed_with(names or {})}")

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import click
 
-from contactvib.cli.common import InputError, one_line
+from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.steady import attractors, simulate
@@ -44,6 +44,9 @@ def main(argv=None) -> int:
         return rv if isinstance(rv, int) else 0
     except InputError as e:
         click.echo(f"contactvib: error: {e}", err=True)
+    except RunInterrupted as e:
+        click.echo(f"contactvib: {e}", err=True)
+        return 130
     except click.exceptions.Abort:
         click.echo("contactvib: interrupted", err=True)
         return 130

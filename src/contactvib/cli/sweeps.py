@@ -14,6 +14,7 @@ import click
 from contactvib.cli.common import (
     InputError,
     LevelsCommand,
+    RunInterrupted,
     _checked,
     _echo_json,
     _feasible_frequencies,
@@ -34,12 +35,19 @@ __all__: list = []
 @contextmanager
 def _writing_into(out: Path):
     """Hold the output folder's lock for the whole command (sweeps and figures); the library's
-    lock and resume refusals become one-line errors (exit 2)."""
-    from contactvib.sweeps.resonance import OutputLocked, ResumeMismatch, output_lock
+    lock and resume refusals become one-line errors (exit 2), Ctrl-C the one line
+    ``contactvib: interrupted: N levels kept in OUT/.chunks; rerun with --resume`` (exit 130)."""
+    from contactvib.sweeps.interrupts import deferred_sigint
+    from contactvib.sweeps.resonance import Interrupted, OutputLocked, ResumeMismatch, output_lock
 
     try:
-        with output_lock(out):
+        with output_lock(out), deferred_sigint():  # Ctrl-C between kernel calls and figures
             yield
+    except Interrupted as e:
+        raise RunInterrupted(e.summary("--resume")) from None
+    except KeyboardInterrupt:  # after the sweeps (figures, index page): every level is kept
+        n = len(list((out / ".chunks").glob("level_pa*.nc")))
+        raise RunInterrupted(Interrupted(n, out / ".chunks").summary("--resume")) from None
     except OutputLocked as e:
         raise InputError(f"--out = {e.out}: another contactvib run is writing there ({e.lock})") from None
     except ResumeMismatch as e:
@@ -123,6 +131,7 @@ def resonance(pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     levels = _levels(pa)
     model, st, n_workers = _sweep_inputs(sweep)
+    from contactvib.sweeps.interrupts import check_interrupt
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
@@ -133,6 +142,7 @@ def resonance(pa, out, **sweep):
         for p in sorted(set(levels)):
             write_level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png",
                                 model)
+            check_interrupt()
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 

@@ -11,6 +11,11 @@ of a requested level made with another model or other settings is refused (Param
 ``resume``) before anything is computed. One run at a time writes into a folder: it holds an
 exclusive lock on ``OUT/.lock`` (a second run fails at once, ParameterError ``out``), and at its
 start removes the temporary files ``.*.tmp<pid>`` of runs that are no longer running.
+
+Interrupts are clean (:mod:`contactvib.sweeps.interrupts`): SIGINT stops the run between kernel
+calls, terminates the workers and raises :class:`Interrupted` (a KeyboardInterrupt saying how
+many levels were kept); workers ignore SIGINT and end when the parent process ends, even by
+SIGKILL.
 """
 
 from __future__ import annotations
@@ -23,9 +28,10 @@ from pathlib import Path
 
 from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
 from contactvib.steady.transients import check_damped
+from contactvib.sweeps.interrupts import Interrupted, check_interrupt, deferred_sigint, end_with_parent
 from contactvib.sweeps.sweep import SweepSettings
 
-__all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked"]
+__all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked", "Interrupted"]
 
 #: Chunk attribute holding the exact level P_a/Q the chunk was computed for.
 _LEVEL_ATTR = "chunk_pa_over_q"
@@ -133,9 +139,16 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
     return removed
 
 
-def _worker_init():
+def _worker_init(parent: int | None = None):
+    """A pool worker: one numba thread, SIGINT ignored (the parent handles it and terminates
+    the workers), ends when ``parent`` does (even on SIGKILL)."""
+    import signal
+
     import numba
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if parent is not None:
+        end_with_parent(parent)
     numba.set_num_threads(1)
 
 
@@ -211,6 +224,11 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     ------
     ParameterError
         ``out`` (:class:`OutputLocked`) when another run is writing into ``out``.
+    Interrupted
+        (a KeyboardInterrupt) on SIGINT / Ctrl-C, raised within about a second of the running
+        kernel call, after the workers are terminated (running levels are not waited for) and
+        the lock is released; ``n_kept`` finished levels stay in ``OUT/.chunks`` for
+        ``resume=True``.
     """
     check_damped(model, "a resonance sweep")
     if workers is not None:
@@ -234,59 +252,154 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
 
 
 def _resonance(model, levels, sd, out, name, resume, workers, progress, on_level, level_results):
-    import xarray as xr
-    from tqdm import tqdm
+    """The sweeps of :func:`resonance_dataset`; a KeyboardInterrupt becomes :class:`Interrupted`
+    once the workers are stopped."""
+    import time
 
     from contactvib.sweeps.dataset import merge_levels, write_atomic
 
-    done = {}
-    if out is not None and resume:
-        reuse = [pa for pa in levels
-                 if chunk_path(out, pa).exists() and _chunk_matches(chunk_path(out, pa), model, sd, pa)]
-        for pa in reuse:  # every chunk checked before any figure is drawn
-            done[pa] = xr.load_dataset(chunk_path(out, pa))
-            done[pa].attrs.pop(_LEVEL_ATTR, None)
-            if on_level is not None and level_results is not None:
-                level_results[pa] = on_level(model, done[pa])
-    todo = [pa for pa in levels if pa not in done]
+    started = time.time()
+    done: dict = {}
+    try:
+        with deferred_sigint():  # SIGINT never raised inside numba (see interrupts.py)
+            if out is not None and resume:
+                _reuse_chunks(model, levels, sd, out, on_level, level_results, done)
+            _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, workers,
+                          progress, on_level, level_results, done, len(levels))
+            ds = merge_levels([done[pa] for pa in levels])
+            if out is not None:
+                write_atomic(ds, out / f"{name}.nc")
+    except KeyboardInterrupt:
+        raise _interrupted(out, levels, done, started) from None
+    return ds
+
+
+def _reuse_chunks(model, levels, sd, out, on_level, level_results, done):
+    import xarray as xr
+
+    reuse = [pa for pa in levels
+             if chunk_path(out, pa).exists() and _chunk_matches(chunk_path(out, pa), model, sd, pa)]
+    for pa in reuse:  # every chunk checked before any figure is drawn
+        # without the file's encoding: a string width read from one chunk (<U12) would
+        # truncate the longer labels of the other levels when the merged dataset is written
+        done[pa] = xr.load_dataset(chunk_path(out, pa)).drop_encoding()
+        done[pa].attrs.pop(_LEVEL_ATTR, None)
+        if on_level is not None and level_results is not None:
+            level_results[pa] = on_level(model, done[pa])
+        check_interrupt()
+
+
+def _sweep_levels(model, todo, sd, out, workers, progress, on_level, level_results, done, n_levels):
+    """Sweep the levels ``todo`` into ``done`` (and ``level_results``): in this process or in a
+    pool of spawned workers."""
+    from tqdm import tqdm
+
     n_workers = workers or min(len(todo), os.cpu_count() or 1)
-    bar = tqdm(total=len(levels), initial=len(done), unit="level", desc="resonance",
+    bar = tqdm(total=n_levels, initial=n_levels - len(todo), unit="level", desc="resonance",
                disable=not progress, leave=False)
+
+    def finished(pa, result):
+        done[pa], extra = result
+        if level_results is not None:
+            level_results[pa] = extra
+        bar.update(1)
+        bar.set_postfix_str(f"P_a = {pa:g} Q done")
+
     try:
         if n_workers <= 1 or len(todo) <= 1:
             for pa in todo:
                 c = str(chunk_path(out, pa)) if out is not None else None
-                done[pa], extra = _run_level(model.parameters(), pa, sd, c, on_level)
-                if level_results is not None:
-                    level_results[pa] = extra
-                bar.update(1)
-                bar.set_postfix_str(f"P_a = {pa:g} Q done")
+                finished(pa, _run_level(model.parameters(), pa, sd, c, on_level))
+                check_interrupt()
         else:
-            import multiprocessing as mp
-            from concurrent.futures import ProcessPoolExecutor, as_completed
-
-            ctx = mp.get_context("spawn")
-            with ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx,
-                                     initializer=_worker_init) as pool:
-                futs = {pool.submit(_run_level, model.parameters(), pa, sd,
-                                    str(chunk_path(out, pa)) if out is not None else None,
-                                    on_level): pa
-                        for pa in sorted(todo, key=lambda p: -p)}
-                try:
-                    for fut in as_completed(futs):
-                        pa = futs[fut]
-                        done[pa], extra = fut.result()
-                        if level_results is not None:
-                            level_results[pa] = extra
-                        bar.update(1)
-                        bar.set_postfix_str(f"P_a = {pa:g} Q done")
-                except BaseException:
-                    for f in futs:
-                        f.cancel()
-                    raise
+            _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished)
     finally:
         bar.close()
-    ds = merge_levels([done[pa] for pa in levels])
-    if out is not None:
-        write_atomic(ds, out / f"{name}.nc")
-    return ds
+
+
+def _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished):
+    import multiprocessing as mp
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+    _quiet_resource_tracker()
+    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=mp.get_context("spawn"),
+                               initializer=_worker_init, initargs=(os.getpid(),))
+    futs = {}
+    try:
+        for pa in sorted(todo, key=lambda p: -p):
+            futs[pool.submit(_run_level, model.parameters(), pa, sd,
+                             str(chunk_path(out, pa)) if out is not None else None, on_level)] = pa
+        pending = set(futs)
+        while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
+            ready, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+            for fut in ready:
+                finished(futs[fut], fut.result())
+            check_interrupt()
+    except BaseException:
+        _stop_pool(pool)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _quiet_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker (if not running) without warnings: when this
+    process is killed (SIGKILL) it still removes the pool's semaphores, but silently instead of
+    two lines about "leaked semaphore objects" on the terminal."""
+    import sys
+
+    try:
+        from multiprocessing import resource_tracker
+    except ImportError:  # not POSIX
+        return
+    sys.warnoptions.append("ignore::UserWarning")  # passed on as -W to the tracker it starts
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        sys.warnoptions.remove("ignore::UserWarning")
+
+
+def _stop_pool(pool) -> None:
+    """Stop a process pool at once: pending levels cancelled, running ones terminated (SIGTERM),
+    workers joined; SIGINT is ignored meanwhile (main thread)."""
+    import signal
+    import threading
+
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        manager = getattr(pool, "_executor_manager_thread", None)
+        results = getattr(pool, "_result_queue", None)
+        for p in processes:
+            p.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in processes:
+            p.join(5.0)
+            if p.is_alive():
+                p.kill()
+                p.join(5.0)
+        # A worker terminated while sending a level leaves the pool's thread reading a partial
+        # message forever (and the interpreter's exit joins that thread): with every worker
+        # gone, closing this process's end for writing gives it end-of-file instead.
+        if results is not None and getattr(results, "_writer", None) is not None:
+            results._writer.close()
+        if manager is not None:
+            manager.join(10.0)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
+
+
+def _interrupted(out, levels, done, started: float) -> Interrupted:
+    """The :class:`Interrupted` of a run: the requested levels whose chunks are finished (reused
+    or written since ``started``)."""
+    if out is None:
+        return Interrupted(0, None)
+    kept = 0
+    for pa in levels:
+        c = chunk_path(out, pa)
+        try:
+            kept += pa in done or c.stat().st_mtime >= started
+        except OSError:
+            pass
+    return Interrupted(kept, out / ".chunks")

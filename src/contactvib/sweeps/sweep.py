@@ -252,7 +252,9 @@ class _Level:
     def trace(self, z, k, kind, i0, direction, label, root):
         """Run one trace; returns the new rows' (global) indices of jump landings."""
         from contactvib._kernels.describe import new_rows
+        from contactvib.sweeps.interrupts import check_interrupt
 
+        check_interrupt()  # between kernel calls: where a deferred Ctrl-C is honoured
         tk = self.tk
         cap = self.f.size + 1
         o = new_rows(cap)
@@ -343,7 +345,9 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
     from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
     from contactvib._kernels.table import settle_known_many
     from contactvib.steady.attractors import ballistic_seeds, start_box
+    from contactvib.sweeps.interrupts import check_interrupt
 
+    check_interrupt()
     st = lv.st
     exc = model.excitation(pa_over_q, lv.f[i])
     Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
@@ -356,6 +360,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
     if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
         lv.trace_both_ways(zs, 1, 0, i, "perturbation seed")
     status, kk, zz = settle_known_many(Z, ph, i, par, lv.cfg, st.capture_tol, lv.table)
+    check_interrupt()
     found = []
     hits: dict[int, int] = {}
     for j in range(Z.shape[0]):

@@ -1,0 +1,127 @@
+"""Clean interrupts of long runs: Ctrl-C (SIGINT) never inside numba, workers that end with
+their parent.
+
+A KeyboardInterrupt must not be raised inside numba: compiled kernels call back into Python
+(boxing typed records through ``_numba_unpickle``, in ``settle_known_many`` for one), and so
+does the compiler (llvmlite's object-cache call-back); an exception raised there by the default
+SIGINT handler comes out as ``SystemError: CPUDispatcher(...) returned a result with an
+exception set``, as "Exception ignored" noise, or worse.
+:func:`contactvib.sweeps.resonance.resonance_dataset` (and the CLI's sweep commands, figures
+included) therefore run under :func:`deferred_sigint`: SIGINT raises KeyboardInterrupt at once
+where only Python code is on the stack (a kernel that is running returns first), but while
+numba or llvmlite code is on the stack it only sets a flag, which :func:`check_interrupt` raises
+wherever Python regains control between kernel calls (every trace and multi-start frequency of
+:mod:`contactvib.sweeps.sweep`, every level, every 0.2 s while waiting for the workers).
+
+Worker processes ignore SIGINT (the parent handles it and terminates them) and end when their
+parent dies, even by SIGKILL (:func:`end_with_parent`).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+import threading
+from contextlib import contextmanager
+from pathlib import Path
+
+__all__ = ["Interrupted", "deferred_sigint", "check_interrupt", "end_with_parent"]
+
+
+class Interrupted(KeyboardInterrupt):
+    """A run stopped by SIGINT after its workers were stopped and its lock released.
+
+    Attributes
+    ----------
+    n_kept : int
+        Finished levels whose chunks are in ``chunks`` (``resume=True`` reuses them).
+    chunks : Path or None
+        The chunks folder ``OUT/.chunks``; None for a run without an output folder.
+    """
+
+    def __init__(self, n_kept: int, chunks: Path | None):
+        self.n_kept, self.chunks = int(n_kept), (None if chunks is None else Path(chunks))
+        super().__init__(self.summary("resume=True"))
+
+    def summary(self, resume: str = "--resume") -> str:
+        """``interrupted: 3 levels kept in OUT/.chunks; rerun with <resume>`` (just
+        ``interrupted`` without an output folder)."""
+        if self.chunks is None:
+            return "interrupted"
+        levels = "level" if self.n_kept == 1 else "levels"
+        return f"interrupted: {self.n_kept} {levels} kept in {self.chunks}; rerun with {resume}"
+
+
+_PENDING = [False]  # SIGINT received under deferred_sigint, not yet raised (no lock: a handler sets it)
+_NUMBA = tuple(f"{os.sep}{name}{os.sep}" for name in ("numba", "llvmlite"))
+
+
+def _note_sigint(signum, frame):
+    """SIGINT under :func:`deferred_sigint`: a flag while numba or llvmlite code is on the stack,
+    else KeyboardInterrupt."""
+    while frame is not None:
+        if any(part in frame.f_code.co_filename for part in _NUMBA):
+            _PENDING[0] = True
+            return
+        frame = frame.f_back
+    raise KeyboardInterrupt
+
+
+def check_interrupt() -> None:
+    """Raise KeyboardInterrupt if SIGINT arrived under :func:`deferred_sigint` while numba was on
+    the stack (call it where no kernel runs)."""
+    if _PENDING[0]:
+        _PENDING[0] = False
+        raise KeyboardInterrupt
+
+
+@contextmanager
+def deferred_sigint():
+    """Within: SIGINT raises KeyboardInterrupt, except while numba or llvmlite code is on the
+    stack, where it sets a flag that :func:`check_interrupt` raises (or, if nothing did, the exit
+    of this block). Only in the main thread and while SIGINT has Python's default handler;
+    otherwise (another handler installed, a thread) nothing changes."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield
+        return
+    _PENDING[0] = False
+    signal.signal(signal.SIGINT, _note_sigint)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    check_interrupt()
+
+
+def _prctl_pdeathsig(sig: int) -> bool:
+    """Linux: have the kernel send ``sig`` to this process when its parent ends."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(1, int(sig), 0, 0, 0) == 0  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):
+        return False
+
+
+def _watch_parent(parent: int) -> None:
+    import time
+
+    while os.getppid() == parent:
+        time.sleep(1.0)
+    os._exit(1)
+
+
+def end_with_parent(parent: int) -> None:
+    """Make this (worker) process end when process ``parent`` does: ``PR_SET_PDEATHSIG``
+    (SIGTERM) on Linux, else a daemon thread that polls the parent id once a second."""
+    if _prctl_pdeathsig(signal.SIGTERM):
+        if os.getppid() != parent:  # the parent died before prctl took effect
+            os._exit(1)
+        return
+    threading.Thread(target=_watch_parent, args=(parent,), daemon=True,
+                     name="contactvib-parent-watch").start()
