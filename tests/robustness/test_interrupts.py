@@ -153,7 +153,7 @@ def _numba_frame():
 
 
 def test_deferred_sigint_only_defers_inside_numba():
-    from contactvib.sweeps.interrupts import check_interrupt, deferred_sigint
+    from contactvib.interrupts import check_interrupt, deferred_sigint
 
     with pytest.raises(KeyboardInterrupt):  # Python code on the stack: at once
         with deferred_sigint():
@@ -231,7 +231,7 @@ def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
 def test_worker_ends_with_its_killed_parent(tmp_path, prctl):
     """``end_with_parent``: PR_SET_PDEATHSIG, or (elsewhere) the thread polling the parent id."""
     child = ("import os, sys, time\n"
-             "import contactvib.sweeps.interrupts as i\n"
+             "import contactvib.interrupts as i\n"
              f"if not {prctl}:\n"
              "    i._prctl_pdeathsig = lambda sig: False\n"
              "i.end_with_parent(os.getppid())\n"

@@ -168,7 +168,7 @@ def settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_t
     """:func:`settle_core` for many starts at once, in parallel over the starts (numba threads).
 
     Releases the GIL, so that it can run in a helper thread while the main thread waits for
-    Ctrl-C and then sets ``stop[0]`` (:func:`contactvib.interrupt.run_interruptible`).
+    Ctrl-C and then sets ``stop[0]`` (:func:`contactvib.interrupts.run_interruptible`).
 
     A start whose stroboscopic point comes within ``capture_tol`` (relative) of one of
     ``cap_pts`` stops there with ``SETTLE_CAPTURED`` and that point's ``cap_id`` as its period.

@@ -37,7 +37,7 @@ def _writing_into(out: Path):
     """Hold the output folder's lock for the whole command (sweeps and figures); the library's
     lock and resume refusals become one-line errors (exit 2), Ctrl-C the one line
     ``contactvib: interrupted: N levels kept in OUT/.chunks; rerun with --resume`` (exit 130)."""
-    from contactvib.sweeps.interrupts import deferred_sigint
+    from contactvib.interrupts import deferred_sigint
     from contactvib.sweeps.resonance import Interrupted, OutputLocked, ResumeMismatch, output_lock
 
     try:
@@ -131,7 +131,7 @@ def resonance(pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     levels = _levels(pa)
     model, st, n_workers = _sweep_inputs(sweep)
-    from contactvib.sweeps.interrupts import check_interrupt
+    from contactvib.interrupts import check_interrupt
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 

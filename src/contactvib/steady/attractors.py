@@ -26,7 +26,7 @@ Procedure
    to the end as in step 2, so attractors the first wave missed are still found.
 5. The basin fraction of an attractor is the share of the *box* starts that reached it.
 
-The starts run in a helper thread (:func:`contactvib.interrupt.run_interruptible`), so that
+The starts run in a helper thread (:func:`contactvib.interrupts.run_interruptible`), so that
 Ctrl-C ends the search within one excitation period of integration; a search estimated
 beyond :data:`.transients.WORK_MAX_STEPS` steps is refused before it starts, and an undamped
 model (h_n = 0) is refused: it has no attractors.
@@ -42,7 +42,7 @@ import numpy as np
 from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib._kernels.settle import settle_capture_many
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
-from contactvib.interrupt import new_stop_flag, run_interruptible
+from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import (
     CAPTURE_TOL_MAX,
     KMAX_SEARCH_MAX,

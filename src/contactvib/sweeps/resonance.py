@@ -12,7 +12,7 @@ of a requested level made with another model or other settings is refused (Param
 exclusive lock on ``OUT/.lock`` (a second run fails at once, ParameterError ``out``), and at its
 start removes the temporary files ``.*.tmp<pid>`` of runs that are no longer running.
 
-Interrupts are clean (:mod:`contactvib.sweeps.interrupts`): SIGINT stops the run between kernel
+Interrupts are clean (:mod:`contactvib.interrupts`): SIGINT stops the run between kernel
 calls, terminates the workers and raises :class:`Interrupted` (a KeyboardInterrupt saying how
 many levels were kept); workers ignore SIGINT and end when the parent process ends, even by
 SIGKILL.
@@ -26,9 +26,9 @@ import re
 from contextlib import contextmanager
 from pathlib import Path
 
+from contactvib.interrupts import Interrupted, check_interrupt, deferred_sigint, end_with_parent
 from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
 from contactvib.steady.transients import check_damped
-from contactvib.sweeps.interrupts import Interrupted, check_interrupt, deferred_sigint, end_with_parent
 from contactvib.sweeps.sweep import SweepSettings
 
 __all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked", "Interrupted"]

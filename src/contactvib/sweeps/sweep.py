@@ -252,7 +252,7 @@ class _Level:
     def trace(self, z, k, kind, i0, direction, label, root):
         """Run one trace; returns the new rows' (global) indices of jump landings."""
         from contactvib._kernels.describe import new_rows
-        from contactvib.sweeps.interrupts import check_interrupt
+        from contactvib.interrupts import check_interrupt
 
         check_interrupt()  # between kernel calls: where a deferred Ctrl-C is honoured
         tk = self.tk
@@ -344,8 +344,8 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
     down; returns the basin observations [(row, fraction of the box starts)]."""
     from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
     from contactvib._kernels.table import settle_known_many
+    from contactvib.interrupts import check_interrupt
     from contactvib.steady.attractors import ballistic_seeds, start_box
-    from contactvib.sweeps.interrupts import check_interrupt
 
     check_interrupt()
     st = lv.st
