@@ -7,6 +7,7 @@ import click
 from contactvib.cli.common import (
     InputError,
     _echo_json,
+    _error,
     _excitation,
     _mapped,
     _model,
@@ -14,6 +15,7 @@ from contactvib.cli.common import (
     _operating_point_options,
     _output_folder,
 )
+from contactvib.model import ParameterError
 
 #: Options of basins(), by the library's symbols.
 _BASIN_OPTIONS = {"n_y": "--grid", "n_ydot": "--grid", "grid": "--grid", "y_min": "--y-range",
@@ -69,7 +71,10 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     exc = _excitation(model, pa, pa_newton, fe)
     box = _box(y_range, ydot_range, model, exc)
     mp = None if max_periods.strip().lower() == "auto" else max_periods
-    checked = _mapped(_BASIN_OPTIONS, check_basins, _grid(grid), box, kmax, mp, starts, seed)
+    try:  # the bounds keep their symbols: "--y-range (y_max) = -1: must be > y_min = 1 µm"
+        checked = check_basins(_grid(grid), box, kmax, mp, starts, seed)
+    except ParameterError as e:
+        raise _error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e) from None
     if out is None and not as_json:
         out = "basins"
     folder = None if out is None else _output_folder(out)
