@@ -58,12 +58,10 @@ def _box(y_range, ydot_range, model, exc):
 @click.option("--max-periods", default="auto", show_default=True,
               help="Transient limit per start [excitation periods]; auto: as the attractor search.")
 @click.option("--starts", default="512", show_default=True, help="Random starts of the attractor search.")
-@click.option("--seed", default="0", show_default=True, help="Random seed of the attractor search.")
 @click.option("--out", "out", default=None, type=click.Path(file_okay=False),
               help="Output folder for basins.nc and the figure [default: basins; none with --json].")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
-def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_periods, starts, seed, out,
-           as_json):
+def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_periods, starts, out, as_json):
     """Basins of attraction: which attractor each initial state (y, dy/dt) reaches."""
     from contactvib.steady.basins import check_basins
 
@@ -72,7 +70,7 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     box = _box(y_range, ydot_range, model, exc)
     mp = None if max_periods.strip().lower() == "auto" else max_periods
     try:  # the bounds keep their symbols: "--y-range (y_max) = -1: must be > y_min = 1 µm"
-        checked = check_basins(_grid(grid), box, kmax, mp, starts, seed)
+        checked = check_basins(_grid(grid), box, kmax, mp, starts)
     except ParameterError as e:
         raise _error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e) from None
     if out is None and not as_json:
