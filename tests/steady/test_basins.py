@@ -192,3 +192,13 @@ def test_readme_basins_output_is_the_commands_output(capsys, tmp_path, monkeypat
                         capsys, tmp_path, monkeypatch)
     assert rc == 0, err
     assert out == expected
+
+
+def test_a_chaotic_attractor_is_matched_by_its_cloud(model):
+    """0.90 Q, 242 Hz: the 1/5's chaotic attractor (README) is one label; the grid's chaotic
+    starts join it by cloud overlap instead of making new labels."""
+    b = basins(model, model.excitation(0.9, 242.0), grid=(16, 16), n_starts=128)
+    chaotic = [i for i, a in enumerate(b.attractors) if a.kind == "chaotic"]
+    assert len(chaotic) == 1 and chaotic[0] < b.n_known
+    assert b.fraction(chaotic[0])[0] > 0.01
+    assert all(a.period is not None for a in b.attractors[b.n_known:])

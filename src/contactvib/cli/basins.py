@@ -112,7 +112,9 @@ def _table(bmap, exc, model) -> None:
     for r in bmap.fractions():
         if r["label"] < 0 and r["fraction"] == 0.0:
             continue
-        per = "-" if r["period"] is None else str(r["period"])
+        kind = "-" if r["label"] < 0 else bmap.attractors[r["label"]].kind
+        per = {"chaotic": "chaos", "quasi-periodic": "q-per"}.get(kind, "-") if r["period"] is None \
+            else str(r["period"])
         mins = "-" if r["minima_per_period"] is None else str(r["minima_per_period"])
         app = "-" if r["app_um"] is None else f"{r['app_um']:.4g}"
         click.echo(f"{r['label']:>5} {per:>6} {mins:>6} {app:>10} {r['fraction']:>9.2%} {r['stderr']:>8.2%}")

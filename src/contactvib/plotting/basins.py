@@ -32,7 +32,7 @@ def label_text(bmap: BasinMap, label: int) -> str:
     if label < 0:
         return f"−1: no attractor reached, {share}"
     a = bmap.attractors[label]
-    kind = f"period {a.period}" if a.period is not None else a.kind
+    kind = f"period {a.period}" if a.period is not None else f"{a.kind} (marker: one point of its cloud)"
     mins = "" if a.minima_per_period is None else \
         f", {a.minima_per_period} {'minimum' if a.minima_per_period == 1 else 'minima'}"
     new = "" if label < bmap.n_known else " (grid only)"
