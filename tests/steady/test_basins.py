@@ -202,3 +202,19 @@ def test_a_chaotic_attractor_is_matched_by_its_cloud(model):
     assert len(chaotic) == 1 and chaotic[0] < b.n_known
     assert b.fraction(chaotic[0])[0] > 0.01
     assert all(a.period is not None for a in b.attractors[b.n_known:])
+
+
+def test_plot_basins_axes(bmap):
+    from contactvib.plotting.basins import basins_figure, plot_basins
+    from contactvib.plotting.figures import new_figure
+
+    _fig, axes = new_figure()
+    ax = plot_basins(bmap, axes[0, 0])
+    assert "[µm]" in ax.get_xlabel() and "[mm/s]" in ax.get_ylabel()
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert len(texts) == len(bmap.attractors) + int(np.any(bmap.labels < 0))
+    assert texts[1].startswith("1: period 1, 1 minimum") and "%" in texts[1]
+    assert ax.get_xlim() == pytest.approx((bmap.y_um[0] - 0.5 * (bmap.y_um[1] - bmap.y_um[0]),
+                                           bmap.y_um[-1] + 0.5 * (bmap.y_um[1] - bmap.y_um[0])))
+    fig = basins_figure(bmap)
+    assert "0.65 Q" in fig.texts[0].get_text() and "360 Hz" in fig.texts[0].get_text()
