@@ -4,7 +4,7 @@ The public API: every verb and result type is importable from here, e.g.
 ``from contactvib import ContactModel, find_attractors, simulate``. Heavy modules (numba kernels,
 matplotlib) are imported on first use of a name that needs them.
 
-Verbs: :func:`find_attractors`, :func:`simulate`, :func:`attractor_history`,
+Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attractor_history`,
 :func:`refine_orbit`, :func:`describe_orbit`, :func:`continue_orbit`,
 :func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
@@ -22,6 +22,8 @@ _LAZY = {
     "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
     "simulate": ("contactvib.steady.simulate", "simulate"),
     "attractor_history": ("contactvib.steady.simulate", "attractor_history"),
+    "basins": ("contactvib.steady.basins", "basins"),
+    "BasinMap": ("contactvib.steady.basins", "BasinMap"),
     "refine_orbit": ("contactvib.steady.orbits", "refine_orbit"),
     "describe_orbit": ("contactvib.steady.orbits", "describe_orbit"),
     "OrbitError": ("contactvib.steady.orbits", "OrbitError"),

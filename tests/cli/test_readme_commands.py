@@ -72,6 +72,10 @@ REDUCED: dict[str, list[str]] = {
     "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
         ["attractors", "--pa", "0.5", "--fe", "700", "--set", "m2=1.5", "--set", "c_n=1e14",
          "--starts", "16"],
+    "contactvib basins --pa 0.65 --fe 360 --grid 400x400 --out basins/":
+        ["basins", "--pa", "0.65", "--fe", "360", "--grid", "12x10", "--starts", "32", "--out", "basins/"],
+    "contactvib basins --pa 0.65 --fe 360 --grid 60x60 --json":
+        ["basins", "--pa", "0.65", "--fe", "360", "--grid", "8x6", "--starts", "32", "--json"],
     "contactvib continue --pa 0.65 --from-fe 1200 --attractor 0 --fmin 30 --fmax 2000 --out branch/":
         ["continue", "--pa", "0.65", "--from-fe", "1200", "--attractor", "0", "--fmin", "1100",
          "--fmax", "1300", "--max-points", "20", "--out", "branch/"],
@@ -127,6 +131,8 @@ BRANCH_VARS = {"fe_hz", "pa_over_q", "app_um", "ymin_um", "ymax_um", "floquet_re
 #: `continue/bifurcations --json` and `special_points_<tag>.json`.
 SPECIAL_KEYS = {"type", "fe_hz", "pa_over_q", "app_um", "period", "branch"}
 STOP_KEYS = {"fe_hz", "pa_over_q", "reason", "branch"}
+#: `basins --json`: each entry of "fractions" (README, "Basins").
+BASIN_FRACTION_KEYS = {"label", "period", "minima_per_period", "app_um", "fraction", "stderr"}
 #: `perturbation --json`.
 PERTURBATION_KEYS = {"app_um", "ymin_um", "ymax_um", "valid", "order", "error_estimate", "fe_hz",
                      "pa_over_q", "harmonics_um", "reason", "summation"}
@@ -328,6 +334,17 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     elif cmd == "attractors":
         pa, fe = float(args[args.index("--pa") + 1]), float(args[args.index("--fe") + 1])
         _check_attractors_table(out, pa, fe)
+    elif cmd == "basins" and "--json" in args:
+        d = json.loads(out)
+        assert d["pa_over_q"] == pytest.approx(0.65) and d["fe_hz"] == pytest.approx(360.0)
+        assert d["grid"] == [8, 6] and d["fractions"][-1]["label"] == -1
+        for r in d["fractions"]:
+            assert set(r) == BASIN_FRACTION_KEYS
+    elif cmd == "basins":
+        assert_figure_file(folder / "basins_pa0.65_fe360.png")
+        with xr.open_dataset(folder / "basins.nc") as b:
+            assert b["label"].shape == (10, 12) and {"fraction", "stderr", "app_um"} <= set(b.variables)
+        assert "wrote" in out
     elif cmd == "simulate" and "--from-state" in args:
         assert_figure_file(folder / "trajectory_pa0.9_fe50.png")
     elif cmd == "simulate":

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+from contextlib import contextmanager
 
 import click
 
@@ -49,6 +50,16 @@ class InputError(Exception):
 class RunInterrupted(Exception):
     """A command stopped by Ctrl-C (SIGINT): ``main`` prints ``contactvib: <message>`` as one
     line and exits 130 (not a KeyboardInterrupt, so that click adds nothing)."""
+
+
+@contextmanager
+def _ctrl_c():
+    """Within: Ctrl-C (the library stops its kernels within one period) becomes the one line
+    ``contactvib: interrupted``, exit 130."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        raise RunInterrupted("interrupted") from None
 
 
 def _error(option: str, e: ParameterError, names: dict[str, str] | None = None) -> InputError:

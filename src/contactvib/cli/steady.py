@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from contactvib.cli.common import (
-    RunInterrupted,
+    _ctrl_c,
     _echo_json,
     _excitation,
     _int,
@@ -38,10 +38,8 @@ def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
 
     kw = _search(starts, seed, kmax, max_periods)
     names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
-    try:
+    with _ctrl_c():
         return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, **kw)
-    except KeyboardInterrupt:  # the search stops within one period (contactvib.interrupts)
-        raise RunInterrupted("interrupted") from None
 
 
 def _none_settled(result) -> None:

@@ -1,6 +1,7 @@
 """Every figure of contactvib (matplotlib is imported only in this package; every function takes
 ``ax=None``)."""
 
+from contactvib.plotting.basins import basins_figure, plot_basins
 from contactvib.plotting.branches import plot_branches, plot_evolution
 from contactvib.plotting.figures import (
                                          attractor_figure,
@@ -13,4 +14,4 @@ from contactvib.plotting.frequency import overlay_figure, plot_branch, plot_conv
 
 __all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph",
            "extrema_diagram", "plot_branches", "plot_evolution", "overlay_figure",
-           "plot_convergence", "plot_branch"]
+           "plot_convergence", "plot_branch", "plot_basins", "basins_figure"]

@@ -39,7 +39,6 @@ import warnings
 
 import numpy as np
 
-from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib._kernels.settle import settle_capture_many
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
 from contactvib.interrupts import new_stop_flag, run_interruptible
@@ -59,11 +58,12 @@ from contactvib.steady.transients import (
     WINDOW,
     check_damped,
     check_work,
-    cloud_verdict,
+    nonperiodic_verdict,
     transient_periods,
 )
 
-__all__ = ["find_attractors", "check_search", "start_box", "ballistic_seeds", "UnsettledWarning"]
+__all__ = ["find_attractors", "check_search", "start_box", "box_half_width", "ballistic_seeds",
+           "default_max_periods", "settle_starts", "group_outcomes", "same_cloud", "UnsettledWarning"]
 
 #: Box starts of the first wave, which run to the end and supply the capture points.
 FIRST_WAVE = 64
@@ -73,9 +73,15 @@ class UnsettledWarning(RuntimeWarning):
     """Some starts of an attractor search did not settle within ``max_periods``."""
 
 
+def box_half_width(excitation: Excitation) -> float:
+    """Half-width ``a = 2 + 10 P_a/Q`` of the start box, nondimensional: x = y/y0 ∈ [1 − a, 1 + a],
+    x' = ẏ/(y0 ω_n0) ∈ [−a, a]."""
+    return 2.0 + 10.0 * excitation.pa_over_q
+
+
 def start_box(excitation: Excitation, n: int, seed: int = 0):
     """``n`` random nondimensional starts (x, x') and phases 0 from the physics box."""
-    a = 2.0 + 10.0 * excitation.pa_over_q
+    a = box_half_width(excitation)
     rng = np.random.default_rng(seed)
     Z = np.column_stack([rng.uniform(1.0 - a, 1.0 + a, n), rng.uniform(-a, a, n)])
     return Z, np.zeros(n)
@@ -95,7 +101,9 @@ def ballistic_seeds(excitation: Excitation, max_flight_periods: int = 2):
     return np.array(Z, float).reshape(-1, 2), np.array(ph, float)
 
 
-def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
+def same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
+    """Whether two strobe clouds (float[n, 2], NaN rows ignored) overlap: the median distance of
+    each one's points to the other cloud is below ``frac`` of the larger extent."""
     a = a[np.isfinite(a[:, 0])]
     b = b[np.isfinite(b[:, 0])]
     if a.size == 0 or b.size == 0:
@@ -106,23 +114,14 @@ def _same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
     return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
 
 
-def _nonperiodic_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> tuple[bool, str, float]:
-    """Whether a start without a period reached a non-periodic attractor: ``(ok, type or reason,
-    λ)`` (:func:`.transients.cloud_verdict`; λ is computed only for a recurrent cloud)."""
-    ok, why = cloud_verdict(tail, 0.0)
-    if not ok:
-        return False, why, math.nan
-    lyap = float(lyapunov_strobe(tail[-1].copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
-    ok, why = cloud_verdict(tail, lyap)
-    return ok, why, lyap
-
-
-def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, status, period,
-                    _n_periods, residual, z_star, monodromy, tail) -> tuple[int, int, int]:
+def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, status, period,
+                   _n_periods, residual, z_star, monodromy, tail) -> tuple[int, int, int, np.ndarray]:
     """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
     period, strobe or tail, z, M, res, hits, box, type, lyap) by the sameness rules; return the
-    failures, the unsettled starts and the unsettled box starts."""
+    failures, the unsettled starts, the unsettled box starts and each start's group index
+    (int64[N], −1 for failed and unsettled starts)."""
     n_failed = n_unsettled = n_unsettled_box = 0
+    labels = np.full(status.shape[0], -1, np.int64)
     for i in range(status.shape[0]):
         if status[i] == SETTLE_CAPTURED:
             g = groups[int(period[i])]
@@ -138,13 +137,13 @@ def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: fl
                      "lyap": math.nan}
                 groups.append(g)
         elif status[i] == SETTLE_NONPERIODIC:
-            ok, kind, lyap = _nonperiodic_verdict(excitation, tail[i], rtol)
+            ok, kind, lyap = nonperiodic_verdict(excitation, tail[i], rtol)
             if not ok:
                 n_unsettled += 1
                 n_unsettled_box += int(in_box[i])
                 continue
             for g in groups:
-                if g["period"] is None and _same_cloud(g["tail"], tail[i]):
+                if g["period"] is None and same_cloud(g["tail"], tail[i]):
                     break
             else:
                 g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(), "M": None,
@@ -155,7 +154,8 @@ def _group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: fl
             continue
         g["hits"] += 1
         g["box"] += int(in_box[i])
-    return n_failed, n_unsettled, n_unsettled_box
+        labels[i] = next(j for j, h in enumerate(groups) if h is g)
+    return n_failed, n_unsettled, n_unsettled_box, labels
 
 
 def _check_pair(model: ContactModel, excitation: Excitation) -> None:
@@ -170,6 +170,24 @@ def _check_pair(model: ContactModel, excitation: Excitation) -> None:
         raise ParameterError("excitation", f"P_a/Q = {excitation.pa_over_q:g} at {excitation.f_e:g} Hz",
                              f"belongs to another model ({differ} differ): make it with "
                              f"model.excitation(P_a/Q, f_e)")
+
+
+def default_max_periods(excitation: Excitation, detect_tol: float = 1e-4) -> int:
+    """The automatic transient limit of a search [excitation periods]: for a start
+    ``3 + 10 P_a/Q`` y0 away (:func:`.transients.transient_periods`)."""
+    return transient_periods(excitation, detect_tol, 3.0 + 10.0 * excitation.pa_over_q)
+
+
+def settle_starts(excitation: Excitation, Z, phases, kmax: int, max_periods: int, detect_tol: float,
+                  rtol_transient: float, cap_pts, cap_id, capture_tol: float):
+    """:func:`~contactvib._kernels.settle.settle_capture_many` on the starts ``Z`` (float[N, 2],
+    nondimensional) at ``phases`` in a helper thread (Ctrl-C ends it within one period), with
+    the search's refinement settings; its outputs."""
+    stop = new_stop_flag()
+    return run_interruptible(settle_capture_many, np.ascontiguousarray(Z, float),
+                             np.ascontiguousarray(phases, float), excitation.kernel_parameters(), kmax, 4,
+                             max_periods, detect_tol, rtol_transient, RTOL_REFINE, CLOSE_TOL, 2 * WINDOW,
+                             cap_pts, cap_id, capture_tol, stop, stop=stop)
 
 
 #: Bytes per start of the search's arrays (start, outcome, 64-point tail, grouping; rounded up).
@@ -249,21 +267,18 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     else:
         Zs, phs = np.empty((0, 2)), np.empty(0)
     if max_periods is None:
-        max_periods = transient_periods(excitation, detect_tol, 3.0 + 10.0 * excitation.pa_over_q)
+        max_periods = default_max_periods(excitation, detect_tol)
         check_work(excitation, n_starts + Zs.shape[0], max_periods)
         check_search(n_starts, seed, kmax, max_periods)
     check_work(excitation, n_starts + Zs.shape[0], max_periods)
-    par = excitation.kernel_parameters()
     n_first = min(n_starts, FIRST_WAVE)
     groups: list[dict] = []  # each: period, strobe or tail, z, M, res, hits, box, type, lyap
     counts = np.zeros(3, np.int64)  # failed, unsettled, unsettled box starts
 
     def run(Z, ph, in_box, cap_pts, cap_id):
-        stop = new_stop_flag()
-        out = run_interruptible(settle_capture_many, Z, ph, par, kmax, 4, max_periods, detect_tol,
-                                rtol_transient, RTOL_REFINE, CLOSE_TOL, 2 * WINDOW, cap_pts, cap_id,
-                                capture_tol, stop, stop=stop)
-        counts[:] += _group_outcomes(groups, excitation, in_box, rtol_transient, *out)
+        out = settle_starts(excitation, Z, ph, kmax, max_periods, detect_tol, rtol_transient,
+                            cap_pts, cap_id, capture_tol)
+        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out)[:3]
 
     no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
     run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),

@@ -32,9 +32,10 @@ import math
 
 import numpy as np
 
+from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib.model import ContactModel, Excitation, ParameterError
 
-__all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "WINDOW",
+__all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "nonperiodic_verdict", "WINDOW",
            "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO"]
 
 #: Strobe points per window of the recurrence test (two windows are compared).
@@ -137,3 +138,15 @@ def cloud_verdict(tail: np.ndarray, lyapunov: float) -> tuple[bool, str]:
     if lyapunov < -LYAPUNOV_ZERO:
         return False, "still converging"
     return True, "chaotic" if lyapunov > LYAPUNOV_ZERO else "quasi-periodic"
+
+
+def nonperiodic_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> tuple[bool, str, float]:
+    """Whether a start without a period reached a non-periodic attractor: ``(ok, type or reason,
+    λ)`` (:func:`cloud_verdict`; λ is computed, at integrator tolerance ``rtol``, only for a
+    recurrent cloud)."""
+    ok, why = cloud_verdict(tail, 0.0)
+    if not ok:
+        return False, why, math.nan
+    lyap = float(lyapunov_strobe(tail[-1].copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
+    ok, why = cloud_verdict(tail, lyap)
+    return ok, why, lyap
