@@ -118,7 +118,8 @@ def run(ds, outp: Path, curves, model, orders, pa_range):
     for name in MAP_VARIABLES:
         save_figure(regime_figure(maps, name, curves), outp / f"map_{name}.png")
     n = maps["n_attractors"].values
-    click.echo(f"{maps.sizes['pa_over_q']} levels x {maps.sizes['fe_hz']} frequencies: "
+    nl = maps.sizes["pa_over_q"]
+    click.echo(f"{nl} level{'s' * (nl != 1)} x {maps.sizes['fe_hz']} frequencies: "
                f"{int(n.min())}..{int(n.max())} coexisting attractors, chaos at "
                f"{int(maps['chaotic'].values.sum())} grid points")
     folds = [c for c in curves if c.type == "fold"]
