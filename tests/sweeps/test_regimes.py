@@ -113,6 +113,7 @@ def test_curve_crossings_interpolate_and_the_curves_round_trip(tmp_path):
     cd = curves_dataset([c, MapCurve(3, "period-doubling", np.array([1.0, 2.0]), np.array([0.1, 0.2]))])
     assert cd["curve_start"].values.tolist() == [0, 4] and cd["curve_count"].values.tolist() == [4, 2]
     assert cd["curve_type"].values.tolist() == ["fold", "period-doubling"]
+    assert curves_dataset([]).sizes == {"curve": 0, "curve_point": 0}
     res = {"order": 2, "curves": [{"type": "fold", "fe_hz": c.fe_hz.tolist(), "pa_over_q": c.pa_over_q.tolist()}]}
     (tmp_path / "evolution_order2.json").write_text(json.dumps(res))
     (back,) = load_curves(tmp_path)
@@ -221,6 +222,10 @@ def test_map_command_writes_the_netcdf_and_one_figure_per_map(small_dataset, tmp
         assert set(MAP_VARIABLES) <= set(m.data_vars)
         assert int(m["n_attractors"].sum()) == ds.sizes["point"]
         assert m["curve_fe_hz"].values.tolist() == [350.0, 370.0]
+    assert main(["map", str(small_dataset), "--out", str(tmp_path / "plain")]) == 0
+    assert "fold crossings" not in capsys.readouterr().out
+    with xr.open_dataset(tmp_path / "plain" / "map.nc") as m:
+        assert m.sizes["curve"] == 0 and m["n_attractors"].shape == (1, 21)
 
 
 def test_find_dataset_prefers_the_atlas(tmp_path):

@@ -195,7 +195,7 @@ def curves_dataset(curves: list[MapCurve]):
     import xarray as xr
 
     counts = np.array([c.fe_hz.size for c in curves], dtype=np.int64)
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
+    starts = (np.cumsum(counts) - counts).astype(np.int64)
 
     def cat(name):
         return np.concatenate([getattr(c, name) for c in curves]) if curves else np.zeros(0)
