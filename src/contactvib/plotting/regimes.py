@@ -18,7 +18,7 @@ PANEL_TITLES = {
     "max_order": ("Highest resonance order present", "highest m of the 1/m labels (1 = main, 0 = none)"),
     "contact_loss_share": ("Attractors that lose contact", "share of the attractors with y < 0"),
     "chaotic": ("Chaos", "chaotic attractor present (λ > 0)"),
-    "max_period": ("Largest period", "largest period [excitation periods] (0: non-periodic only)"),
+    "max_period": ("Largest period", "largest period [excitation periods]"),
 }
 
 
