@@ -120,10 +120,10 @@ def plot_regime_map(maps, name: str, curves=(), ax=None, log_f: bool = True):
 
 def regime_figure(maps, name: str, curves=(), title: str | None = None):
     """A figure of one map (:func:`plot_regime_map`), titled with the grid."""
-    fig, axes = new_figure(1, 1, figsize=(11.0, 4.8))
+    fig, axes = new_figure(1, 1, figsize=(10.0, 4.8))
+    fig.set_layout_engine("constrained")  # the colour bar and the legend below take their room
     ax = plot_regime_map(maps, name, curves, axes[0, 0])
     nl, nf = maps.sizes["pa_over_q"], maps.sizes["fe_hz"]
     ax.set_title(title or f"{PANEL_TITLES[name][0]}: {nl} levels of $P_a$ × {nf} frequencies "
                           f"(step {maps.attrs.get('df_hz', float('nan')):g} Hz)", fontsize=11)
-    fig.tight_layout()
     return fig
