@@ -10,6 +10,7 @@ import click
 from contactvib.cli.basins import basins
 from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
+from contactvib.cli.film import animate
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
@@ -25,8 +26,8 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, basins, resonance, query, paper, continue_, bifurcations, evolution,
-                 perturbation, hbm):
+for _command in (attractors, simulate, basins, resonance, query, paper, animate, continue_, bifurcations,
+                 evolution, perturbation, hbm):
     cli.add_command(_command)
 
 
