@@ -2,8 +2,9 @@
 graph (Fig. 2) and local-extrema diagram (Fig. 3) side by side at axes fixed over all levels, a
 P_a counter, and the stage (S3.8) of each 1/m resonance written under the panels.
 
-The frame is an RGB array of exactly the declared pixel size: the figure is ``width/100 ×
-height/100`` inches at 100 dpi, drawn on an Agg canvas (no pyplot state, no file).
+The frame is an RGB array of exactly the declared pixel size: the figure's inches times its dpi
+(:data:`FRAME_DPI`, scaled with the size) are the pixels, drawn on an Agg canvas (no pyplot state,
+no file).
 """
 
 from __future__ import annotations
@@ -16,10 +17,15 @@ import numpy as np
 from contactvib.plotting.figures import _order_color, new_figure
 from contactvib.plotting.paper import draw_level
 
-__all__ = ["FrameText", "film_frame", "FRAME_DPI"]
+__all__ = ["FrameText", "film_frame", "FRAME_DPI", "REFERENCE_SIZE"]
 
-#: The frames' resolution [dots per inch]: the figure size in inches is the pixel size / FRAME_DPI.
+#: The frames' resolution [dots per inch] at REFERENCE_SIZE [pixels]: a frame of another size is
+#: drawn at ``FRAME_DPI × min(width / 1600, height / 800)`` dpi, its figure size in inches being its
+#: pixel size / dpi.
 FRAME_DPI = 100
+REFERENCE_SIZE = (1600, 800)
+#: The lowest dpi (frames of a few hundred pixels): below it the type is smaller than a pixel.
+MIN_DPI = 16.0
 
 
 @dataclass(frozen=True)
@@ -47,8 +53,11 @@ def film_frame(ds, pa_over_q: float, limits: dict, text: FrameText, size=(1600, 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     width, height = (int(s) for s in size)
-    fig, axes = new_figure(1, 2, figsize=(width / FRAME_DPI, height / FRAME_DPI))
-    fig.set_dpi(FRAME_DPI)
+    # the layout of a REFERENCE_SIZE frame, rendered at the declared pixels: the dpi scales with the
+    # size, so that a smaller frame is the same picture with smaller type (never a resize)
+    dpi = max(FRAME_DPI * min(width / REFERENCE_SIZE[0], height / REFERENCE_SIZE[1]), MIN_DPI)
+    fig, axes = new_figure(1, 2, figsize=(width / dpi, height / dpi))
+    fig.set_dpi(dpi)
     canvas = FigureCanvasAgg(fig)
     draw_level(ds, pa_over_q, axes[0, 0], axes[0, 1], limits=limits)
     for ax in axes[0]:
