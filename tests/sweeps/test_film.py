@@ -211,3 +211,22 @@ def test_cli_writes_the_film(films, tmp_path, capsys):
     gif = tmp_path / "evolution.gif"
     assert main(["animate", str(films / "res"), "--out", str(gif), "--gif", "--size", "400x240"]) == 0
     assert iio.improps(gif, plugin="pillow").n_images == 3
+
+
+@pytest.mark.parametrize("name, at", [("film.mp4", 0), ("film.mp4", 2), ("film.gif", 1)])
+def test_an_interrupt_leaves_no_file(films, tmp_path, monkeypatch, name, at):
+    """Ctrl-C while frame ``at`` is drawn: KeyboardInterrupt, no film and no temporary file."""
+    import contactvib.plotting.film as pf
+
+    real, calls = pf.film_frame, []
+
+    def frame(*args, **kwargs):
+        calls.append(1)
+        if len(calls) > at:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(pf, "film_frame", frame)
+    with pytest.raises(KeyboardInterrupt):
+        animate(films / "res", tmp_path / name, size=SIZE)
+    assert list(tmp_path.iterdir()) == []

@@ -171,18 +171,20 @@ def _frames(source: LevelSource, size):
 def _write_mp4(frames, path: Path, size, fps: float) -> dict:
     import imageio_ffmpeg
 
-    stages = {}
-    writer = imageio_ffmpeg.write_frames(str(path), tuple(size), fps=fps, codec="libx264",
-                                         pix_fmt_out="yuv420p", quality=None, macro_block_size=2,
-                                         output_params=["-crf", "18", "-movflags", "+faststart"],
-                                         ffmpeg_log_level="error")
-    writer.send(None)
+    stages, writer = {}, None
     try:
         for pa, st, frame in frames:
+            if writer is None:  # ffmpeg starts with the first frame (an interrupt before: nothing to end)
+                writer = imageio_ffmpeg.write_frames(
+                    str(path), tuple(size), fps=fps, codec="libx264", pix_fmt_out="yuv420p", quality=None,
+                    macro_block_size=2, output_params=["-crf", "18", "-movflags", "+faststart"],
+                    ffmpeg_log_level="error")
+                writer.send(None)
             writer.send(np.ascontiguousarray(frame))
             stages[pa] = st
     finally:
-        writer.close()
+        if writer is not None:
+            writer.close()
     return stages
 
 
