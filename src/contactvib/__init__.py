@@ -9,7 +9,7 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attract
 :func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
 :func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
-:func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`.
+:func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`.
 """
 
 from contactvib.model import PAPER_DEFAULTS, ContactModel, Excitation, ParameterError
@@ -64,6 +64,9 @@ _LAZY = {
     "attractors_at": ("contactvib.sweeps.dataset", "attractors_at"),
     "reproduce_paper": ("contactvib.sweeps.paper", "reproduce_paper"),
     "PaperResult": ("contactvib.sweeps.paper", "PaperResult"),
+    "animate": ("contactvib.sweeps.film", "animate"),
+    "FilmResult": ("contactvib.sweeps.film", "FilmResult"),
+    "open_levels": ("contactvib.sweeps.film", "open_levels"),
 }
 
 __all__ = ["ContactModel", "Excitation", "ParameterError", "PAPER_DEFAULTS", "__version__",

@@ -60,6 +60,10 @@ REDUCED: dict[str, list[str]] = {
     "contactvib resonance ... --resume": [*_RESONANCE, "--resume"],
     "contactvib query paper/paper.nc --pa 0.65 --fe 360 --json":
         ["query", "paper/paper.nc", "--pa", "0.65", "--fe", "360", "--json"],
+    "contactvib animate paper/paper.nc --out evolution.mp4":
+        ["animate", "paper/paper.nc", "--out", "evolution.mp4", "--size", "320x160"],
+    "contactvib animate paper/ --out evolution.gif --gif --fps 1 --size 800x400":
+        ["animate", "paper/", "--out", "evolution.gif", "--gif", "--fps", "1", "--size", "320x160"],
     "contactvib attractors --pa 0.65 --fe 360":
         ["attractors", "--pa", "0.65", "--fe", "360", "--starts", "32"],
     "contactvib attractors --pa 0.65 --fe 360 --json":
@@ -345,6 +349,17 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         _check_resonance(folder, out)
     elif cmd == "query":
         _check_query(out)
+    elif cmd == "animate" and "--gif" in args:  # one frame per level of the reduced paper run
+        import imageio.v3 as iio
+
+        assert iio.improps(folder, plugin="pillow").shape == (8, 160, 320, 3) and "8 frames" in out
+        assert iio.immeta(folder, plugin="pillow", index=0)["duration"] == 1000
+    elif cmd == "animate":  # one frame per level of the reduced paper run, at the declared size and rate
+        import imageio_ffmpeg
+
+        assert imageio_ffmpeg.count_frames_and_secs(str(folder))[0] == 8
+        meta = next(imageio_ffmpeg.read_frames(str(folder)))
+        assert meta["size"] == (320, 160) and meta["fps"] == pytest.approx(2.0) and "8 frames" in out
     elif cmd == "attractors" and "--json" in args:
         _attractors_json(json.loads(out), 0.65, 360.0)
     elif cmd == "attractors":

@@ -12,6 +12,7 @@ COMPUTATIONS = [
     "contactvib.steady.basins.basins",
     "contactvib.sweeps.resonance.resonance_dataset",
     "contactvib.sweeps.paper.reproduce_paper",
+    "contactvib.sweeps.film.animate",
     "contactvib.continuation.diagram.continue_attractors",
     "contactvib.continuation.diagram.bifurcation_diagram",
     "contactvib.continuation.evolution.evolution",

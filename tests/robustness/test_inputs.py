@@ -51,6 +51,7 @@ OPTIONS = {
                   "--multistart-per-octave": "value", "--starts": "value", "--seed": "value",
                   "--kmax": "value", "--workers": "value", "--set": "set"},
     "query": {"--pa": "value", "--fe": "value"},
+    "animate": {"--fps": "value", "--size": "value"},
     "paper": {"--fmin": "value", "--fmax": "value", "--df": "value", "--multistart-per-octave": "value",
               "--starts": "value", "--seed": "value", "--kmax": "value", "--workers": "value",
               "--set": "set"},
@@ -97,7 +98,9 @@ def _argv(command, option, kind, value, tmp_path, small_dataset):
         head += [str(small_dataset), "--pa", "0.65", "--fe", "360"]
     if command == "map":
         head += [str(small_dataset)]
-    if command not in ("attractors", "query"):
+    if command == "animate":  # a dataset and a film file
+        head += [str(small_dataset), "--out", str(tmp_path / "film.mp4")]
+    elif command not in ("attractors", "query"):
         head += ["--out", str(tmp_path / "out")]
     head += NEEDS.get((command, option), [])
     if kind == "levels":
@@ -193,8 +196,9 @@ def test_any_command_line_works_or_is_one_line(command, no_computation, capsys, 
     @PROPERTY
     @given(tokens=st.lists(token, max_size=8))
     def check(tokens):
-        head = [command, str(small_dataset)] if command in ("query", "map") else [command]
-        _outcome(head + tokens + ["--out", str(tmp_path / "out")] * (command not in ("attractors", "query")),
+        head = [command, str(small_dataset)] if command in ("query", "map", "animate") else [command]
+        out = str(tmp_path / ("film.mp4" if command == "animate" else "out"))
+        _outcome(head + tokens + ["--out", out] * (command not in ("attractors", "query")),
                  capsys, no_computation)
 
     check()

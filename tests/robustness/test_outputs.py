@@ -32,6 +32,8 @@ COMMANDS = [
     pytest.param("perturbation", [], id="perturbation"),
     pytest.param("perturbation", ["--json"], id="perturbation-json"),
     pytest.param("map", ["DATASET"], id="map"),  # DATASET: the small_dataset fixture
+    # animate's --out is a file (evolution.mp4); the dataset is read after --out is checked
+    pytest.param("animate", ["no_such_dataset.nc"], id="animate"),
     _writes_nothing("attractors"),
     _writes_nothing("query"),
 ]
@@ -85,11 +87,17 @@ def test_out_that_is_a_file_refused_before_computing(no_computation, capsys, tmp
     assert out.read_text() == "kept"
 
 
-@pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks])
+@pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks and p.values[0] != "animate"])
 def test_a_writable_out_reaches_the_computation(no_computation, tmp_path, command, args, small_dataset):
     """The control: with a writable --out each command gets past its checks to a stubbed
     computation (so the stubs are the ones the commands call)."""
     args = _dataset(args, small_dataset)
     with pytest.raises(no_computation):
         main([command, *args, "--out", str(tmp_path / "out")])
+
+
+def test_animate_with_a_writable_out_reaches_the_computation(no_computation, tmp_path, small_dataset):
+    """The control for animate, whose --out is a film file and whose DATASET must exist."""
+    with pytest.raises(no_computation):
+        main(["animate", str(small_dataset), "--out", str(tmp_path / "out" / "film.mp4")])
     assert (tmp_path / "out").is_dir()

@@ -10,6 +10,7 @@ import click
 from contactvib.cli.basins import basins
 from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
+from contactvib.cli.film import animate
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.regimes import map_
 from contactvib.cli.steady import attractors, simulate
@@ -26,8 +27,8 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, basins, resonance, query, paper, continue_, bifurcations, evolution,
-                 perturbation, hbm, map_):
+for _command in (attractors, simulate, basins, resonance, query, paper, animate, continue_, bifurcations,
+                 evolution, perturbation, hbm, map_):
     cli.add_command(_command)
 
 

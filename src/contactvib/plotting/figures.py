@@ -103,7 +103,7 @@ def _level(ds, pa_over_q):
 
 
 def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, m_max: int = 6,
-                    annotate: bool = True, perturbation=None):
+                    annotate: bool = True, perturbation=None, marks_um: float | None = None):
     """A_pp [µm, log] against f_e [Hz] for one P_a level, one line per branch (Fig. 2).
 
     Colour = resonance order (main black, 1/m coloured; dashed after period doubling); thin grey
@@ -111,7 +111,8 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     dots = non-periodic attractors; gold underlay = branches no laboratory sweep reaches
     (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6). ``perturbation``:
     ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation.perturbation_curve`, drawn as
-    red crosses where the series is valid.
+    red crosses where the series is valid. ``marks_um``: the height of the f_n0/m marks (default:
+    just above the level's smallest amplitude).
     """
 
     ax = _ax(ax)
@@ -159,7 +160,8 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     ax.set_yscale("log")
     lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
     marks = [fn0 / m for m in range(1, m_max + 1)]
-    ax.plot(marks, [lo * 1.3] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
+    mark_y = lo * 1.3 if marks_um is None else marks_um
+    ax.plot(marks, [mark_y] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
     if perturbation is not None:
         pf, pa_app, ok = (np.asarray(x) for x in perturbation)
         ax.plot(pf[ok], pa_app[ok], "x", color="tab:red", ms=3.5, mew=0.8,

@@ -13,7 +13,7 @@ from contactvib.plotting.figures import (
     resonance_graph,
 )
 
-__all__ = ["level_figures", "TimeRow", "time_figure"]
+__all__ = ["level_figures", "draw_level", "TimeRow", "time_figure"]
 
 
 def level_figures(ds, pa_over_q: float, perturbation=None, ref: str = ""):
@@ -23,19 +23,35 @@ def level_figures(ds, pa_over_q: float, perturbation=None, ref: str = ""):
     ``ref`` names the paper's panel in the titles (e.g. "c" for Figs. 2c/3c).
     Returns the two figures ``(graph, extrema)``.
     """
-    figures = []
-    for draw, what, fig_no, kw in ((resonance_graph, "Resonance graph", "2",
-                                    {"perturbation": perturbation}),
-                                   (extrema_diagram, "Local extrema of y(t)", "3", {})):
-        fig, axes = new_figure(figsize=(7.0, 4.2))
-        ax = axes[0, 0]
+    (graph, g_axes), (extrema, e_axes) = new_figure(figsize=(7.0, 4.2)), new_figure(figsize=(7.0, 4.2))
+    draw_level(ds, pa_over_q, g_axes[0, 0], e_axes[0, 0], perturbation=perturbation, ref=ref)
+    for fig in (graph, extrema):
+        fig.tight_layout()
+    return graph, extrema
+
+
+def draw_level(ds, pa_over_q: float, ax_graph, ax_extrema, perturbation=None, ref: str = "",
+               limits=None):
+    """Draw one level's resonance graph (Fig. 2) on ``ax_graph`` and its local-extrema diagram
+    (Fig. 3) on ``ax_extrema``, titled (``ref``: the paper's panel letter, e.g. "c").
+
+    ``limits``: None (f_e from 0 to the level's highest frequency + 2 %, amplitudes as drawn), or
+    fixed axes ``{"fe_hz": (lo, hi), "app_um": (lo, hi), "y_um": (lo, hi)}`` shared by several
+    levels (the film, :mod:`contactvib.plotting.film`); the f_n0/m marks then sit at the fixed
+    amplitude floor.
+    """
+    marks = None if limits is None else limits["app_um"][0] * 1.3
+    for ax, draw, what, fig_no, kw in ((ax_graph, resonance_graph, "Resonance graph", "2",
+                                        {"perturbation": perturbation, "marks_um": marks}),
+                                       (ax_extrema, extrema_diagram, "Local extrema of y(t)", "3", {})):
         draw(ds, pa_over_q, ax=ax, **kw)
-        ax.set_xlim(0, float(ds["fe_hz"].max()) * 1.02)
+        ax.set_xlim(*((0, float(ds["fe_hz"].max()) * 1.02) if limits is None else limits["fe_hz"]))
         cf = f" (cf. Fig. {fig_no}{ref})" if ref else ""
         ax.set_title(f"{what}, $P_a$ = {pa_over_q:g} Q{cf}", fontsize=10)
-        fig.tight_layout()
-        figures.append(fig)
-    return tuple(figures)
+    if limits is not None:
+        ax_graph.set_ylim(*limits["app_um"])
+        ax_extrema.set_ylim(*limits["y_um"])
+    return ax_graph, ax_extrema
 
 
 @dataclass(frozen=True)

@@ -16,8 +16,11 @@ import numpy as np
 
 from contactvib.sweeps.labels import resonance_order
 
-__all__ = ["ResonanceFacts", "resonance_facts", "coexisting_resonances", "max_coexistence",
-           "intervals"]
+__all__ = ["ResonanceFacts", "resonance_facts", "level_stages", "coexisting_resonances", "max_coexistence",
+           "intervals", "SUPERHARMONIC_ORDERS"]
+
+#: The superharmonic resonances the paper follows (S3.8): 1/2 … 1/6.
+SUPERHARMONIC_ORDERS = (2, 3, 4, 5, 6)
 
 
 @dataclass
@@ -140,6 +143,12 @@ def resonance_facts(ds, pa_over_q: float, m: int, f_band=None) -> ResonanceFacts
         [np.arange(ds["branch_fmin_hz"].values[x], ds["branch_fmax_hz"].values[x] + 0.5 * df, df)
          for x in iso]) if iso.size else np.array([]), 1.5 * df)
     return facts
+
+
+def level_stages(ds, pa_over_q: float, orders=SUPERHARMONIC_ORDERS) -> dict:
+    """The stage (S3.8) of each 1/m resonance at one level: ``{m: "grows" | "bent" | …}``, from
+    :meth:`ResonanceFacts.stage` (the S3.8 table of the index page and the film's captions)."""
+    return {m: resonance_facts(ds, pa_over_q, m).stage() for m in orders}
 
 
 def coexisting_resonances(ds, pa_over_q: float, fe_hz: float) -> list:

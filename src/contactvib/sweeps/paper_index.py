@@ -10,12 +10,21 @@ from pathlib import Path
 
 import numpy as np
 
-from contactvib.sweeps.facts import intervals, max_coexistence, resonance_facts
+from contactvib.sweeps.facts import SUPERHARMONIC_ORDERS, intervals, level_stages, max_coexistence, resonance_facts
 
-__all__ = ["write_index"]
+__all__ = ["write_index", "S3_LEVELS", "paper_statements"]
 
-_S3_LEVELS = {"S3.1": (0.50, 0.60), "S3.2": (0.65,), "S3.3": (0.70,), "S3.4": (0.75,),
+#: The P_a levels [Q] of each statement S3.1–S3.7 (S3.8 is the sequence over all of them).
+S3_LEVELS = _S3_LEVELS = {"S3.1": (0.50, 0.60), "S3.2": (0.65,), "S3.3": (0.70,), "S3.4": (0.75,),
               "S3.5": (0.80,), "S3.6": (0.85,), "S3.7": (0.90,)}
+
+
+def paper_statements(spec_path: Path | None = None) -> dict:
+    """The paper's statements by id (``"S3.2"`` → text) from ``spec_path`` (default: the package's
+    ``data/paper_statements.md``)."""
+    if spec_path is None:
+        spec_path = Path(__file__).resolve().parents[1] / "data" / "paper_statements.md"
+    return _statements(Path(spec_path))
 
 
 def _statements(spec_path: Path | None) -> dict:
@@ -109,8 +118,9 @@ def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spe
     L.append("")
     L.append("| resonance | " + " | ".join(f"{p:g} Q" for p in levels) + " |")
     L.append("|---|" + "---|" * len(levels))
-    for m in range(2, 7):
-        L.append(f"| 1/{m} | " + " | ".join(resonance_facts(ds, p, m).stage() for p in levels) + " |")
+    stages = {p: level_stages(ds, p) for p in levels}
+    for m in SUPERHARMONIC_ORDERS:
+        L.append(f"| 1/{m} | " + " | ".join(stages[p][m] for p in levels) + " |")
     L.append("")
     L.append("### S3.9")
     if "S3.9" in st:
