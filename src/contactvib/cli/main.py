@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import click
 
+from contactvib.cli.atlas import atlas
 from contactvib.cli.basins import basins
 from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
@@ -25,7 +26,7 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, basins, resonance, query, paper, continue_, bifurcations, evolution,
+for _command in (attractors, simulate, basins, resonance, atlas, query, paper, continue_, bifurcations, evolution,
                  perturbation, hbm):
     cli.add_command(_command)
 
