@@ -9,6 +9,7 @@ COMPUTATIONS = [
     "contactvib.steady.attractors.find_attractors",
     "contactvib.steady.attractors.start_box",
     "contactvib.steady.simulate.simulate",
+    "contactvib.steady.basins.basins",
     "contactvib.sweeps.resonance.resonance_dataset",
     "contactvib.sweeps.paper.reproduce_paper",
     "contactvib.continuation.diagram.continue_attractors",

@@ -67,6 +67,9 @@ OPTIONS = {
                   "--set": "set"},
     "hbm": {"--pa": "value", "--set": "set", "--harmonics": "value", "--fmin": "value", "--fmax": "value",
             "--energy-tol": "value"},
+    "basins": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
+               "--grid": "value", "--y-range": "pair", "--ydot-range": "pair", "--kmax": "value",
+               "--max-periods": "value", "--starts": "value"},
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                      "--order": "value", "--summation": "value"},
 }

@@ -30,6 +30,8 @@ COMMANDS = [
     pytest.param("bifurcations", ["--pa", "0.6", "0.7"], id="bifurcations"),
     pytest.param("evolution", [], id="evolution"),
     pytest.param("hbm", [], id="hbm"),
+    pytest.param("basins", ["--grid", "10x10"], id="basins"),
+    pytest.param("basins", ["--grid", "10x10", "--json"], id="basins-json"),
     pytest.param("perturbation", [], id="perturbation"),
     pytest.param("perturbation", ["--json"], id="perturbation-json"),
     _writes_nothing("attractors"),
