@@ -34,10 +34,12 @@ def atlas_levels(pa_min, pa_max, npa) -> list[float]:
     if lo > hi:
         raise ParameterError("pa_min", pa_min, f"must be <= pa_max = {hi:g}", ("pa_max",))
     if n == 1 and lo != hi:
-        raise ParameterError("npa", npa, "one level needs pa_min = pa_max")
+        raise ParameterError("npa", npa, f"one level needs pa_min = pa_max (not {lo:g} and {hi:g})",
+                             ("pa_min", "pa_max"))
     levels = [round(float(v), 9) for v in np.linspace(lo, hi, n)]
     if len(set(levels)) < n:
-        raise ParameterError("npa", npa, f"levels closer than 1e-9 Q between {lo:g} and {hi:g}")
+        raise ParameterError("npa", npa, f"levels closer than 1e-9 Q between pa_min = {lo:g} and "
+                                         f"pa_max = {hi:g}", ("pa_min", "pa_max"))
     return levels
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import logging
 import os
+import warnings
 
 from distributed import Client, LocalCluster
 from distributed.diagnostics.plugin import WorkerPlugin
@@ -68,8 +69,10 @@ def open_client(backend, timeout: float):
         client.register_plugin(KernelWarmUp(None))
         return client, None, 1
     n = backend.n_workers or cores
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    with warnings.catch_warnings():  # its HTTP server takes another port when 8787 is taken: no news
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
     client = Client(cluster, set_as_default=False)
     client.register_plugin(KernelWarmUp(os.getpid()))
     return client, cluster, max(1, cores // n)
