@@ -316,7 +316,9 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
     bar = tqdm(total=n_levels, initial=n_levels - len(todo), unit="level", desc=name,
                disable=not progress, leave=False)
     if progress and todo and kernel_cache_cold():
-        bar.write("compiling the kernels (first run, ~30 s)…")
+        import sys
+
+        bar.write("compiling the kernels (first run, ~30 s)…", file=sys.stderr)
 
     def finished(pa, result):
         done[pa], extra = result
