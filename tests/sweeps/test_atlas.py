@@ -192,3 +192,51 @@ def test_progress_counts_points_and_announces_a_cold_cache(tmp_path, monkeypatch
     err = capsys.readouterr().err
     assert "compiling the kernels (first run, ~30 s)…" in err
     assert "3/3 f_e points" in err and "atlas" in err
+
+
+def test_query_reads_a_folder(reference, tmp_path, capsys):
+    import json
+
+    out, ds = reference
+    assert main(["query", str(out), "--pa", "0.4", "--fe", "350", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["pa_over_q"] == 0.4 and d["fe_hz"] == 350.0
+    assert len(d["attractors"]) == int(((ds["pa_over_q"] == 0.4) & (ds["fe_hz"] == 350.0)).sum())
+    assert main(["query", str(tmp_path), "--pa", "0.4", "--fe", "350"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"contactvib: error: DATASET = {tmp_path}: a folder without atlas.nc, paper.nc "
+                   "or resonance.nc\n")
+
+
+def _session(sid: int) -> set:
+    """Live (not zombie) processes of session ``sid`` (from /proc)."""
+    found = set()
+    for d in Path("/proc").iterdir():
+        try:
+            stat = (d / "stat").read_text() if d.name.isdigit() else ""
+        except OSError:
+            continue
+        fields = stat[stat.rindex(")") + 2:].split() if stat else []
+        if fields and int(fields[3]) == sid and fields[0] not in "ZX":
+            found.add(int(d.name))
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc (Linux)")
+def test_sigkill_on_a_local_cluster_leaves_no_process(tmp_path):
+    out = tmp_path / "out"
+    p = subprocess.Popen([sys.executable, "-m", "contactvib", "atlas", "--pa", *LEVELS, *GRID, "--dask-workers", "2",
+                          "--out", str(out)], env=_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, start_new_session=True)
+    _first_chunk(p, out)
+    assert len(_session(p.pid)) >= 3  # this run, its two Dask workers (and the resource tracker)
+    p.kill()
+    _stdout, stderr = p.communicate(timeout=60)
+    assert p.returncode == -signal.SIGKILL and stderr == ""
+    deadline = time.monotonic() + 15
+    while _session(p.pid) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _session(p.pid)
+    for chunk in (out / ".chunks").glob("level_pa*.nc"):  # every chunk there is complete
+        with xr.open_dataset(chunk) as d:
+            assert d.sizes["point"] > 0 and float(d.attrs["chunk_pa_over_q"]) in (0.3, 0.4, 0.5)

@@ -189,6 +189,8 @@ def _run_on_dask(order, tasks, fn, backend: DaskBackend, finished):
 
     from contactvib.sweeps.dask_worker import dask_task, open_client
 
+    if backend.scheduler is None:
+        _quiet_resource_tracker()  # a LocalCluster's processes: silent when this one is killed
     client, cluster, threads = open_client(backend, CONNECT_TIMEOUT_S)
     futs = {}
     try:
