@@ -65,13 +65,21 @@ def test_dask_local_cluster_gives_identical_files(reference, tmp_path):
     assert _atlas(tmp_path / "dask", "--dask-workers", "2").identical(ds)
 
 
-def test_running_scheduler_gives_identical_files(reference, tmp_path):
+def test_running_scheduler_gives_identical_files(reference, tmp_path, monkeypatch):
+    """A running cluster (its workers in another working directory: a relative --out is this
+    process's) gives the same atlas, its chunks written where this process's --out is."""
     from distributed import LocalCluster
 
     _out, ds = reference
+    (tmp_path / "cluster").mkdir()
+    (tmp_path / "here").mkdir()
+    monkeypatch.chdir(tmp_path / "cluster")
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        got = _atlas(tmp_path / "sched", "--scheduler", cluster.scheduler_address)
+        monkeypatch.chdir(tmp_path / "here")
+        got = _atlas(Path("sched"), "--scheduler", cluster.scheduler_address)
     assert got.identical(ds)
+    assert len(list((tmp_path / "here" / "sched" / ".chunks").glob("level_pa*.nc"))) == 3
+    assert not (tmp_path / "cluster" / "sched").exists()
 
 
 def test_each_level_equals_resonance(reference, tmp_path):

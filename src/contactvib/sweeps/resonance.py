@@ -331,7 +331,8 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
         bar.update(1)
         bar.set_postfix_str(f"P_a = {pa:g} Q done, {bar.n * n_points}/{n_levels * n_points} f_e points")
 
-    tasks = {pa: (model.parameters(), pa, sd, str(chunk_path(out, pa)) if out is not None else None,
+    # absolute: a worker of a running cluster need not share this process's working directory
+    tasks = {pa: (model.parameters(), pa, sd, str(chunk_path(out, pa).absolute()) if out is not None else None,
                   on_level, compress) for pa in todo}
     try:
         run_levels(tasks, _run_level, backend, finished)
