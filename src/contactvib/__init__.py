@@ -9,7 +9,7 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attract
 :func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
 :func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
-:func:`attractors_at`, :func:`reproduce_paper`.
+:func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`.
 """
 
 from contactvib.model import PAPER_DEFAULTS, ContactModel, Excitation, ParameterError
@@ -40,6 +40,8 @@ _LAZY = {
     "evolution": ("contactvib.continuation.evolution", "evolution"),
     "EvolutionResult": ("contactvib.continuation.evolution", "EvolutionResult"),
     "Curve": ("contactvib.continuation.evolution", "Curve"),
+    "regime_maps": ("contactvib.sweeps.regimes", "regime_maps"),
+    "MapCurve": ("contactvib.sweeps.regimes", "MapCurve"),
     "Branch": ("contactvib.continuation.branch", "Branch"),
     "BranchSet": ("contactvib.continuation.branch", "BranchSet"),
     "SpecialPoint": ("contactvib.continuation.branch", "SpecialPoint"),

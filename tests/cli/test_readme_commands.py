@@ -100,6 +100,8 @@ REDUCED: dict[str, list[str]] = {
     "contactvib evolution --order 2 --pa-min 0.3 --pa-max 0.9 --out evo/":
         ["evolution", "--order", "2", "--pa-min", "0.65", "--pa-max", "0.7", "--levels", "2",
          "--out", "evo/"],
+    "contactvib map paper/ --out map/": ["map", "paper/", "--out", "map/"],
+    "contactvib map paper/ --curves evo/ --out map/": ["map", "paper/", "--curves", "evo/", "--out", "map/"],
     "contactvib perturbation --pa 0.65 --fe 287 --order 40 --out pert/":
         ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--out", "pert/"],
     "contactvib perturbation --pa 0.65 --fe 287 --order 40 --json":
@@ -244,6 +246,18 @@ def dask_scheduler():
         yield cluster.scheduler_address
 
 
+def _check_map(folder: Path, stdout: str, curves: bool) -> None:
+    """`map` (README, "Regime maps"): map.nc over the reduced paper run's grid, one figure per map."""
+    names = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period")
+    for name in names:
+        assert_figure_file(folder / f"map_{name}.png")
+    with xr.open_dataset(folder / "map.nc") as m, xr.open_dataset(folder.parent / "paper" / "paper.nc") as ds:
+        assert dict(m["n_attractors"].sizes) == {"pa_over_q": 8, "fe_hz": 11}
+        assert set(names) <= set(m.data_vars) and int(m["n_attractors"].sum()) == ds.sizes["point"]
+        assert ("curve_fe_hz" in m and m.sizes["curve"] >= 1) == curves
+    assert "8 levels x 11 frequencies" in stdout and ("fold crossings" in stdout) == curves
+
+
 def _check_query(stdout: str, pa: float = 0.65, fe: float = 360.0) -> None:
     d = json.loads(stdout)
     assert d["pa_over_q"] == pytest.approx(pa) and d["fe_hz"] == pytest.approx(fe)
@@ -374,6 +388,8 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         out = _run(args, sub, capsys)
         _check_paper(sub / "paper", out)
         return
+    if "--curves" in args and not (workdir / "evo" / "evolution_order2.json").is_file():
+        _run(REDUCED["contactvib evolution --order 2 --pa-min 0.3 --pa-max 0.9 --out evo/"], workdir, capsys)
     out = _run(args, workdir, capsys)
     cmd = args[0]
     folder = workdir / m.group(1) if m else None
@@ -429,6 +445,8 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         for onset in d["extremes"].values():
             assert {"fe_hz", "pa_over_q"} <= set(onset)
         assert_figure_file(folder / "evolution_order2.png")
+    elif cmd == "map":
+        _check_map(folder, out, "--curves" in args)
     elif cmd == "perturbation" and "--json" in args:
         d = json.loads(out)
         assert PERTURBATION_KEYS <= set(d), sorted(PERTURBATION_KEYS - set(d))

@@ -72,6 +72,7 @@ OPTIONS = {
                "--max-periods": "value", "--starts": "value"},
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                      "--order": "value", "--summation": "value"},
+    "map": {"--orders": "levels", "--curves": "value"},
 }
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
@@ -98,6 +99,8 @@ def _argv(command, option, kind, value, tmp_path, small_dataset):
     head = [command]
     if command == "query":
         head += [str(small_dataset), "--pa", "0.65", "--fe", "360"]
+    if command == "map":
+        head += [str(small_dataset)]
     if command not in ("attractors", "query"):
         head += ["--out", str(tmp_path / "out")]
     head += NEEDS.get((command, option), [])
@@ -194,7 +197,7 @@ def test_any_command_line_works_or_is_one_line(command, no_computation, capsys, 
     @PROPERTY
     @given(tokens=st.lists(token, max_size=8))
     def check(tokens):
-        head = [command, str(small_dataset)] if command == "query" else [command]
+        head = [command, str(small_dataset)] if command in ("query", "map") else [command]
         _outcome(head + tokens + ["--out", str(tmp_path / "out")] * (command not in ("attractors", "query")),
                  capsys, no_computation)
 

@@ -34,6 +34,7 @@ COMMANDS = [
     pytest.param("basins", ["--grid", "10x10", "--json"], id="basins-json"),
     pytest.param("perturbation", [], id="perturbation"),
     pytest.param("perturbation", ["--json"], id="perturbation-json"),
+    pytest.param("map", ["DATASET"], id="map"),  # DATASET: the small_dataset fixture
     _writes_nothing("attractors"),
     _writes_nothing("query"),
 ]
@@ -46,6 +47,12 @@ def test_every_command_is_listed():
     assert listed == set(cli.commands)
 
 
+def _dataset(args, small_dataset):
+    """``args`` with the placeholder DATASET replaced by the small_dataset fixture's file (a
+    session fixture: built before the computations are stubbed)."""
+    return [str(small_dataset) if a == "DATASET" else a for a in args]
+
+
 def _unwritable(kind, tmp_path):
     if kind == "proc":
         return "/proc/contactvib_robustness/x"
@@ -56,7 +63,9 @@ def _unwritable(kind, tmp_path):
 
 @pytest.mark.parametrize("kind", ["proc", "under-a-file"])
 @pytest.mark.parametrize("command, args", COMMANDS)
-def test_unwritable_out_refused_before_computing(no_computation, capsys, tmp_path, command, args, kind):
+def test_unwritable_out_refused_before_computing(no_computation, capsys, tmp_path, command, args, kind,
+                                                  small_dataset):
+    args = _dataset(args, small_dataset)
     out = _unwritable(kind, tmp_path)
     t0 = time.perf_counter()
     rc = main([command, *args, "--out", out])
@@ -68,7 +77,9 @@ def test_unwritable_out_refused_before_computing(no_computation, capsys, tmp_pat
 
 
 @pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks])
-def test_out_that_is_a_file_refused_before_computing(no_computation, capsys, tmp_path, command, args):
+def test_out_that_is_a_file_refused_before_computing(no_computation, capsys, tmp_path, command, args,
+                                                     small_dataset):
+    args = _dataset(args, small_dataset)
     out = tmp_path / "a_file"
     out.write_text("kept")
     assert main([command, *args, "--out", str(out)]) == 2
@@ -78,9 +89,10 @@ def test_out_that_is_a_file_refused_before_computing(no_computation, capsys, tmp
 
 
 @pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks])
-def test_a_writable_out_reaches_the_computation(no_computation, tmp_path, command, args):
+def test_a_writable_out_reaches_the_computation(no_computation, tmp_path, command, args, small_dataset):
     """The control: with a writable --out each command gets past its checks to a stubbed
     computation (so the stubs are the ones the commands call)."""
+    args = _dataset(args, small_dataset)
     with pytest.raises(no_computation):
         main([command, *args, "--out", str(tmp_path / "out")])
     assert (tmp_path / "out").is_dir()

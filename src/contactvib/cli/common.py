@@ -167,9 +167,11 @@ class LevelsCommand(click.Command):
     after ``--pa`` (up to the next option) are its levels; a value anywhere else is refused.
 
     The command declares ``--pa`` with ``multiple=True``; ``--pa A B`` is read as
-    ``--pa A --pa B``."""
+    ``--pa A --pa B``. A subclass names its own option and its values in ``multi``."""
 
     allow_extra_args = True  # collected here, to be refused with their value named
+    #: (the option that takes one or more values, what its values are)
+    multi = ("--pa", "levels P_a [Q]")
 
     def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
         out: list[str] = []
@@ -179,7 +181,7 @@ class LevelsCommand(click.Command):
             if token == "--":
                 out.extend(args[i:])
                 break
-            if token != "--pa" or ctx.resilient_parsing:
+            if token != self.multi[0] or ctx.resilient_parsing:
                 out.append(token)
                 i += 1
                 continue
@@ -189,13 +191,13 @@ class LevelsCommand(click.Command):
                 levels.append(args[i])
                 i += 1
             if not levels:
-                raise InputError("--pa: expected one or more levels P_a [Q] after it")
+                raise InputError(f"{token}: expected one or more {self.multi[1]} after it")
             for level in levels:
-                out.extend(["--pa", level])
+                out.extend([token, level])
         rest = super().parse_args(ctx, out)
         if ctx.args and not ctx.resilient_parsing:
-            raise InputError(f"{ctx.args[0]}: unexpected value (only the values right after --pa are "
-                             f"levels; see contactvib {ctx.info_name} --help)")
+            raise InputError(f"{ctx.args[0]}: unexpected value (only the values right after {self.multi[0]} "
+                             f"are {self.multi[1].split()[0]}; see contactvib {ctx.info_name} --help)")
         return rest
 
 

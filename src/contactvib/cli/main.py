@@ -12,6 +12,7 @@ from contactvib.cli.basins import basins
 from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
 from contactvib.cli.frequency import hbm, perturbation
+from contactvib.cli.regimes import map_
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
 
@@ -27,7 +28,7 @@ def cli():
 
 
 for _command in (attractors, simulate, basins, resonance, atlas, query, paper, continue_, bifurcations, evolution,
-                 perturbation, hbm):
+                 perturbation, hbm, map_):
     cli.add_command(_command)
 
 

@@ -1,0 +1,136 @@
+"""CLI command ``map``: regime maps of a resonance dataset over (f_e, P_a), with the fold and
+period-doubling curves of the 1/m resonances on top.
+
+Thin: check the dataset, the orders, the curves folder and the output folder (one-line errors,
+exit 2), call :func:`contactvib.sweeps.regimes.regime_maps` (and
+:func:`~contactvib.sweeps.regimes.evolution_curves` for ``--orders``), write ``map.nc`` and one
+PNG per map.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from contactvib.cli.common import InputError, LevelsCommand, _int, _output_folder
+from contactvib.model import EVOLUTION_ORDER_MAX
+
+__all__: list = []
+
+
+class OrdersCommand(LevelsCommand):
+    """``--orders 2 3``: the values right after ``--orders`` are its orders."""
+
+    multi = ("--orders", "orders m of the 1/m resonances")
+
+
+def _open_dataset(text: str):
+    """The resonance dataset of DATASET (a file, or a folder holding atlas.nc, paper.nc or
+    resonance.nc), opened; one-line errors otherwise."""
+    import xarray as xr
+
+    from contactvib.sweeps.dataset import FORMAT
+    from contactvib.sweeps.regimes import find_dataset
+
+    try:
+        path = find_dataset(text)
+    except LookupError as e:
+        raise InputError(f"DATASET = {e}") from None
+    try:
+        ds = xr.open_dataset(path)
+    except Exception as e:  # not NetCDF, damaged
+        raise InputError(f"DATASET = {path}: not a readable NetCDF dataset ({type(e).__name__})") from None
+    need = {"pa_over_q", "fe_hz", "resonance", "period", "loses_contact", "lyapunov_per_period"}
+    if not need <= set(ds.variables) or ds.attrs.get("format") != FORMAT:
+        ds.close()
+        raise InputError(f"DATASET = {path}: not a contactvib resonance dataset of layout {FORMAT}")
+    return path, ds
+
+
+def _model_of(ds, path):
+    from contactvib import ContactModel
+    from contactvib.model import ParameterError
+
+    try:
+        return ContactModel(**json.loads(ds.attrs["model"]))
+    except (KeyError, TypeError, ValueError, ParameterError) as e:
+        raise InputError(f"DATASET = {path}: its 'model' attribute is missing or damaged "
+                         f"({type(e).__name__})") from None
+
+
+@click.command("map", cls=OrdersCommand)
+@click.argument("dataset", type=click.Path())
+@click.option("--orders", multiple=True, metavar="M [M ...]",
+              help=f"Compute the fold and period-doubling curves of these 1/m resonances (1..{EVOLUTION_ORDER_MAX}) "
+                   "by two-parameter continuation over the dataset's P_a range and overlay them "
+                   "(minutes per order; default: none).")
+@click.option("--curves", "curves_dir", default=None, type=click.Path(), metavar="FOLDER",
+              help="Overlay the curves saved by `contactvib evolution --out FOLDER` (evolution_order*.json).")
+@click.option("--out", default="map", show_default=True, type=click.Path(file_okay=False),
+              help="Output folder: map.nc and one map_<quantity>.png per map.")
+def map_(dataset, orders, curves_dir, out):
+    """Regime maps over (f_e, P_a) of a dataset with many levels: coexisting attractors, highest
+    resonance order, contact loss, chaos, largest period."""
+    from contactvib.sweeps.regimes import load_curves
+
+    ms = sorted({_int("--orders", t, 1, EVOLUTION_ORDER_MAX) for t in orders})
+    if ms and curves_dir is not None:
+        raise InputError("--curves: give either --orders (compute the curves) or --curves (reuse them)")
+    curves = []
+    if curves_dir is not None:
+        try:
+            curves = load_curves(curves_dir)
+        except LookupError as e:
+            raise InputError(f"--curves = {e}") from None
+    path, ds = _open_dataset(dataset)
+    with ds:
+        levels = sorted(set(ds["pa_over_q"].values.tolist()))
+        model = _model_of(ds, path) if ms else None
+        if ms and len(levels) < 2:
+            raise InputError(f"--orders: the curves need a range of P_a; DATASET = {path} has one level")
+        outp = _output_folder(out)
+        run(ds, outp, curves, model, ms, (levels[0], levels[-1]) if levels else None)
+
+
+def run(ds, outp: Path, curves, model, orders, pa_range):
+    """Compute (curves for ``orders``, the maps), write, print the summary."""
+    import numpy as np
+    import xarray as xr
+
+    from contactvib.plotting.figures import save_figure
+    from contactvib.plotting.regimes import regime_figure
+    from contactvib.sweeps.dataset import write_atomic
+    from contactvib.sweeps.regimes import (
+        MAP_VARIABLES,
+        count_changes,
+        curve_crossings,
+        curves_dataset,
+        evolution_curves,
+        regime_maps,
+    )
+
+    if orders:
+        curves = evolution_curves(model, orders, *pa_range, out=outp, log=None)
+    maps = regime_maps(ds)
+    write_atomic(xr.merge([maps, curves_dataset(curves)], combine_attrs="override"), outp / "map.nc")
+    for name in MAP_VARIABLES:
+        save_figure(regime_figure(maps, name, curves), outp / f"map_{name}.png")
+    n = maps["n_attractors"].values
+    nl = maps.sizes["pa_over_q"]
+    click.echo(f"{nl} level{'s' * (nl != 1)} x {maps.sizes['fe_hz']} frequencies: "
+               f"{int(n.min())}..{int(n.max())} coexisting attractors, chaos at "
+               f"{int(maps['chaotic'].values.sum())} grid points")
+    folds = [c for c in curves if c.type == "fold"]
+    if folds:
+        df = float(maps.attrs["df_hz"])
+        hits = total = 0
+        for p in maps["pa_over_q"].values:
+            changes = count_changes(maps, p)
+            for f in np.concatenate([curve_crossings(c, p) for c in folds]):
+                total += 1
+                hits += bool(changes.size and np.min(np.abs(changes - f)) <= df)
+        click.echo(f"{len(curves)} curves; {hits} of {total} fold crossings of the levels lie within one grid "
+                   f"step ({df:g} Hz) of a change of the count")
+    click.echo(f"wrote {outp / 'map.nc'} and {len(MAP_VARIABLES)} figures map_*.png")
