@@ -50,6 +50,12 @@ _PAPER_GRID = ["--fmin", "340", "--fmax", "380", "--df", "4", "--multistart-per-
 _RESONANCE = ["resonance", "--pa", "0.6", "0.65", "--fmin", "300", "--fmax", "340", "--df", "4",
               "--multistart-per-octave", "2", "--starts", "4", "--workers", "1", "--no-progress",
               "--out", "res/"]
+# The reduced atlas: two levels that hold the `query atlas/` line's point (0.6 Q, 500 Hz).
+_ATLAS_GRID = ["--pa-min", "0.5", "--pa-max", "0.6", "--npa", "2", "--fmin", "490", "--fmax", "510", "--df", "10",
+               "--multistart-per-octave", "1", "--starts", "2", "--no-progress"]
+_ATLAS = ["atlas", *_ATLAS_GRID, "--out", "atlas/"]
+#: The README's scheduler address: the test substitutes the address of a LocalCluster it starts.
+_SCHEDULER = "tcp://HOST:8786"
 
 #: README command line (comment stripped) -> the reduced argument list it is tested with.
 REDUCED: dict[str, list[str]] = {
@@ -58,6 +64,12 @@ REDUCED: dict[str, list[str]] = {
     "contactvib resonance --pa 0.5 0.6 0.65 0.7 0.75 0.8 0.85 0.9 --fmin 30 --fmax 2000 --df 1 --out res/":
         _RESONANCE,
     "contactvib resonance ... --resume": [*_RESONANCE, "--resume"],
+    "contactvib atlas --pa-min 0.05 --pa-max 1.0 --npa 96 --fmin 30 --fmax 2000 --df 1 --out atlas/": _ATLAS,
+    "contactvib atlas ... --resume": [*_ATLAS, "--resume"],
+    "contactvib atlas ... --scheduler tcp://HOST:8786":
+        ["atlas", *_ATLAS_GRID, "--out", "atlas_scheduler/", "--scheduler", _SCHEDULER],
+    "contactvib atlas ... --dask-workers 2": ["atlas", *_ATLAS_GRID, "--out", "atlas_dask/", "--dask-workers", "2"],
+    "contactvib query atlas/ --pa 0.6 --fe 500 --json": ["query", "atlas/", "--pa", "0.6", "--fe", "500", "--json"],
     "contactvib query paper/paper.nc --pa 0.65 --fe 360 --json":
         ["query", "paper/paper.nc", "--pa", "0.65", "--fe", "360", "--json"],
     "contactvib animate paper/paper.nc --out evolution.mp4":
@@ -213,6 +225,31 @@ def _check_resonance(out: Path, stdout: str) -> None:
     assert "2 levels" in stdout
 
 
+def _check_atlas(out: Path, stdout: str) -> None:
+    _dataset(out / "atlas.nc", [0.5, 0.6])
+    assert sorted(p.name for p in (out / ".chunks").glob("level_pa*.nc")) == ["level_pa0.5.nc", "level_pa0.6.nc"]
+    with xr.open_dataset(out / "atlas.nc") as d:
+        assert d["app_um"].encoding["zlib"] and d["app_um"].encoding["complevel"] == 4
+    assert "2 levels" in stdout and "atlas.nc" in stdout
+
+
+def _atlas_run(workdir: Path, capsys) -> Path:
+    """The reduced ``atlas --out atlas/`` (run once in the module's working directory)."""
+    if not (workdir / "atlas" / "atlas.nc").is_file():
+        _run(_ATLAS, workdir, capsys)
+    return workdir / "atlas"
+
+
+@pytest.fixture(scope="module")
+def dask_scheduler():
+    """The address of a running Dask scheduler (a LocalCluster of one worker process), for the
+    README's ``--scheduler tcp://HOST:8786`` line."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        yield cluster.scheduler_address
+
+
 def _check_map(folder: Path, stdout: str, curves: bool) -> None:
     """`map` (README, "Regime maps"): map.nc over the reduced paper run's grid, one figure per map."""
     names = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period")
@@ -225,9 +262,9 @@ def _check_map(folder: Path, stdout: str, curves: bool) -> None:
     assert "8 levels x 11 frequencies" in stdout and ("fold crossings" in stdout) == curves
 
 
-def _check_query(stdout: str) -> None:
+def _check_query(stdout: str, pa: float = 0.65, fe: float = 360.0) -> None:
     d = json.loads(stdout)
-    assert d["pa_over_q"] == pytest.approx(0.65) and d["fe_hz"] == pytest.approx(360.0)
+    assert d["pa_over_q"] == pytest.approx(pa) and d["fe_hz"] == pytest.approx(fe)
     assert QUERY_TOP_KEYS <= set(d), sorted(QUERY_TOP_KEYS - set(d))
     assert d["requested"]
     assert d["attractors"]
@@ -334,6 +371,21 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         assert {p: p.stat().st_mtime_ns for p in (res / ".chunks").glob("level_pa*.nc")} == chunks
         _check_resonance(res, out)
         return
+    if line.startswith("contactvib atlas ... ") or line.startswith("contactvib query atlas/"):
+        atlas = _atlas_run(workdir, capsys)
+        chunks = {p: p.stat().st_mtime_ns for p in (atlas / ".chunks").glob("level_pa*.nc")}
+        if _SCHEDULER in args:
+            args = [request.getfixturevalue("dask_scheduler") if a == _SCHEDULER else a for a in args]
+        out = _run(args, workdir, capsys)
+        if args[0] == "query":
+            _check_query(out, 0.6, 500.0)
+            return
+        folder = workdir / args[args.index("--out") + 1]
+        _check_atlas(folder, out)
+        if "--resume" in args:
+            assert {p: p.stat().st_mtime_ns for p in (atlas / ".chunks").glob("level_pa*.nc")} == chunks
+        assert xr.load_dataset(folder / "atlas.nc").identical(xr.load_dataset(atlas / "atlas.nc"))
+        return
     if line == "contactvib paper":  # the default folder, paper/, in a folder of its own
         sub = workdir / "default"
         sub.mkdir(exist_ok=True)
@@ -347,6 +399,8 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     folder = workdir / m.group(1) if m else None
     if cmd == "resonance":
         _check_resonance(folder, out)
+    elif cmd == "atlas":
+        _check_atlas(folder, out)
     elif cmd == "query":
         _check_query(out)
     elif cmd == "animate" and "--gif" in args:  # one frame per level of the reduced paper run

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import click
 
+from contactvib.cli.atlas import atlas
 from contactvib.cli.basins import basins
 from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
@@ -27,8 +28,8 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, basins, resonance, query, paper, animate, continue_, bifurcations,
-                 evolution, perturbation, hbm, map_):
+for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
+                 bifurcations, evolution, perturbation, hbm, map_):
     cli.add_command(_command)
 
 

@@ -147,18 +147,35 @@ def resonance(pa, out, **sweep):
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 
 
+#: The datasets a folder given to ``query`` may hold, in the order they are looked for.
+_DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
+
+
+def _dataset_file(dataset: str) -> Path:
+    """The file of ``query``'s DATASET: the file itself, or in a folder (an atlas, paper or
+    resonance output folder) its atlas.nc, paper.nc or resonance.nc."""
+    path = Path(dataset)
+    if path.is_dir():
+        for name in _DATASET_NAMES:
+            if (path / name).is_file():
+                return path / name
+        raise InputError(f"DATASET = {dataset}: a folder without {', '.join(_DATASET_NAMES[:-1])} "
+                         f"or {_DATASET_NAMES[-1]}")
+    if not path.is_file():
+        raise InputError(f"DATASET = {dataset}: no such file")
+    return path
+
+
 @click.command()
 @click.argument("dataset", type=click.Path())
 @click.option("--pa", required=True, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
 @click.option("--fe", required=True, metavar="HZ", help="Frequency [Hz] (nearest grid point within half a step).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels).")
 def query(dataset, pa, fe, as_json):
-    """The attractors stored in a resonance dataset at one (P_a, f_e)."""
+    """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one (P_a, f_e)."""
     p = _number("--pa", "P_a/Q", pa)
     f = _positive("--fe", "f_e", fe, "Hz")
-    path = Path(dataset)
-    if not path.is_file():
-        raise InputError(f"DATASET = {dataset}: no such file")
+    path = _dataset_file(dataset)
     import xarray as xr
 
     from contactvib.sweeps.dataset import attractors_at

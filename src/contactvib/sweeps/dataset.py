@@ -272,16 +272,52 @@ def check_consistency(ds, rtol: float = 1e-9, atol: float = 1e-12) -> list[str]:
     return out
 
 
-def write_atomic(ds, path) -> None:
-    """Write a NetCDF file via a temporary file and an atomic rename."""
+#: Points per NetCDF chunk of a compressed dataset (one level is a contiguous run of points, so
+#: reading it reads only its own chunks).
+POINT_CHUNK = 4096
+
+
+def compressed_encoding(ds) -> dict:
+    """NetCDF4 encoding of ``ds``: zlib level 4 with byte shuffling for every variable, numeric
+    ones chunked along their first dimension (``point``, ``extremum``, ``strobe``, ...) by
+    :data:`POINT_CHUNK`; the values are unchanged."""
+    enc = {}
+    for name, var in ds.variables.items():
+        e = {"zlib": True, "complevel": 4, "shuffle": True}
+        if var.ndim and var.dtype.kind not in "OUS" and var.size:
+            e["chunksizes"] = tuple(min(POINT_CHUNK, n) if i == 0 else n for i, n in enumerate(var.shape))
+        enc[name] = e
+    return enc
+
+
+def write_atomic(ds, path, compress: bool = False) -> None:
+    """Write a NetCDF file via a temporary file and an atomic rename; ``compress``: NetCDF4 with
+    :func:`compressed_encoding`."""
     import os
     from pathlib import Path
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    ds.to_netcdf(tmp)
+    with _local_writes():
+        if compress:
+            ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=compressed_encoding(ds))
+        else:
+            ds.to_netcdf(tmp)
     os.replace(tmp, path)
+
+
+def _local_writes():
+    """Within: xarray locks its file writes in this process only, also on a Dask worker (where
+    it would otherwise take a cluster-wide lock through the scheduler, which a cluster that is
+    shutting down cannot release)."""
+    try:
+        import dask
+    except ImportError:
+        from contextlib import nullcontext
+
+        return nullcontext()
+    return dask.config.set(scheduler="synchronous")
 
 
 def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:

@@ -1,7 +1,8 @@
 """Resonance graphs of several P_a levels: parallel level sweeps, resumable chunks, one dataset.
 
 Each P_a level is one task (:func:`contactvib.sweep.trace_level`); tasks run in a process pool
-(one numba thread per process: the only level of parallelism) and each finished level is written
+(one numba thread per process: the only level of parallelism) or on a Dask cluster
+(:mod:`contactvib.sweeps.backends`), and each finished level is written
 atomically to ``OUT/.chunks/`` as NetCDF, so an interrupted run loses at most the levels in
 progress and ``resume=True`` recomputes nothing that was finished. The merged dataset is written
 atomically to ``OUT/<name>.nc``.
@@ -29,7 +30,7 @@ from pathlib import Path
 from contactvib.interrupts import Interrupted, check_interrupt, deferred_sigint, end_with_parent
 from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
 from contactvib.steady.transients import check_damped
-from contactvib.sweeps.sweep import SweepSettings
+from contactvib.sweeps.sweep import SweepSettings, frequency_grid
 
 __all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked", "Interrupted"]
 
@@ -152,7 +153,8 @@ def _worker_init(parent: int | None = None):
     numba.set_num_threads(1)
 
 
-def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None, on_level=None):
+def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None, on_level=None,
+               compress: bool = False):
     from contactvib.sweeps.dataset import level_dataset, write_atomic
     from contactvib.sweeps.sweep import trace_level
 
@@ -161,7 +163,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     level = trace_level(model, pa, st)
     ds = level_dataset(model, level, settings)
     if chunk is not None:
-        write_atomic(ds.assign_attrs({_LEVEL_ATTR: float(pa)}), chunk)
+        write_atomic(ds.assign_attrs({_LEVEL_ATTR: float(pa)}), chunk, compress=compress)
     return ds, (on_level(model, ds) if on_level is not None else None)
 
 
@@ -195,7 +197,8 @@ def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -
 
 def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, out=None,
                       name: str = "resonance", resume: bool = False, workers: int | None = None,
-                      progress: bool = True, on_level=None, level_results: dict | None = None):
+                      progress: bool = True, on_level=None, level_results: dict | None = None,
+                      backend=None, compress: bool = False):
     """Sweep every P_a level in ``pa_levels`` [Q] over the settings' frequency grid.
 
     Parameters
@@ -209,11 +212,17 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         recomputed and overwritten.
     workers : int or None
         Processes, 1..``WORKERS_MAX`` (default: ``min(levels, CPU count)``); 1 runs in this
-        process.
+        process. Ignored with a ``backend``.
     on_level : callable or None
         ``on_level(model, level_dataset)`` (picklable) run in the worker right after each level
         (in this process for resumed levels), e.g. to draw the level's figures while other
         levels are still sweeping; its return values go into ``level_results[P_a]``.
+    backend : LocalPool, DaskBackend or None
+        Where the levels run (:mod:`contactvib.sweeps.backends`); default ``LocalPool(workers)``.
+        Every backend writes the same chunks and the same dataset.
+    compress : bool
+        Write the chunks and ``OUT/<name>.nc`` as NetCDF4 with zlib compression (level 4,
+        chunked along ``point``; :func:`contactvib.sweeps.dataset.write_atomic`): the atlas.
 
     Returns
     -------
@@ -223,7 +232,8 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     Raises
     ------
     ParameterError
-        ``out`` (:class:`OutputLocked`) when another run is writing into ``out``.
+        ``out`` (:class:`OutputLocked`) when another run is writing into ``out``; ``scheduler``
+        when no Dask scheduler answers at the backend's address.
     Interrupted
         (a KeyboardInterrupt) on SIGINT / Ctrl-C, raised within about a second of the running
         kernel call, after the workers are terminated (running levels are not waited for) and
@@ -233,6 +243,10 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     check_damped(model, "a resonance sweep")
     if workers is not None:
         workers = check_int("workers", workers, 1, WORKERS_MAX)
+    if backend is None:
+        from contactvib.sweeps.backends import LocalPool
+
+        backend = LocalPool(workers)
     levels = []
     for v in pa_levels:
         v = check_pa_level(v)
@@ -243,32 +257,33 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         raise ParameterError("P_a/Q", "", "give at least one level")
     sd = settings.to_dict()
     if out is None:
-        return _resonance(model, levels, sd, None, name, resume, workers, progress, on_level,
-                          level_results)
+        return _resonance(model, levels, sd, None, (name, compress), resume, backend, progress,
+                          on_level, level_results)
     out = Path(out)
     with output_lock(out):
-        return _resonance(model, levels, sd, out, name, resume, workers, progress, on_level,
-                          level_results)
+        return _resonance(model, levels, sd, out, (name, compress), resume, backend, progress,
+                          on_level, level_results)
 
 
-def _resonance(model, levels, sd, out, name, resume, workers, progress, on_level, level_results):
-    """The sweeps of :func:`resonance_dataset`; a KeyboardInterrupt becomes :class:`Interrupted`
-    once the workers are stopped."""
+def _resonance(model, levels, sd, out, store, resume, backend, progress, on_level, level_results):
+    """The sweeps of :func:`resonance_dataset` (``store``: the dataset's name and whether it is
+    compressed); a KeyboardInterrupt becomes :class:`Interrupted` once the workers are stopped."""
     import time
 
     from contactvib.sweeps.dataset import merge_levels, write_atomic
 
+    name, compress = store
     started = time.time()
     done: dict = {}
     try:
         with deferred_sigint():  # SIGINT never raised inside numba (see interrupts.py)
             if out is not None and resume:
                 _reuse_chunks(model, levels, sd, out, on_level, level_results, done)
-            _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, workers,
-                          progress, on_level, level_results, done, len(levels))
+            _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, backend,
+                          progress, on_level, level_results, done, len(levels), store)
             ds = merge_levels([done[pa] for pa in levels])
             if out is not None:
-                write_atomic(ds, out / f"{name}.nc")
+                write_atomic(ds, out / f"{name}.nc", compress=compress)
     except KeyboardInterrupt:
         raise _interrupted(out, levels, done, started) from None
     return ds
@@ -289,105 +304,40 @@ def _reuse_chunks(model, levels, sd, out, on_level, level_results, done):
         check_interrupt()
 
 
-def _sweep_levels(model, todo, sd, out, workers, progress, on_level, level_results, done, n_levels):
-    """Sweep the levels ``todo`` into ``done`` (and ``level_results``): in this process or in a
-    pool of spawned workers."""
+def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_results, done, n_levels, store):
+    """Sweep the levels ``todo`` into ``done`` (and ``level_results``) on ``backend``
+    (:func:`contactvib.sweeps.backends.run_levels`: this process, a local pool or Dask)."""
     from tqdm import tqdm
 
-    n_workers = workers or min(len(todo), os.cpu_count() or 1)
-    bar = tqdm(total=n_levels, initial=n_levels - len(todo), unit="level", desc="resonance",
+    from contactvib.sweeps.backends import kernel_cache_cold, run_levels
+
+    name, compress = store
+    n_points = frequency_grid(SweepSettings(**sd)).size
+    bar = tqdm(total=n_levels, initial=n_levels - len(todo), unit="level", desc=name,
                disable=not progress, leave=False)
+    if progress and todo and kernel_cache_cold():
+        import sys
+
+        bar.write("compiling the kernels (first run, ~30 s)…", file=sys.stderr)
 
     def finished(pa, result):
         done[pa], extra = result
+        if out is not None and not chunk_path(out, pa).exists():  # a cluster without our file system
+            from contactvib.sweeps.dataset import write_atomic
+
+            write_atomic(done[pa].assign_attrs({_LEVEL_ATTR: float(pa)}), chunk_path(out, pa), compress=compress)
         if level_results is not None:
             level_results[pa] = extra
         bar.update(1)
-        bar.set_postfix_str(f"P_a = {pa:g} Q done")
+        bar.set_postfix_str(f"P_a = {pa:g} Q done, {bar.n * n_points}/{n_levels * n_points} f_e points")
 
+    # absolute: a worker of a running cluster need not share this process's working directory
+    tasks = {pa: (model.parameters(), pa, sd, str(chunk_path(out, pa).absolute()) if out is not None else None,
+                  on_level, compress) for pa in todo}
     try:
-        if n_workers <= 1 or len(todo) <= 1:
-            for pa in todo:
-                c = str(chunk_path(out, pa)) if out is not None else None
-                finished(pa, _run_level(model.parameters(), pa, sd, c, on_level))
-                check_interrupt()
-        else:
-            _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished)
+        run_levels(tasks, _run_level, backend, finished)
     finally:
         bar.close()
-
-
-def _sweep_in_pool(model, todo, sd, out, n_workers, on_level, finished):
-    import multiprocessing as mp
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-
-    _quiet_resource_tracker()
-    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=mp.get_context("spawn"),
-                               initializer=_worker_init, initargs=(os.getpid(),))
-    futs = {}
-    try:
-        for pa in sorted(todo, key=lambda p: -p):
-            futs[pool.submit(_run_level, model.parameters(), pa, sd,
-                             str(chunk_path(out, pa)) if out is not None else None, on_level)] = pa
-        pending = set(futs)
-        while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
-            ready, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-            for fut in ready:
-                finished(futs[fut], fut.result())
-            check_interrupt()
-    except BaseException:
-        _stop_pool(pool)
-        raise
-    pool.shutdown(wait=True)
-
-
-def _quiet_resource_tracker() -> None:
-    """Start multiprocessing's resource tracker (if not running) without warnings: when this
-    process is killed (SIGKILL) it still removes the pool's semaphores, but silently instead of
-    two lines about "leaked semaphore objects" on the terminal."""
-    import sys
-
-    try:
-        from multiprocessing import resource_tracker
-    except ImportError:  # not POSIX
-        return
-    sys.warnoptions.append("ignore::UserWarning")  # passed on as -W to the tracker it starts
-    try:
-        resource_tracker.ensure_running()
-    finally:
-        sys.warnoptions.remove("ignore::UserWarning")
-
-
-def _stop_pool(pool) -> None:
-    """Stop a process pool at once: pending levels cancelled, running ones terminated (SIGTERM),
-    workers joined; SIGINT is ignored meanwhile (main thread)."""
-    import signal
-    import threading
-
-    main = threading.current_thread() is threading.main_thread()
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
-    try:
-        processes = list((getattr(pool, "_processes", None) or {}).values())
-        manager = getattr(pool, "_executor_manager_thread", None)
-        results = getattr(pool, "_result_queue", None)
-        for p in processes:
-            p.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
-        for p in processes:
-            p.join(5.0)
-            if p.is_alive():
-                p.kill()
-                p.join(5.0)
-        # A worker terminated while sending a level leaves the pool's thread reading a partial
-        # message forever (and the interpreter's exit joins that thread): with every worker
-        # gone, closing this process's end for writing gives it end-of-file instead.
-        if results is not None and getattr(results, "_writer", None) is not None:
-            results._writer.close()
-        if manager is not None:
-            manager.join(10.0)
-    finally:
-        if main:
-            signal.signal(signal.SIGINT, previous)
 
 
 def _interrupted(out, levels, done, started: float) -> Interrupted:

@@ -1,0 +1,89 @@
+"""CLI command ``atlas``: many P_a levels, each ``resonance``'s level, on a local process pool or
+a Dask cluster, stored as compressed chunks and one compressed ``atlas.nc``.
+
+Thin: parse and validate (one-line errors, exit 2), call :func:`contactvib.sweeps.atlas.atlas_dataset`.
+"""
+
+from __future__ import annotations
+
+import click
+
+from contactvib.cli.common import InputError, LevelsCommand, _checked, _int, _levels, _mapped, _output_folder
+from contactvib.cli.sweeps import _sweep_inputs, _sweep_options, _writing_into
+from contactvib.model import WORKERS_MAX, ParameterError
+
+__all__: list = []
+
+#: The defaults of the P_a range (the issue's atlas: 96 levels from 0.05 Q to 1 Q).
+_RANGE_DEFAULTS = {"pa_min": "0.05", "pa_max": "1.0", "npa": "96"}
+_RANGE_OPTIONS = {"pa_min": "--pa-min", "pa_max": "--pa-max", "npa": "--npa"}
+
+
+def _atlas_levels(pa, pa_min, pa_max, npa) -> list[float]:
+    """The levels: the explicit ``--pa`` list, or ``--npa`` levels from ``--pa-min`` to ``--pa-max``."""
+    from contactvib.sweeps.atlas import atlas_levels
+
+    given = {k: v for k, v in (("pa_min", pa_min), ("pa_max", pa_max), ("npa", npa)) if v is not None}
+    if pa:
+        if given:
+            raise InputError(f"--pa: give the levels either as a list (--pa) or as a range "
+                             f"({', '.join(_RANGE_OPTIONS[k] for k in given)}), not both")
+        return _levels(pa)
+    kw = {**_RANGE_DEFAULTS, **given}
+    return _mapped(_RANGE_OPTIONS, atlas_levels, kw["pa_min"], kw["pa_max"], kw["npa"])
+
+
+def _backend(workers, dask_workers, scheduler):
+    """The backend of the options: the local pool (``--workers``), a LocalCluster
+    (``--dask-workers``) or a running cluster (``--scheduler``); one of them."""
+    from contactvib.sweeps.backends import DaskBackend, LocalPool
+
+    if dask_workers is not None and scheduler is not None:
+        raise InputError("--dask-workers: give either --dask-workers (a local Dask cluster) or "
+                         "--scheduler (a running one), not both")
+    if (dask_workers is not None or scheduler is not None) and workers is not None:
+        option = "--dask-workers" if dask_workers is not None else "--scheduler"
+        raise InputError(f"--workers: sizes the local process pool; with {option} the Dask "
+                         "workers run the levels (leave --workers out)")
+    if scheduler is not None:
+        return _checked("--scheduler", DaskBackend, scheduler=scheduler)
+    if dask_workers is not None:
+        return DaskBackend(n_workers=_int("--dask-workers", dask_workers, 1, WORKERS_MAX, "dask_workers"))
+    return LocalPool(workers)
+
+
+@click.command(cls=LevelsCommand)
+@click.option("--pa", multiple=True, metavar="Q [Q ...]",
+              help="Explicit levels P_a [Q] (instead of --pa-min/--pa-max/--npa); several values after one --pa.")
+@click.option("--pa-min", default=None, metavar="Q", help="Lowest level P_a [Q]  [default: 0.05]")
+@click.option("--pa-max", default=None, metavar="Q", help="Highest level P_a [Q]  [default: 1.0]")
+@click.option("--npa", default=None, metavar="N",
+              help="Levels from --pa-min to --pa-max, evenly spaced (rounded to 1e-9 Q)  [default: 96]")
+@_sweep_options
+@click.option("--dask-workers", default=None, metavar="N",
+              help="Run the levels on a local Dask cluster (LocalCluster) of N single-threaded worker processes.")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Run the levels on a running Dask cluster, e.g. tcp://HOST:8786 (dask-jobqueue on SLURM/PBS: "
+                   "pass its cluster.scheduler_address).")
+@click.option("--out", default="atlas", show_default=True, type=click.Path(file_okay=False),
+              help="Output folder: atlas.nc (NetCDF4, zlib level 4, chunked along point) and .chunks/ (one "
+                   "compressed file per level).")
+def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, **sweep):
+    """The evolution atlas: resonance's sweep at many P_a levels, locally or on Dask, resumable."""
+    levels = _atlas_levels(pa, pa_min, pa_max, npa)
+    model, st, n_workers = _sweep_inputs(sweep)
+    backend = _backend(n_workers, dask_workers, scheduler)
+    from contactvib.sweeps.atlas import atlas_dataset
+
+    out = _output_folder(out)
+    try:
+        with _writing_into(out):
+            ds = atlas_dataset(model, levels, st, out, resume=sweep["resume"], backend=backend,
+                               progress=not sweep["no_progress"])
+    except ParameterError as e:
+        if e.symbol != "scheduler":
+            raise
+        raise InputError(f"--scheduler = {scheduler}: {e.allowed}") from None
+    n = len(set(levels))
+    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on {n} "
+               f"level{'s' * (n != 1)} -> {out / 'atlas.nc'}")
