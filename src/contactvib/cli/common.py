@@ -251,23 +251,28 @@ def _search_options(f):
 
 
 
-def _output_folder(path, option: str = "--out"):
+def _output_folder(path, option: str = "--out", file: str | None = None):
     """The output folder ``path`` as a :class:`~pathlib.Path`, created and checked writable
-    (a probe file is created and removed) before any computation; an InputError otherwise."""
+    (a probe file is created and removed) before any computation; an InputError otherwise.
+    ``file``: the option's value when it names a file in that folder (a film), named in the
+    messages instead of the folder."""
     import os
     import tempfile
     from pathlib import Path
 
     p = Path(path)
+    shown, which = (path, "the folder") if file is None else (file, "its folder")
     try:
         if p.exists() and not p.is_dir():
-            raise InputError(f"{option} = {path}: exists and is not a folder")
+            if file is None:
+                raise InputError(f"{option} = {path}: exists and is not a folder")
+            raise NotADirectoryError(20, "Not a directory")
         p.mkdir(parents=True, exist_ok=True)
         fd, probe = tempfile.mkstemp(prefix=".contactvib-probe-", dir=p)
         os.close(fd)
         os.remove(probe)
     except OSError as e:
-        raise InputError(f"{option} = {path}: cannot create or write the folder "
+        raise InputError(f"{option} = {shown}: cannot create or write {which} "
                          f"({e.strerror or type(e).__name__})") from None
     return p
 

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, _ctrl_c, _error
+from contactvib.cli.common import InputError, _ctrl_c, _error, _output_folder
 from contactvib.model import ParameterError
 
 _FILM_OPTIONS = {"fps": "--fps", "width": "--size", "height": "--size"}
@@ -26,19 +24,9 @@ def _output_file(out: str, gif: bool) -> Path:
     """``--out``: its folder created and writable (probe file), its suffix .mp4 (or .gif with
     --gif); an InputError otherwise — before anything is read or drawn."""
     path = Path(out)
-    folder = path.parent
-    try:
-        if path.is_dir():
-            raise InputError(f"--out = {out}: is a folder; give the film's file name (e.g. evolution.mp4)")
-        if folder.exists() and not folder.is_dir():
-            raise NotADirectoryError(20, "Not a directory")
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=".contactvib-probe-", dir=folder)
-        os.close(fd)
-        os.remove(probe)
-    except OSError as e:
-        raise InputError(f"--out = {out}: cannot create or write its folder "
-                         f"({e.strerror or type(e).__name__})") from None
+    if path.is_dir():
+        raise InputError(f"--out = {out}: is a folder; give the film's file name (e.g. evolution.mp4)")
+    _output_folder(path.parent, file=out)  # created and writable, or one line naming --out
     want = ".gif" if gif else ".mp4"
     if path.suffix.lower() != want:
         hint = "with --gif the film is a GIF" if gif else "or in .gif with --gif"
