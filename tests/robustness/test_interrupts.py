@@ -13,6 +13,7 @@ import pytest
 import xarray as xr
 
 import contactvib
+from chunks_wait import first_chunk
 from contactvib import ContactModel
 
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc (Linux)")
@@ -71,15 +72,6 @@ def _gone(members: set, wait: float = 10.0) -> set:
         time.sleep(0.1)
 
 
-def _first_chunk(p, out: Path, timeout: float = 180.0):
-    """Wait until a finished chunk exists in ``out/.chunks`` (the run is then mid-way)."""
-    deadline = time.monotonic() + timeout
-    while not list((out / ".chunks").glob("level_pa*.nc")):
-        assert p.poll() is None, f"finished before a chunk was seen: {p.communicate()}"
-        assert time.monotonic() < deadline, "no chunk written"
-        time.sleep(0.02)
-
-
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
     """The uninterrupted dataset (in this process)."""
@@ -107,7 +99,7 @@ def _resumed_equals(reference, out: Path):
 def test_sigint_one_line_130_no_process_and_resume(tmp_path, reference, workers):
     out = tmp_path / "out"
     p = _contactvib("--out", str(out), "--workers", workers)
-    _first_chunk(p, out)
+    first_chunk(p, out)
     family = _descendants(p.pid)
     p.send_signal(signal.SIGINT)
     t0 = time.monotonic()
@@ -130,7 +122,7 @@ def test_sigint_one_line_130_no_process_and_resume(tmp_path, reference, workers)
 def test_sigkill_leaves_no_process_and_resume(tmp_path, reference, workers):
     out = tmp_path / "out"
     p = _contactvib("--out", str(out), "--workers", workers)
-    _first_chunk(p, out)
+    first_chunk(p, out)
     family = _descendants(p.pid)
     if workers == "2":
         assert len(family) >= 2  # the workers (and multiprocessing's resource tracker)

@@ -16,6 +16,7 @@ import pytest
 import xarray as xr
 
 import contactvib
+from chunks_wait import first_chunk
 from contactvib.cli import main
 
 LEVELS = ["0.3", "0.4", "0.5"]
@@ -96,14 +97,6 @@ def test_each_level_equals_resonance(reference, tmp_path):
         np.testing.assert_array_equal(ds[name].values[at], merged[name].values, err_msg=name)  # NaN == NaN
 
 
-def _first_chunk(p, out: Path, timeout: float = 120.0):
-    deadline = time.monotonic() + timeout
-    while not list((out / ".chunks").glob("level_pa*.nc")):
-        assert p.poll() is None, f"finished before a chunk was seen: {p.communicate()}"
-        assert time.monotonic() < deadline, "no chunk written"
-        time.sleep(0.02)
-
-
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc (Linux)")
 def test_resume_after_sigint_on_another_backend(reference, tmp_path, capsys):
     """Interrupted on the local pool (one line, exit 130), resumed on a Dask LocalCluster: the
@@ -113,7 +106,7 @@ def test_resume_after_sigint_on_another_backend(reference, tmp_path, capsys):
     p = subprocess.Popen([sys.executable, "-m", "contactvib", "atlas", "--pa", *LEVELS, *GRID, "--workers", "1",
                           "--out", str(out)], env=_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True)
-    _first_chunk(p, out)
+    first_chunk(p, out)
     p.send_signal(signal.SIGINT)
     stdout, stderr = p.communicate(timeout=60)
     assert p.returncode == 130, stderr
@@ -236,7 +229,7 @@ def test_sigkill_on_a_local_cluster_leaves_no_process(tmp_path):
     p = subprocess.Popen([sys.executable, "-m", "contactvib", "atlas", "--pa", *LEVELS, *GRID, "--dask-workers", "2",
                           "--out", str(out)], env=_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True, start_new_session=True)
-    _first_chunk(p, out)
+    first_chunk(p, out)
     assert len(_session(p.pid)) >= 3  # this run, its two Dask workers (and the resource tracker)
     p.kill()
     _stdout, stderr = p.communicate(timeout=60)

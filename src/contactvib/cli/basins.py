@@ -11,6 +11,7 @@ from contactvib.cli.common import (
     _error,
     _excitation,
     _mapped,
+    _max_periods,
     _model,
     _number,
     _operating_point_options,
@@ -69,7 +70,7 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
     box = _box(y_range, ydot_range, model, exc)
-    mp = None if max_periods.strip().lower() == "auto" else max_periods
+    mp = _max_periods(max_periods)
     try:  # the bounds keep their symbols: "--y-range (y_max) = -1: must be > y_min = 1 µm"
         checked = check_basins(_grid(grid), box, kmax, mp, starts)
     except ParameterError as e:

@@ -237,6 +237,12 @@ def _operating_point_options(f):
     return f
 
 
+def _max_periods(text: str) -> float | None:
+    """``--max-periods``: None for ``auto`` (the library derives it from the damping), else its
+    number (checked by the library)."""
+    return None if text.strip().lower() == "auto" else _number("--max-periods", "max_periods", text)
+
+
 def _search_options(f):
     f = click.option("--no-seeds", is_flag=True, help="Skip the ballistic seeds (box starts only).")(f)
     f = click.option("--max-periods", default="auto", show_default=True,

@@ -10,6 +10,7 @@ from contactvib.cli.common import (
     _excitation,
     _int,
     _mapped,
+    _max_periods,
     _model,
     _number,
     _operating_point_options,
@@ -26,9 +27,9 @@ def _search(starts, seed, kmax, max_periods) -> dict:
     """The search options, checked by the library (ranges and memory; we name the options)."""
     from contactvib.steady.attractors import check_search
 
-    kw = {name: None if (name == "max_periods" and text.strip().lower() == "auto")
-          else _number(option, name, text) for (name, option), text
-          in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax, max_periods))}
+    kw = {name: _number(option, name, text) for (name, option), text
+          in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax))}
+    kw["max_periods"] = _max_periods(max_periods)
     return dict(zip(_SEARCH_OPTIONS, _mapped(_SEARCH_OPTIONS, check_search, **kw)))
 
 

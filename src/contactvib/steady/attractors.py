@@ -266,11 +266,12 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         Zs, phs = ballistic_seeds(excitation)
     else:
         Zs, phs = np.empty((0, 2)), np.empty(0)
-    if max_periods is None:
+    auto = max_periods is None
+    if auto:
         max_periods = default_max_periods(excitation, detect_tol)
-        check_work(excitation, n_starts + Zs.shape[0], max_periods)
-        check_search(n_starts, seed, kmax, max_periods)
-    check_work(excitation, n_starts + Zs.shape[0], max_periods)
+    check_work(excitation, n_starts + Zs.shape[0], max_periods)  # before the memory: names f_n0
+    if auto:
+        check_search(n_starts, seed, kmax, max_periods)  # the memory of the chosen limit
     n_first = min(n_starts, FIRST_WAVE)
     groups: list[dict] = []  # each: period, strobe or tail, z, M, res, hits, box, type, lyap
     counts = np.zeros(3, np.int64)  # failed, unsettled, unsettled box starts

@@ -112,16 +112,11 @@ def _spacing(a: np.ndarray, b: np.ndarray, same: bool) -> np.ndarray:
     return d.min(axis=1)
 
 
-def cloud_verdict(tail: np.ndarray, lyapunov: float) -> tuple[bool, str]:
-    """Whether the strobe points ``tail`` (float[2·WINDOW, 2], oldest first, nondimensional) with
-    largest Lyapunov exponent ``lyapunov`` [1/period] are a non-periodic attractor.
-
-    Returns ``(True, "chaotic" | "quasi-periodic")`` or ``(False, reason)``.
-    """
+def _unsettled_cloud(tail: np.ndarray) -> str | None:
+    """Why the strobe points ``tail`` are not a settled cloud (too few, drifting, contracting),
+    or None when they are recurrent and keep their spread."""
     if tail.shape[0] < 2 * WINDOW or not np.all(np.isfinite(tail)):
-        return False, "too few strobe points"
-    if not math.isfinite(lyapunov):
-        return False, "Lyapunov exponent not finite"
+        return "too few strobe points"
     scale = np.ptp(tail, axis=0)
     scale = np.where(scale > 0.0, scale, 1.0)
     old, new = tail[:WINDOW] / scale, tail[WINDOW:] / scale
@@ -130,23 +125,38 @@ def cloud_verdict(tail: np.ndarray, lyapunov: float) -> tuple[bool, str]:
     drift = max(float(np.median(_spacing(new, old, False))),
                 float(np.median(_spacing(old, new, False))))
     if drift > RECURRENCE_RATIO * spacing:
-        return False, "strobe cloud still drifting"
+        return "strobe cloud still drifting"
     spread_old = float(np.sqrt(np.mean(np.sum((old - old.mean(axis=0)) ** 2, axis=1))))
     spread_new = float(np.sqrt(np.mean(np.sum((new - new.mean(axis=0)) ** 2, axis=1))))
     if not spread_new >= SPREAD_RATIO_MIN * spread_old:
-        return False, "strobe cloud still contracting"
+        return "strobe cloud still contracting"
+    return None
+
+
+def _lyapunov_verdict(lyapunov: float) -> tuple[bool, str]:
+    if not math.isfinite(lyapunov):
+        return False, "Lyapunov exponent not finite"
     if lyapunov < -LYAPUNOV_ZERO:
         return False, "still converging"
     return True, "chaotic" if lyapunov > LYAPUNOV_ZERO else "quasi-periodic"
+
+
+def cloud_verdict(tail: np.ndarray, lyapunov: float) -> tuple[bool, str]:
+    """Whether the strobe points ``tail`` (float[2·WINDOW, 2], oldest first, nondimensional) with
+    largest Lyapunov exponent ``lyapunov`` [1/period] are a non-periodic attractor.
+
+    Returns ``(True, "chaotic" | "quasi-periodic")`` or ``(False, reason)``.
+    """
+    why = _unsettled_cloud(tail)
+    return (False, why) if why else _lyapunov_verdict(lyapunov)
 
 
 def nonperiodic_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> tuple[bool, str, float]:
     """Whether a start without a period reached a non-periodic attractor: ``(ok, type or reason,
     λ)`` (:func:`cloud_verdict`; λ is computed, at integrator tolerance ``rtol``, only for a
     recurrent cloud)."""
-    ok, why = cloud_verdict(tail, 0.0)
-    if not ok:
+    why = _unsettled_cloud(tail)
+    if why:
         return False, why, math.nan
     lyap = float(lyapunov_strobe(tail[-1].copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
-    ok, why = cloud_verdict(tail, lyap)
-    return ok, why, lyap
+    return (*_lyapunov_verdict(lyap), lyap)
