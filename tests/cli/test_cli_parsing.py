@@ -36,6 +36,8 @@ def _one_line(capsys, needle=""):
     (["--pa", "-.5"], "--pa (P_a/Q) = -0.5: must be > 0"),
     (["--pa", "-0"], "--pa (P_a/Q) = -0: must be > 0"),
     (["--pa"], "--pa: expected one or more levels"),
+    (["--pa=", "0.6"], "--pa (P_a/Q) = : must be a finite number"),
+    (["--pa=0.5", "-0.6"], "--pa (P_a/Q) = -0.6: must be > 0"),
     (["--pa", "--df", "1"], "--pa: expected one or more levels"),
     (["--pa", "0.5", "--bogus"], "No such option '--bogus'"),
     (["--pa", "0.5", "0.6", "x"], "--pa (P_a/Q) = x: must be a finite number"),
@@ -69,7 +71,8 @@ def test_levels_reach_the_command(monkeypatch, tmp_path):
     assert main(["resonance", "--pa", "0.5", "0.6", "0.65", "--df", "5", "--out", str(tmp_path)]) == 2
     assert main(["resonance", "--pa", "0.5", "--df", "5", "--pa", "0.7", "--out", str(tmp_path)]) == 2
     assert main(["resonance", "--df", "5", "--out", str(tmp_path)]) == 2
-    assert seen == [[0.5, 0.6, 0.65], [0.5, 0.7], [0.65]]
+    assert main(["resonance", "--pa=0.5", "0.6", "--df", "5", "--out", str(tmp_path)]) == 2
+    assert seen == [[0.5, 0.6, 0.65], [0.5, 0.7], [0.65], [0.5, 0.6]]
 
 
 def test_one_level_commands_refuse_a_second_value(capsys):

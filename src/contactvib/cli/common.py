@@ -181,12 +181,14 @@ class LevelsCommand(click.Command):
             if token == "--":
                 out.extend(args[i:])
                 break
-            if token != self.multi[0] or ctx.resilient_parsing:
+            inline = token.startswith(self.multi[0] + "=")  # --pa=0.5 0.6: 0.6 is a level too
+            if (token != self.multi[0] and not inline) or ctx.resilient_parsing:
                 out.append(token)
                 i += 1
                 continue
             i += 1
-            levels = []
+            levels = [token.split("=", 1)[1]] if inline else []
+            token = self.multi[0]
             while i < len(args) and _is_level(args[i]):
                 levels.append(args[i])
                 i += 1

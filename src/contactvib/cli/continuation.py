@@ -258,7 +258,7 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
     if as_json:
         _echo_json(allb.to_json())
     else:
-        click.echo(f"wrote {out}/")
+        click.echo(f"wrote {Path(out)}/")
 
 
 @click.command()
@@ -296,4 +296,4 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
         click.echo(line)
     for k, (f, p) in res.extremes.items():
         click.echo(f"{k}: f_e = {f:.5g} Hz, P_a = {p:.4g} Q")
-    click.echo(f"wrote {outp}/evolution_order{m}.png and .json")
+    click.echo(f"wrote {Path(outp)}/evolution_order{m}.png and .json")
