@@ -323,8 +323,10 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
 
         bar.write("compiling the kernels (first run, ~30 s)…", file=sys.stderr)
 
-    def advance(pa, n):
-        """Level ``pa`` has ``n`` frequency points done (the bar never moves back)."""
+    def advance(pa, n, final=False):
+        """Level ``pa`` has ``n`` frequency points done (the bar never moves back; a running
+        level stays one point short of its grid until its dataset has arrived)."""
+        n = n if final else min(n, n_points - 1)
         if pa in points and n > points[pa]:
             bar.update(n - points[pa])
             points[pa] = n
@@ -337,7 +339,7 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
             write_atomic(done[pa].assign_attrs({_LEVEL_ATTR: float(pa)}), chunk_path(out, pa), compress=compress)
         if level_results is not None:
             level_results[pa] = extra
-        advance(pa, n_points)
+        advance(pa, n_points, final=True)
         points.pop(pa, None)
         n_finished = n_levels - len(points)
         bar.set_postfix_str(f"{n_finished}/{n_levels} levels, P_a = {pa:g} Q done, "
