@@ -15,6 +15,11 @@ same chunks and the same merged dataset:
   not once per task. A task re-run after a worker died rewrites its chunk with the same bytes
   through the same atomic rename: never a duplicated or partial chunk.
 
+Progress inside running levels: a level's task calls :func:`report_points` with the frequency
+points it has done; the pool's workers send them through a ``multiprocessing`` queue, Dask's
+through the worker's event log (``log_event`` / ``Client.subscribe_topic``), and ``run_levels``
+hands them to ``progress(pa, points)`` in this process while it waits.
+
 SIGINT (deferred by the caller, :mod:`contactvib.interrupts`) is honoured within 0.2 s while
 waiting: the pool's workers are terminated, the Dask tasks cancelled and a LocalCluster closed.
 """
@@ -23,18 +28,36 @@ from __future__ import annotations
 
 import os
 import re
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 from contactvib.interrupts import check_interrupt
 from contactvib.model import WORKERS_MAX, ParameterError, check_int
 
-__all__ = ["LocalPool", "DaskBackend", "run_levels", "check_scheduler_address", "kernel_cache_cold"]
+__all__ = ["LocalPool", "DaskBackend", "run_levels", "check_scheduler_address", "kernel_cache_cold",
+           "report_points"]
 
 _ADDRESS = re.compile(r"^(?:(tcp|tls|ws|wss|ucx)://)?([A-Za-z0-9._\-]+|\[[0-9A-Fa-f:.]+\]):(\d{1,5})$")
 
 #: Seconds to wait for a running scheduler to answer before refusing its address.
 CONNECT_TIMEOUT_S = 3.0
+
+#: Where this process sends ``(pa, points)`` for a running level (None: nowhere): set in a pool
+#: worker, on a Dask worker for its task, or by :func:`run_levels` for levels run here.
+_POINTS_SINK = None
+_THREAD = threading.local()  # .sink: a Dask task's own (tasks of other runs share the worker)
+
+
+def report_points(pa: float, points: int) -> None:
+    """Tell the parent that the level ``pa`` has ``points`` frequency points done (a no-op when
+    nobody listens; never fails a level)."""
+    sink = getattr(_THREAD, "sink", None) or _POINTS_SINK
+    if sink is not None:
+        try:
+            sink((float(pa), int(points)))
+        except Exception:  # progress is news, not a result
+            pass
 
 
 def check_scheduler_address(address) -> str:
@@ -76,23 +99,31 @@ class DaskBackend:
             object.__setattr__(self, "n_workers", check_int("dask_workers", self.n_workers, 1, WORKERS_MAX))
 
 
-def run_levels(tasks: dict, fn, backend, finished) -> None:
+def run_levels(tasks: dict, fn, backend, finished, progress=None) -> None:
     """Run ``fn(*tasks[pa])`` for every level ``pa`` of ``tasks`` on ``backend`` (a
     :class:`LocalPool`, a :class:`DaskBackend`, or None: the default pool), calling
-    ``finished(pa, result)`` in this process as each ends; highest levels first (the slowest).
+    ``finished(pa, result)`` in this process as each ends and ``progress(pa, points)`` as the
+    running levels report frequency points done (:func:`report_points`); highest levels first
+    (the slowest).
 
     Raises ParameterError ``scheduler`` when no scheduler answers at the address."""
+    global _POINTS_SINK
     backend = LocalPool() if backend is None else backend
+    progress = progress or (lambda pa, points: None)
     order = sorted(tasks, key=lambda p: -p)
     if isinstance(backend, DaskBackend):
-        return _run_on_dask(order, tasks, fn, backend, finished)
+        return _run_on_dask(order, tasks, fn, backend, finished, progress)
     n_workers = backend.workers or min(len(order), os.cpu_count() or 1)
     if n_workers <= 1 or len(order) <= 1:
-        for pa in tasks:
-            finished(pa, fn(*tasks[pa]))
-            check_interrupt()
+        previous, _POINTS_SINK = _POINTS_SINK, (lambda item: progress(*item))
+        try:
+            for pa in tasks:
+                finished(pa, fn(*tasks[pa]))
+                check_interrupt()
+        finally:
+            _POINTS_SINK = previous
         return None
-    return _run_in_pool(order, tasks, fn, n_workers, finished)
+    return _run_in_pool(order, tasks, fn, n_workers, finished, progress)
 
 
 def kernel_cache_cold() -> bool:
@@ -110,20 +141,44 @@ def kernel_cache_cold() -> bool:
 
 # ------------------------------------------------------------------ local process pool
 
-def _run_in_pool(order, tasks, fn, n_workers, finished):
+def _pool_worker_init(parent: int, points) -> None:
+    """A pool worker (:func:`contactvib.sweeps.resonance._worker_init`) that sends its levels'
+    points done through the queue ``points``."""
+    global _POINTS_SINK
+    from contactvib.sweeps.resonance import _worker_init
+
+    _worker_init(parent)
+    points.cancel_join_thread()  # a worker never waits at exit for news nobody reads
+    _POINTS_SINK = points.put
+
+
+def _drain_points(points, progress) -> None:
+    """Hand every ``(pa, points)`` waiting in the queue to ``progress``."""
+    import queue
+
+    while True:
+        try:
+            item = points.get_nowait()
+        except (queue.Empty, OSError, EOFError, ValueError):
+            return
+        progress(*item)
+
+
+def _run_in_pool(order, tasks, fn, n_workers, finished, progress):
     import multiprocessing as mp
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    from contactvib.sweeps.resonance import _worker_init
-
     _quiet_resource_tracker()
-    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=mp.get_context("spawn"),
-                               initializer=_worker_init, initargs=(os.getpid(),))
+    ctx = mp.get_context("spawn")
+    points = ctx.Queue()
+    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx,
+                               initializer=_pool_worker_init, initargs=(os.getpid(), points))
     try:
         futs = {pool.submit(fn, *tasks[pa]): pa for pa in order}
         pending = set(futs)
         while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
             ready, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+            _drain_points(points, progress)
             for fut in ready:
                 finished(futs[fut], fut.result())
             check_interrupt()
@@ -184,7 +239,7 @@ def _stop_pool(pool) -> None:
 
 # ------------------------------------------------------------------ Dask
 
-def _run_on_dask(order, tasks, fn, backend: DaskBackend, finished):
+def _run_on_dask(order, tasks, fn, backend: DaskBackend, finished, progress):
     import time
 
     from contactvib.sweeps.dask_worker import dask_task, open_client
@@ -192,13 +247,18 @@ def _run_on_dask(order, tasks, fn, backend: DaskBackend, finished):
     if backend.scheduler is None:
         _quiet_resource_tracker()  # a LocalCluster's processes: silent when this one is killed
     client, cluster, threads = open_client(backend, CONNECT_TIMEOUT_S)
+    topic = f"contactvib-points-{os.getpid()}-{time.time_ns()}"
+    reported: dict = {}  # pa -> points, written by the client's thread, read here
+    client.subscribe_topic(topic, lambda event: reported.__setitem__(*event[1]))
     futs = {}
     try:
         for pa in order:  # pure=False: a rerun recomputes (its chunk may have been deleted)
             key = f"contactvib-level-pa{pa!r}-{os.getpid()}-{time.time_ns()}"
-            futs[client.submit(dask_task, threads, fn, *tasks[pa], pure=False, key=key)] = pa
+            futs[client.submit(dask_task, threads, topic, fn, *tasks[pa], pure=False, key=key)] = pa
         pending = list(futs)
         while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
+            for pa, points in list(reported.items()):
+                progress(pa, points)
             still = []
             for fut in pending:
                 if fut.done():

@@ -42,13 +42,22 @@ class KernelWarmUp(WorkerPlugin):
         import contactvib.sweeps.sweep  # noqa: F401  (the kernels and their cache)
 
 
-def dask_task(threads: int, fn, *args):
+def dask_task(threads: int, topic: str, fn, *args):
     """``fn(*args)`` on a worker with ``threads`` numba threads (set per task: numba's thread
-    count belongs to the calling thread)."""
+    count belongs to the calling thread); the level's points done
+    (:func:`contactvib.sweeps.backends.report_points`) go to the event topic ``topic``."""
     import numba
+    from distributed import get_worker
+
+    from contactvib.sweeps import backends
 
     numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
-    return fn(*args)
+    worker = get_worker()
+    backends._THREAD.sink = lambda item: worker.log_event(topic, list(item))
+    try:
+        return fn(*args)
+    finally:
+        backends._THREAD.sink = None
 
 
 def open_client(backend, timeout: float):

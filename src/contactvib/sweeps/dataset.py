@@ -280,12 +280,15 @@ POINT_CHUNK = 4096
 def compressed_encoding(ds) -> dict:
     """NetCDF4 encoding of ``ds``: zlib level 4 with byte shuffling for every variable, numeric
     ones chunked along their first dimension (``point``, ``extremum``, ``strobe``, ...) by
-    :data:`POINT_CHUNK`; the values are unchanged."""
+    :data:`POINT_CHUNK`; string arrays stored as UTF-8 character arrays (NetCDF4 cannot compress
+    variable-length strings: they were a third of a compressed level); the values are unchanged."""
     enc = {}
     for name, var in ds.variables.items():
         e = {"zlib": True, "complevel": 4, "shuffle": True}
         if var.ndim and var.dtype.kind not in "OUS" and var.size:
             e["chunksizes"] = tuple(min(POINT_CHUNK, n) if i == 0 else n for i, n in enumerate(var.shape))
+        elif var.ndim and var.dtype.kind in "OU":
+            e["dtype"] = "S1"
         enc[name] = e
     return enc
 

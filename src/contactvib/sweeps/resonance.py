@@ -313,12 +313,23 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
 
     name, compress = store
     n_points = frequency_grid(SweepSettings(**sd)).size
-    bar = tqdm(total=n_levels, initial=n_levels - len(todo), unit="level", desc=name,
-               disable=not progress, leave=False)
+    points = {pa: 0 for pa in todo}  # frequency points done in each level still to finish
+    n_done = n_levels - len(todo)
+    bar = tqdm(total=n_levels * n_points, initial=n_done * n_points, unit="f_e point", desc=name,
+               disable=not progress, leave=False, unit_scale=True)
+    bar.set_postfix_str(f"{n_done}/{n_levels} levels")
     if progress and todo and kernel_cache_cold():
         import sys
 
         bar.write("compiling the kernels (first run, ~30 s)…", file=sys.stderr)
+
+    def advance(pa, n, final=False):
+        """Level ``pa`` has ``n`` frequency points done (the bar never moves back; a running
+        level stays one point short of its grid until its dataset has arrived)."""
+        n = n if final else min(n, n_points - 1)
+        if pa in points and n > points[pa]:
+            bar.update(n - points[pa])
+            points[pa] = n
 
     def finished(pa, result):
         done[pa], extra = result
@@ -328,14 +339,17 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
             write_atomic(done[pa].assign_attrs({_LEVEL_ATTR: float(pa)}), chunk_path(out, pa), compress=compress)
         if level_results is not None:
             level_results[pa] = extra
-        bar.update(1)
-        bar.set_postfix_str(f"P_a = {pa:g} Q done, {bar.n * n_points}/{n_levels * n_points} f_e points")
+        advance(pa, n_points, final=True)
+        points.pop(pa, None)
+        n_finished = n_levels - len(points)
+        bar.set_postfix_str(f"{n_finished}/{n_levels} levels, P_a = {pa:g} Q done, "
+                            f"{bar.n}/{bar.total} f_e points")
 
     # absolute: a worker of a running cluster need not share this process's working directory
     tasks = {pa: (model.parameters(), pa, sd, str(chunk_path(out, pa).absolute()) if out is not None else None,
                   on_level, compress) for pa in todo}
     try:
-        run_levels(tasks, _run_level, backend, finished)
+        run_levels(tasks, _run_level, backend, finished, advance)
     finally:
         bar.close()
 

@@ -396,6 +396,12 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
 def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
+    As the level goes on it reports the frequency points done so far
+    (:func:`contactvib.sweeps.backends.report_points`, a no-op unless a run listens): two fifths
+    of the grid once the sweeps (and their reverse traces) are done, four fifths once the
+    multi-start frequencies are (the last fifth is the level's dataset: descriptions, Lyapunov
+    exponents). It changes nothing computed.
+
     Returns
     -------
     LevelTrace
@@ -410,7 +416,14 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
         if res is not None:
             lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
     lv.drain()
-    observations = [_multistart_at(lv, model, pa_over_q, int(i)) for i in multistart_indices(st)]
+    from contactvib.sweeps.backends import report_points
+
+    starts = multistart_indices(st)
+    report_points(pa_over_q, 2 * f.size // 5)
+    observations = []
+    for n, i in enumerate(starts, 1):
+        observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
+        report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
     basin = np.full(lv.n_rows, np.nan)
     for obs in observations:
         for gid, frac in obs:

@@ -1,0 +1,92 @@
+"""Benchmark of ``contactvib atlas`` (issue 14, Performance), measured in one run:
+
+* a slice of the 96-level atlas (``--levels`` levels spread evenly over 0.05–1.0 Q, 30–2000 Hz
+  at 1 Hz, warm numba cache) on the local pool with 2 workers: wall time, CPU seconds per level
+  (this process's children, so also valid on a shared machine), levels per minute, and the
+  96-level time extrapolated from the CPU seconds per level on 2 cores;
+* the same slice on a Dask ``LocalCluster`` with 1 and with 2 workers: parallel efficiency
+  t(1) / (2 t(2));
+* ``contactvib paper`` with an empty numba cache (``NUMBA_CACHE_DIR`` set to a new temporary
+  folder: the package then leaves numba's cache folder alone, see ``_kernels/__init__.py``) and
+  again warm;
+* ``contactvib basins --pa 0.65 --fe 360 --grid 400x400``.
+
+Run from the repository root::
+
+    PYTHONPATH=src python benchmarks/bench_atlas.py             # writes benchmarks/results_atlas.json
+    PYTHONPATH=src python benchmarks/bench_atlas.py --levels 4  # a smaller slice
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+
+
+def _run(args, env=None) -> dict:
+    """Wall and CPU seconds (user + system of the finished children) of one CLI run."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "contactvib", *args], check=True, env=env,
+                   stdout=subprocess.DEVNULL)
+    wall = time.perf_counter() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return {"wall_s": round(wall, 2), "cpu_s": round(cpu, 2)}
+
+
+def _atlas(levels, tmp, name, backend) -> dict:
+    out = Path(tmp) / name
+    r = _run(["atlas", "--pa", *levels, "--no-progress", *backend, "--out", str(out)])
+    r["levels"] = len(levels)
+    r["levels_per_min"] = round(60 * len(levels) / r["wall_s"], 2)
+    r["cpu_s_per_level"] = round(r["cpu_s"] / len(levels), 2)
+    r["atlas_mb"] = round((out / "atlas.nc").stat().st_size / 1e6, 2)
+    print(name, r, flush=True)
+    return r
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--levels", type=int, default=12)
+    ap.add_argument("--no-dask", action="store_true")
+    args = ap.parse_args()
+    levels = [f"{p:.4g}" for p in np.linspace(0.05, 1.0, args.levels)]
+    res = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
+           "load_average_at_start": os.getloadavg(), "slice_pa_over_q": levels}
+    with tempfile.TemporaryDirectory() as tmp:
+        _run(["atlas", "--pa", "0.5", "--fmin", "300", "--fmax", "320", "--no-progress",
+              "--out", str(Path(tmp) / "warmup")])  # the cache warm
+        pool = res["pool_2_workers"] = _atlas(levels, tmp, "pool2", ["--workers", "2"])
+        res["extrapolated_96_levels_min_2_cores"] = round(96 * pool["cpu_s_per_level"] / 2 / 60, 2)
+        if not args.no_dask:
+            d1 = res["dask_1_worker"] = _atlas(levels, tmp, "dask1", ["--dask-workers", "1"])
+            d2 = res["dask_2_workers"] = _atlas(levels, tmp, "dask2", ["--dask-workers", "2"])
+            res["dask_parallel_efficiency"] = round(d1["wall_s"] / (2 * d2["wall_s"]), 3)
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "numba-cold"))
+        res["paper_first_run"] = _run(["paper", "--no-progress", "--out", str(Path(tmp) / "p_cold")], env)
+        res["paper_warm"] = _run(["paper", "--no-progress", "--out", str(Path(tmp) / "p_warm")], env)
+        print("paper", res["paper_first_run"], res["paper_warm"], flush=True)
+        res["basins_400x400"] = _run(["basins", "--pa", "0.65", "--fe", "360", "--grid", "400x400",
+                                      "--out", str(Path(tmp) / "basins")])
+        print("basins", res["basins_400x400"], flush=True)
+    res["targets"] = {"atlas_96_levels_min": 6.0, "dask_efficiency": 0.9, "paper_first_run_s": 60.0,
+                      "basins_400_s": 30.0}
+    (HERE / "results_atlas.json").write_text(json.dumps(res, indent=1) + "\n")
+    print(json.dumps(res, indent=1))
+
+
+if __name__ == "__main__":
+    main()

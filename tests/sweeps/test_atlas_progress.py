@@ -1,0 +1,52 @@
+"""Issue 14, Atlas: progress counts the frequency points done inside running levels (not only
+finished levels), on every backend, and the bar says so."""
+
+import pytest
+
+from contactvib import ContactModel
+from contactvib.sweeps.backends import DaskBackend, LocalPool, run_levels
+from contactvib.sweeps.resonance import _run_level, resonance_dataset
+from contactvib.sweeps.sweep import SweepSettings, frequency_grid
+
+ST = SweepSettings(fmin_hz=480.0, fmax_hz=520.0, df_hz=10.0, multistart_per_octave=1, multistart_starts=2)
+LEVELS = (0.5, 0.6)
+
+
+def _run(backend):
+    """``(reports, finished)``: every ``(pa, points)`` the levels reported while running, and
+    the levels in the order they finished."""
+    reports, finished = [], []
+    tasks = {pa: (ContactModel().parameters(), pa, ST.to_dict(), None, None, False) for pa in LEVELS}
+    run_levels(tasks, _run_level, backend, lambda pa, result: finished.append(pa),
+               lambda pa, points: reports.append((pa, points)))
+    return reports, finished
+
+
+def _check(reports, finished):
+    n = frequency_grid(ST).size
+    assert sorted(finished) == sorted(LEVELS)
+    for pa in LEVELS:
+        mine = [p for q, p in reports if q == pa]
+        # half the grid after the sweeps, then the multi-start: points inside the running level
+        assert any(0 < p < n for p in mine), (pa, mine)
+        assert all(0 < p <= n for p in mine)
+
+
+@pytest.mark.parametrize("backend", [LocalPool(1), LocalPool(2)], ids=["this-process", "pool-2"])
+def test_levels_report_points_done_while_running(backend):
+    _check(*_run(backend))
+
+
+def test_dask_workers_report_points_done_while_running():
+    reports, finished = _run(DaskBackend(n_workers=2))
+    _check(reports, finished)
+
+
+def test_bar_counts_points_and_levels(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr("contactvib.sweeps.backends.kernel_cache_cold", lambda: False)
+    resonance_dataset(ContactModel(), list(LEVELS), ST, out=tmp_path, name="atlas", backend=LocalPool(1),
+                      progress=True)
+    err = capsys.readouterr().err
+    n = frequency_grid(ST).size
+    assert "2/2 levels" in err and f"{2 * n}/{2 * n} f_e points" in err
+    assert "f_e point" in err and "compiling" not in err  # warm cache: no compile notice
