@@ -100,6 +100,13 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
     _same(rows, _cli_json())
     assert len(rows) == 5
     page.screenshot(path=str(shots / "explore_065Q_360Hz.png"), full_page=True)
+    with page.expect_download() as info:  # the attractors as JSON: the CLI's contract
+        page.locator(".download-json").first.click()
+    got = json.loads(Path(info.value.path()).read_text())
+    cli = _cli_json()
+    assert set(got) == set(cli) and len(got["attractors"]) == 5
+    for a, b in zip(got["attractors"], cli["attractors"]):
+        assert a["period"] == b["period"] and a["app_um"] == pytest.approx(b["app_um"], abs=1e-6)
 
     _set_field(page, "fe", "287")
     page.wait_for_function("() => location.search.includes('fe=287')")

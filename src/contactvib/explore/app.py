@@ -57,9 +57,9 @@ def _history_figures(hist):
     gap = ~np.asarray(hist.in_contact)
     edges = np.flatnonzero(np.diff(np.r_[0, gap.astype(int), 0]))
     lo, hi = float(np.min(y)), float(np.max(y))
-    for a, b in zip(edges[::2], edges[1::2]):
-        th.quad(left=t[a], right=t[min(b, len(t) - 1)], bottom=lo, top=hi, color="#f4b183", alpha=0.35,
-                legend_label="contact lost")
+    if len(edges):  # one glyph for every interval of lost contact
+        th.quad(left=t[edges[::2]], right=t[np.minimum(edges[1::2], len(t) - 1)], bottom=lo, top=hi,
+                color="#f4b183", alpha=0.35, legend_label="contact lost")
     th.line(t, y, line_width=1.5, legend_label="y(t)")
     th.add_layout(Span(location=0.0, dimension="width", line_color="black", line_dash="dashed"))
     th.add_layout(Span(location=hist.y0_um, dimension="width", line_color="green", line_dash="dotted"))
@@ -102,6 +102,9 @@ class Page:
         self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
         self.table = pn.pane.HTML("", css_classes=["table"], width=900)
         self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=120)
+        self.download = pn.widgets.FileDownload(callback=self._json, filename="attractors.json",
+                                                label="attractors.json (the CLI's --json)", width=260,
+                                                css_classes=["download-json"])
         self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
         for w in self.fields.values():
             w.param.watch(self._changed, "value")
@@ -124,7 +127,7 @@ class Page:
                         pn.GridBox(*(self.fields[k] for k in DEFAULTS if k not in ("pa", "fe")), ncols=4),
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
-                         self.status, "### Attractors", self.table, self.select, self.plots)
+                         self.status, "### Attractors", self.table, pn.Row(self.select, self.download), self.plots)
 
     async def _changed(self, event=None):
         await self.refresh()
@@ -168,6 +171,22 @@ class Page:
                  self.point.fields["pa"], self.point.fields["fe"], payload["search_s"], total)
         self.status.object = (f'<span class="done">{len(result)} attractors; search '
                               f'{payload["search_s"]:.2f} s, with histories and render {total:.2f} s</span>')
+
+    def _json(self):
+        """The attractors as ``contactvib attractors --json`` prints them."""
+        import io
+        import json
+        import math
+
+        def finite(obj):  # strict JSON, as the CLI writes it: a non-finite number is null
+            if isinstance(obj, float):
+                return obj if math.isfinite(obj) else None
+            if isinstance(obj, dict):
+                return {k: finite(v) for k, v in obj.items()}
+            return [finite(v) for v in obj] if isinstance(obj, list) else obj
+
+        obj = {} if self.payload is None else finite(json.loads(self.payload["result"].to_json()))
+        return io.StringIO(json.dumps(obj, allow_nan=False, indent=1))
 
     def _draw(self):
         i = self.select.value
