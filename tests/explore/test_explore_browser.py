@@ -137,3 +137,10 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
     assert other.locator(".field-fe input").input_value() == "287"
     assert _table(other) == _table(page)
     other.screenshot(path=str(shots / "explore_from_url.png"), full_page=True)
+
+    fresh = browser.new_page()  # another tab at the plain address: its own state, not the others'
+    fresh.goto(server)
+    _wait_done(fresh)
+    assert fresh.locator(".field-fe input").input_value() == "360"
+    assert _table(fresh) == rows
+    assert page.locator(".field-fe input").input_value() == "287"
