@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["Interrupted", "deferred_sigint", "check_interrupt", "end_with_parent",
-           "run_interruptible", "new_stop_flag"]
+           "run_interruptible", "new_stop_flag", "stop_scope"]
 
 
 class Interrupted(KeyboardInterrupt):
@@ -136,9 +136,26 @@ def end_with_parent(parent: int) -> None:
                      name="contactvib-parent-watch").start()
 
 
+_SCOPE = threading.local()  # the stop flag of this thread's stop_scope, if any
+
+
+@contextmanager
+def stop_scope(flag: np.ndarray):
+    """Within (in this thread): :func:`new_stop_flag` returns ``flag``, so that another thread
+    stops every kernel run here by setting ``flag[0] = 1`` (``contactvib explore``'s time
+    limit; the result computed under a set flag is incomplete and must be dropped)."""
+    previous = getattr(_SCOPE, "flag", None)
+    _SCOPE.flag = flag
+    try:
+        yield flag
+    finally:
+        _SCOPE.flag = previous
+
+
 def new_stop_flag() -> np.ndarray:
-    """A cleared stop flag for a kernel (int64[1])."""
-    return np.zeros(1, np.int64)
+    """A cleared stop flag for a kernel (int64[1]); within :func:`stop_scope`, its flag."""
+    scoped = getattr(_SCOPE, "flag", None)
+    return np.zeros(1, np.int64) if scoped is None else scoped
 
 
 def run_interruptible(kernel, *args, stop: np.ndarray):

@@ -74,6 +74,7 @@ OPTIONS = {
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                      "--order": "value", "--summation": "value"},
     "map": {"--orders": "levels", "--curves": "value"},
+    "explore": {"--port": "value", "--host": "value", "--time-limit": "value"},
 }
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
@@ -104,7 +105,7 @@ def _argv(command, option, kind, value, tmp_path, small_dataset):
         head += [str(small_dataset)]
     if command == "animate":  # a dataset and a film file
         head += [str(small_dataset), "--out", str(tmp_path / "film.mp4")]
-    elif command not in ("attractors", "query"):
+    elif command not in ("attractors", "query", "explore"):  # explore writes nothing
         head += ["--out", str(tmp_path / "out")]
     head += NEEDS.get((command, option), [])
     if kind == "levels":
@@ -202,7 +203,7 @@ def test_any_command_line_works_or_is_one_line(command, no_computation, capsys, 
     def check(tokens):
         head = [command, str(small_dataset)] if command in ("query", "map", "animate") else [command]
         out = str(tmp_path / ("film.mp4" if command == "animate" else "out"))
-        _outcome(head + tokens + ["--out", out] * (command not in ("attractors", "query")),
+        _outcome(head + tokens + ["--out", out] * (command not in ("attractors", "query", "explore")),
                  capsys, no_computation)
 
     check()

@@ -39,6 +39,7 @@ COMMANDS = [
     pytest.param("animate", ["no_such_dataset.nc"], id="animate"),
     _writes_nothing("attractors"),
     _writes_nothing("query"),
+    _writes_nothing("explore"),  # a server: it writes no file
 ]
 
 

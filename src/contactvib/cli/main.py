@@ -11,6 +11,7 @@ from contactvib.cli.atlas import atlas
 from contactvib.cli.basins import basins
 from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
+from contactvib.cli.explore import explore
 from contactvib.cli.film import animate
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.regimes import map_
@@ -29,7 +30,7 @@ def cli():
 
 
 for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
-                 bifurcations, evolution, perturbation, hbm, map_):
+                 bifurcations, evolution, perturbation, hbm, map_, explore):
     cli.add_command(_command)
 
 

@@ -1,0 +1,62 @@
+"""CLI command ``explore``: the operating point live in the browser (:mod:`contactvib.explore`)."""
+
+from __future__ import annotations
+
+import click
+
+from contactvib.cli.common import InputError, RunInterrupted, _excitation, _int, _model, _positive
+
+
+def _check(point):
+    """The model and excitation of the page's fields, checked as ``attractors`` checks
+    ``--set``, ``--pa`` and ``--fe`` (same one-line messages)."""
+    from contactvib.explore.state import BadInput
+
+    try:
+        model = _model(point.settings())
+        return model, _excitation(model, point.fields["pa"].strip(), None, point.fields["fe"].strip())
+    except InputError as e:
+        raise BadInput(f"contactvib: error: {e}") from None
+
+
+def _find(model, exc):
+    """The search of ``contactvib attractors`` with its default options."""
+    from contactvib.cli.steady import _find as find
+    from contactvib.explore.state import BadInput
+
+    try:
+        return find(model, exc, "512", "0", "8", "auto", False)
+    except InputError as e:
+        raise BadInput(f"contactvib: error: {e}") from None
+    except RunInterrupted as e:
+        raise BadInput(f"contactvib: {e}") from None
+
+
+@click.command()
+@click.option("--port", default="0", show_default=True, help="TCP port (0: a free one).")
+@click.option("--host", default="127.0.0.1", show_default=True,
+              help="Interface to listen on; anything but 127.0.0.1 opens the page to the network.")
+@click.option("--no-browser", is_flag=True, help="Do not open a browser; print the address.")
+@click.option("--time-limit", default="30", show_default=True,
+              help="Stop a computation after this many seconds.")
+def explore(port, host, no_browser, time_limit):
+    """The contact oscillator live in the browser: every attractor at the P_a and f_e you type."""
+    port = _int("--port", port, 0, 65535, symbol="port")
+    limit = _positive("--time-limit", "time_limit", time_limit, "s")
+    host = host.strip()
+    if not host or any(c.isspace() for c in host):
+        raise InputError(f"--host {host!r}: expected a host name or an address")
+    if host not in ("127.0.0.1", "localhost"):
+        click.echo(f"contactvib: warning: listening on {host}: the page is reachable from the network",
+                   err=True)
+    from contactvib.explore.server import serve
+
+    def ready(url):
+        click.echo(f"contactvib explore: {url} (Ctrl-C stops)", err=False)
+
+    try:
+        serve((_check, _find), port, host, not no_browser, limit, ready)
+    except OSError as e:
+        raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
+    except KeyboardInterrupt:
+        click.echo("contactvib: interrupted", err=True)

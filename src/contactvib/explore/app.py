@@ -1,0 +1,210 @@
+"""The explore page of one browser session (Panel): fields, derived quantities, the attractor
+table, the time history and phase portrait of the selected attractor. Every session has its own
+:class:`Page` (tabs share nothing); searches run in a worker thread, a generation counter drops
+a stale result, and the time limit stops the kernels (:func:`.state.run_limited`)."""
+
+from __future__ import annotations
+
+import asyncio
+import html
+import logging
+import time
+from concurrent.futures import ThreadPoolExecutor
+from urllib.parse import urlencode
+
+import numpy as np
+import panel as pn
+from bokeh.models import Span
+from bokeh.plotting import figure
+
+from contactvib.explore.state import DEFAULTS, TIME_LIMIT_S, BadInput, Point, Stopped, derived, search, table_rows
+
+log = logging.getLogger("contactvib.explore")
+_LABELS = {"pa": "P_a [Q]", "fe": "f_e [Hz]", "M": "M [kg]", "g": "g [m/s²]", "S": "S [m²]",
+           "c_n": "c_n [N/m^(2+m2)]", "m2": "m2 [1]", "h_n": "h_n [N s/m^(3+l)]", "l": "l [1]"}
+_EXECUTOR = ThreadPoolExecutor(max_workers=2, thread_name_prefix="contactvib-explore")
+
+
+def _table_html(rows: list[dict]) -> str:
+    """The attractor table; every number also in a ``data-v`` attribute at full precision."""
+    if not rows:
+        return "<p>no attractor</p>"
+    head = "".join(f"<th>{html.escape(k)}</th>" for k in rows[0])
+    body = []
+    for r in rows:
+        cells = []
+        for k, v in r.items():
+            if isinstance(v, float):
+                text = f"{v:.2%}" if k == "basin" else f"{v:.5g}"
+                cells.append(f'<td data-k="{html.escape(k)}" data-v="{v!r}">{text}</td>')
+            else:
+                cells.append(f'<td data-k="{html.escape(k)}">{html.escape("-" if v is None else str(v))}</td>')
+        body.append(f'<tr class="attractor">{"".join(cells)}</tr>')
+    style = ("<style>table.att{border-collapse:collapse;font-family:monospace}"
+             "table.att td,table.att th{padding:2px 8px;border-bottom:1px solid #ccc;text-align:right}</style>")
+    return f'{style}<table class="att" id="attractors"><tr>{head}</tr>{"".join(body)}</table>'
+
+
+def _history_figures(hist):
+    """Time history y(t) (contact loss shaded, y = 0 and y0 drawn) and phase portrait."""
+    th = figure(height=300, width=520, title="Time history", x_axis_label="t [ms]",
+                y_axis_label="y [µm] (> 0 contact deflection)")
+    ph = figure(height=300, width=400, title="Phase portrait", x_axis_label="y [µm]",
+                y_axis_label="ẏ [mm/s]")
+    if hist is None:
+        return th, ph
+    t, y = hist.t_ms, hist.y_um
+    gap = ~np.asarray(hist.in_contact)
+    edges = np.flatnonzero(np.diff(np.r_[0, gap.astype(int), 0]))
+    lo, hi = float(np.min(y)), float(np.max(y))
+    if len(edges):  # one glyph for every interval of lost contact
+        th.quad(left=t[edges[::2]], right=t[np.minimum(edges[1::2], len(t) - 1)], bottom=lo, top=hi,
+                color="#f4b183", alpha=0.35, legend_label="contact lost")
+    th.line(t, y, line_width=1.5, legend_label="y(t)")
+    th.add_layout(Span(location=0.0, dimension="width", line_color="black", line_dash="dashed"))
+    th.add_layout(Span(location=hist.y0_um, dimension="width", line_color="green", line_dash="dotted"))
+    th.legend.location = "bottom_right"
+    ph.line(y, hist.ydot_mm_s, line_width=1.5)
+    ph.add_layout(Span(location=0.0, dimension="height", line_color="black", line_dash="dashed"))
+    ph.add_layout(Span(location=hist.y0_um, dimension="height", line_color="green", line_dash="dotted"))
+    return th, ph
+
+
+def _compute(point: Point, ops, limit_s: float):
+    """Worker thread: checks, search, histories. ``("error", message)`` or ``("ok", payload)``;
+    ``ops = (check, find)``: ``check(point) -> (model, excitation)`` and ``find(model, exc)``,
+    both raising :class:`.BadInput` with the CLI's message."""
+    from contactvib.steady.simulate import attractor_history
+
+    check, find = ops
+    try:
+        model, exc = check(point)
+        result, seconds = search(find, model, exc, limit_s)
+        hists = [attractor_history(model, exc, a) for a in result]
+    except (Stopped, BadInput) as e:
+        return "error", str(e)
+    return "ok", {"model": model, "exc": exc, "result": result, "hists": hists, "search_s": seconds}
+
+
+class Page:
+    """One session's page."""
+
+    def __init__(self, point: Point, ops, limit_s: float = TIME_LIMIT_S):
+        self.point, self.ops, self.limit_s, self.generation, self.payload = point, ops, limit_s, 0, None
+        self.fields = {k: pn.widgets.TextInput(name=_LABELS[k], value=point.fields[k], width=150,
+                                               css_classes=[f"field-{k}"]) for k in DEFAULTS}
+        self.fe_slider = pn.widgets.FloatSlider(name="f_e slider [Hz]", start=50, end=1000, step=1,
+                                                value=self._float("fe", 360.0), width=320)
+        self.pa_slider = pn.widgets.FloatSlider(name="P_a slider [Q]", start=0.05, end=2.0, step=0.05,
+                                                value=self._float("pa", 0.65), width=320)
+        self.message = pn.pane.HTML("", css_classes=["message"], width=900)
+        self.status = pn.pane.HTML("", css_classes=["status"], width=900)
+        self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
+        self.table = pn.pane.HTML("", css_classes=["table"], width=900)
+        self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=120)
+        self.download = pn.widgets.FileDownload(callback=self._json, filename="attractors.json",
+                                                label="attractors.json (the CLI's --json)", width=260,
+                                                css_classes=["download-json"])
+        self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
+        for w in self.fields.values():
+            w.param.watch(self._changed, "value")
+        self.fe_slider.param.watch(lambda e: self._set("fe", e.new), "value_throttled")
+        self.pa_slider.param.watch(lambda e: self._set("pa", e.new), "value_throttled")
+        self.select.param.watch(lambda e: self._draw(), "value")
+
+    def _float(self, name, default):
+        try:
+            return float(self.point.fields[name])
+        except ValueError:
+            return default
+
+    def _set(self, name, value):
+        self.fields[name].value = f"{value:g}"
+
+    def layout(self):
+        ops = pn.Column("### Operating point", pn.Row(self.fields["pa"], self.pa_slider),
+                        pn.Row(self.fields["fe"], self.fe_slider), "### Model",
+                        pn.GridBox(*(self.fields[k] for k in DEFAULTS if k not in ("pa", "fe")), ncols=4),
+                        self.derived)
+        return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
+                         self.status, "### Attractors", self.table, pn.Row(self.select, self.download), self.plots)
+
+    async def _changed(self, event=None):
+        await self.refresh()
+
+    async def refresh(self):
+        """Check the fields and search (the newest request wins; older results are dropped)."""
+        self.point = Point({k: w.value for k, w in self.fields.items()})
+        for name, slider in (("fe", self.fe_slider), ("pa", self.pa_slider)):
+            value = self._float(name, None)
+            if value is not None and slider.start <= value <= slider.end:
+                slider.value = value
+        self.generation += 1
+        mine = self.generation
+        self._sync_url()
+        self.status.object = '<span class="busy">computing…</span>'
+        t0 = time.perf_counter()
+        kind, payload = await asyncio.get_running_loop().run_in_executor(
+            _EXECUTOR, _compute, self.point, self.ops, self.limit_s)
+        if mine != self.generation:
+            return  # a newer request is under way
+        if kind == "error":
+            self.message.object = f'<b style="color:#b00" class="error">{html.escape(payload)}</b>'
+            self.status.object = ""
+            self.payload, self.table.object = None, "<p>(no result for these values)</p>"
+            self.select.options = {"-": -1}
+            self._draw()
+            return
+        self.message.object = ""
+        self.payload = payload
+        d = derived(payload["model"])
+        self.derived.object = (f"f_n0 = {d['f_n0']:.1f} Hz, y0 = {d['y0']:.4f} µm, "
+                               f"ζ = {d['zeta']:.4f}")
+        result = payload["result"]
+        self.table.object = _table_html(table_rows(result))
+        opts = {f"#{i} period {r['period']}": i for i, r in enumerate(table_rows(result))} or {"-": -1}
+        self.select.options = opts
+        self.select.value = next(iter(opts.values()))
+        self._draw()
+        total = time.perf_counter() - t0
+        log.info("explore: P_a=%s Q f_e=%s Hz: find_attractors %.3f s, total with render %.3f s",
+                 self.point.fields["pa"], self.point.fields["fe"], payload["search_s"], total)
+        self.status.object = (f'<span class="done">{len(result)} attractors; search '
+                              f'{payload["search_s"]:.2f} s, with histories and render {total:.2f} s</span>')
+
+    def _json(self):
+        """The attractors as ``contactvib attractors --json`` prints them."""
+        import io
+        import json
+        import math
+
+        def finite(obj):  # strict JSON, as the CLI writes it: a non-finite number is null
+            if isinstance(obj, float):
+                return obj if math.isfinite(obj) else None
+            if isinstance(obj, dict):
+                return {k: finite(v) for k, v in obj.items()}
+            return [finite(v) for v in obj] if isinstance(obj, list) else obj
+
+        obj = {} if self.payload is None else finite(json.loads(self.payload["result"].to_json()))
+        return io.StringIO(json.dumps(obj, allow_nan=False, indent=1))
+
+    def _draw(self):
+        i = self.select.value
+        hists = [] if self.payload is None else self.payload["hists"]
+        hist = hists[i] if isinstance(i, int) and 0 <= i < len(hists) else None
+        self.plots[:] = [pn.pane.Bokeh(f) for f in _history_figures(hist)]
+
+    def _sync_url(self):
+        loc = pn.state.location
+        if loc is not None:
+            q = self.point.query()
+            loc.search = ("?" + urlencode(q)) if q else ""
+
+
+def build(ops, limit_s: float = TIME_LIMIT_S):
+    """The page of a new session, from its URL query parameters (``ops``: see :func:`_compute`)."""
+    args = {k: [v.decode("utf-8", "replace") if isinstance(v, bytes) else v for v in vs]
+            for k, vs in (pn.state.session_args or {}).items()}
+    page = Page(Point.from_query(args), ops, limit_s)
+    pn.state.onload(page.refresh)
+    return page.layout()

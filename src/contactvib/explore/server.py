@@ -1,0 +1,36 @@
+"""Serve the explore page (Bokeh server through Panel) on 127.0.0.1 unless ``host`` is given."""
+
+from __future__ import annotations
+
+from contactvib.explore.state import TIME_LIMIT_S
+
+
+def serve(ops, port: int = 0, host: str = "127.0.0.1", open_browser: bool = True,
+          limit_s: float = TIME_LIMIT_S, ready=None):
+    """Serve until stopped; ``ops = (check, find)`` (:func:`.app._compute`). ``ready(url)`` is
+    called once the server listens (the CLI prints it)."""
+    import panel as pn
+
+    from contactvib.explore.app import build
+
+    def page():
+        return build(ops, limit_s)
+
+    if not port:
+        import socket
+
+        with socket.socket() as s:
+            s.bind((host, 0))
+            port = s.getsockname()[1]
+    origins = sorted({f"{host}:{port}", f"127.0.0.1:{port}", f"localhost:{port}"})
+    server = pn.serve({"/": page}, port=port, address=host, show=False,
+                      start=False, title="contactvib explore", websocket_origin=origins)
+    server.start()
+    url = f"http://{host}:{server.port}/"
+    if ready is not None:
+        ready(url)
+    if open_browser:
+        import webbrowser
+
+        server.io_loop.add_callback(webbrowser.open, url)
+    server.io_loop.start()

@@ -1,0 +1,105 @@
+"""The operating point of an explore page: its text fields, their checks, the attractor search
+under a time limit, and the rows of the attractor table. Pure Python, no browser.
+
+The checks and the search are handed in by the CLI (:mod:`contactvib.cli.explore`): the page
+shows the CLI's own one-line messages (its option names onto :mod:`contactvib.model.checks`) and
+the CLI's search, and this package never imports the CLI."""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from contactvib.model.oscillator import PAPER_DEFAULTS
+
+#: Text fields of the page (P_a/Q, f_e and the model parameters) with their defaults.
+DEFAULTS = {"pa": "0.65", "fe": "360", **{k: f"{v:g}" for k, v in PAPER_DEFAULTS.items()}}
+#: Default time limit of one computation [s].
+TIME_LIMIT_S = 30.0
+
+
+@dataclass
+class Point:
+    """The page's fields as typed (text); :meth:`checked` turns them into a model and excitation."""
+
+    fields: dict[str, str] = field(default_factory=lambda: dict(DEFAULTS))
+
+    @classmethod
+    def from_query(cls, query: dict) -> Point:
+        """The point of URL query parameters (unknown names ignored; values stay text)."""
+        fields = dict(DEFAULTS)
+        for name in DEFAULTS:
+            value = query.get(name)
+            if isinstance(value, (list, tuple)):
+                value = value[-1] if value else None
+            if isinstance(value, bytes):
+                value = value.decode("utf-8", "replace")
+            if value is not None:
+                fields[name] = str(value)[:64]
+        return cls(fields)
+
+    def query(self) -> dict[str, str]:
+        """URL query parameters of the fields that differ from the defaults."""
+        return {k: v for k, v in self.fields.items() if v != DEFAULTS[k]}
+
+    def settings(self) -> tuple[str, ...]:
+        """The model fields that differ from the paper's, as the CLI's ``--set NAME=VALUE``."""
+        return tuple(f"{k}={self.fields[k].strip()}" for k in PAPER_DEFAULTS
+                     if self.fields[k].strip() != DEFAULTS[k])
+
+
+class BadInput(ValueError):
+    """An input refused by the checks; its text is the CLI's one-line message."""
+
+
+def derived(model) -> dict[str, float]:
+    """f_n0 [Hz], y0 [µm] and ζ of a model, shown next to the fields."""
+    return {"f_n0": model.f_n0, "y0": model.units.y_um, "zeta": model.zeta}
+
+
+class Stopped(Exception):
+    """A computation stopped at the time limit."""
+
+
+def run_limited(call, limit_s: float = TIME_LIMIT_S):
+    """``call()`` with every kernel's stop flag set after ``limit_s`` (:func:`stop_scope`);
+    raises :class:`Stopped` ("stopped after 30 s") when the limit stopped it."""
+    from contactvib.interrupts import stop_scope
+
+    flag = np.zeros(1, np.int64)
+    timer = threading.Timer(limit_s, lambda: flag.__setitem__(0, 1))
+    timer.daemon = True
+    timer.start()
+    try:
+        with stop_scope(flag):
+            value = call()
+    finally:
+        timer.cancel()
+    if flag[0]:
+        raise Stopped(f"stopped after {limit_s:g} s")
+    return value
+
+
+def search(find, model, exc, limit_s: float = TIME_LIMIT_S):
+    """``find(model, exc)`` (the CLI's default search) under the limit, and the seconds it took."""
+    t0 = time.perf_counter()
+    result = run_limited(lambda: find(model, exc), limit_s)
+    return result, time.perf_counter() - t0
+
+
+def _period(a) -> str:
+    if a.period is None:
+        return {"chaotic": "chaos", "quasi-periodic": "q-per"}.get(a.kind, "-")
+    return str(a.period)
+
+
+def table_rows(result) -> list[dict]:
+    """One row per attractor, as the CLI's table (full-precision numbers)."""
+    return [{"#": i, "period": _period(a),
+             "minima": "-" if a.minima_per_period is None else str(a.minima_per_period),
+             "A_pp [µm]": a.app_um, "y_min [µm]": a.ymin_um, "y_max [µm]": a.ymax_um,
+             "gap [frac]": a.contact_loss_fraction,
+             "|μ|max": a.floquet_abs_max, "basin": a.basin_fraction} for i, a in enumerate(result)]

@@ -1,0 +1,146 @@
+"""contactvib explore in headless Chromium (Debian's, through Playwright): the page, a new f_e,
+a bad value and recovery, the URL; screenshots in a tmp folder (docs/explore.png is
+the first, copied by hand)."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+pytestmark = [pytest.mark.browser,
+              pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
+playwright = pytest.importorskip("playwright.sync_api", reason="playwright is in the test extra")
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def server():
+    port = _free_port()
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    proc = subprocess.Popen([sys.executable, "-m", "contactvib", "explore", "--no-browser", "--port", str(port)],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}/"
+    for _ in range(300):
+        try:
+            socket.create_connection(("127.0.0.1", port), 0.2).close()
+            break
+        except OSError:
+            time.sleep(0.2)
+    yield url
+    proc.terminate()
+    proc.wait(10)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with playwright.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
+        yield b
+        b.close()
+
+
+def _cli_json(*args) -> dict:
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    out = subprocess.run([sys.executable, "-m", "contactvib", "attractors", "--json", *args], env=env,
+                         capture_output=True, text=True, check=True).stdout
+    return json.loads(out)
+
+
+def _table(page) -> list[dict]:
+    """The page's attractor table: full-precision values of each row."""
+    rows = page.locator("tr.attractor")
+    out = []
+    for i in range(rows.count()):
+        cells = rows.nth(i).locator("td[data-v]")
+        out.append({cells.nth(j).get_attribute("data-k"): float(cells.nth(j).get_attribute("data-v"))
+                    for j in range(cells.count())})
+    return out
+
+
+def _wait_done(page, timeout=120_000):
+    page.locator(".status .done, .message .error").first.wait_for(timeout=timeout)
+
+
+def _same(rows, cli):
+    assert len(rows) == len(cli["attractors"])
+    for r, a in zip(rows, cli["attractors"]):
+        for key, name in (("A_pp [µm]", "app_um"), ("y_min [µm]", "ymin_um"), ("y_max [µm]", "ymax_um"),
+                          ("gap [frac]", "contact_loss_fraction"), ("basin", "basin_fraction")):
+            assert r[key] == pytest.approx(a[name], abs=1e-6), (key, r, a)
+
+
+def _set_field(page, name, value):
+    box = page.locator(f".field-{name} input")
+    box.fill(value)
+    box.press("Enter")
+
+
+def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
+    shots = tmp_path / "shots"
+    shots.mkdir()
+    page = browser.new_page(viewport={"width": 1100, "height": 1300})
+    page.goto(server)
+    _wait_done(page)
+    rows = _table(page)
+    _same(rows, _cli_json())
+    assert len(rows) == 5
+    page.screenshot(path=str(shots / "explore_065Q_360Hz.png"), full_page=True)
+    with page.expect_download() as info:  # the attractors as JSON: the CLI's contract
+        page.locator(".download-json").first.click()
+    got = json.loads(Path(info.value.path()).read_text())
+    cli = _cli_json()
+    assert set(got) == set(cli) and len(got["attractors"]) == 5
+    for a, b in zip(got["attractors"], cli["attractors"]):
+        assert a["period"] == b["period"] and a["app_um"] == pytest.approx(b["app_um"], abs=1e-6)
+
+    _set_field(page, "fe", "287")
+    page.wait_for_function("() => location.search.includes('fe=287')")
+    page.wait_for_timeout(300)
+    _wait_done(page)
+    page.locator(".status .done").wait_for()
+    rows287 = _table(page)
+    _same(rows287, _cli_json("--fe", "287"))
+    assert rows287 != rows
+    page.screenshot(path=str(shots / "explore_fe287.png"), full_page=True)
+
+    _set_field(page, "fe", "-5")
+    err = page.locator(".message .error")
+    err.wait_for()
+    assert err.inner_text() == "contactvib: error: --fe (f_e) = -5: must be > 0 Hz"
+    page.screenshot(path=str(shots / "explore_bad_fe.png"), full_page=True)
+
+    _set_field(page, "fe", "287")
+    page.locator(".status .done").wait_for(timeout=120_000)
+    assert page.locator(".message .error").count() == 0
+    _same(_table(page), _cli_json("--fe", "287"))
+    url = page.url
+    assert "fe=287" in url
+
+    other = browser.new_page(viewport={"width": 1100, "height": 1300})  # a new page at the URL
+    other.goto(url)
+    _wait_done(other)
+    assert other.locator(".field-fe input").input_value() == "287"
+    assert _table(other) == _table(page)
+    other.screenshot(path=str(shots / "explore_from_url.png"), full_page=True)
+
+    fresh = browser.new_page()  # another tab at the plain address: its own state, not the others'
+    fresh.goto(server)
+    _wait_done(fresh)
+    assert fresh.locator(".field-fe input").input_value() == "360"
+    assert _table(fresh) == rows
+    assert page.locator(".field-fe input").input_value() == "287"
