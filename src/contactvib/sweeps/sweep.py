@@ -156,7 +156,7 @@ class TraceStop:
     Attributes
     ----------
     label : str
-        "up-sweep", "down-sweep", "reverse", "perturbation seed" or "multi-start".
+        "up-sweep", "down-sweep", "reverse", "perturbation seed", "multi-start" or "continuation".
     direction : int
         +1 up in frequency, −1 down.
     f_start_hz, f_stop_hz : float

@@ -26,7 +26,7 @@ __all__ = ["continue_unstable_parts", "WINDOW_RATIO", "MAX_POINTS", "MAX_ROUNDS"
 #: trace's direction (the 1/5 at 0.90 Q is unstable from 250 Hz down to 113 Hz: ratio 2.2).
 WINDOW_RATIO = 2.5
 #: Continuation points per jump end.
-MAX_POINTS = 120
+MAX_POINTS = 80
 #: Rounds of the post-pass (new traces may end in new jumps).
 MAX_ROUNDS = 3
 
@@ -58,7 +58,10 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     lo = max(float(lv.f[0]), f0 / WINDOW_RATIO) if direction < 0 else f0
     hi = min(float(lv.f[-1]), f0 * WINDOW_RATIO) if direction > 0 else f0
     lo, hi = (lo - 1e-9 * f0, hi + 1e-9 * f0)
-    settings = ContinuationSettings(fmin=lo, fmax=hi, max_points=MAX_POINTS, max_failures=20)
+    # the sweep's integrator tolerance (not the 1e-12 of `continue`): the branch only locates the
+    # stable parts; each seed is refined at the sweep's tolerances before it is traced
+    settings = ContinuationSettings(fmin=lo, fmax=hi, max_points=MAX_POINTS, max_failures=20,
+                                    rtol=lv.st.rtol, tol=lv.st.close_tol)
     try:
         return continue_orbit(model, model.excitation(pa_over_q, f0), z, k, "f_e",
                               "up" if direction > 0 else "down", settings)
