@@ -12,7 +12,7 @@ Dimension ``point`` — one row per attractor at one (P_a, f_e):
     ``dominant_harmonic`` [multiples of f_e], ``resonance`` (label, see :func:`resonance_label`),
     ``attractor_type`` (periodic / chaotic / quasi-periodic / long-period, :func:`attractor_type`),
     ``branch_index`` (into the ``branch`` dimension), ``origin`` ("newton" / "jump" / "start"),
-    ``found_by`` ("sweep" / "perturbation seed" / "multi-start": how the trace that first reached
+    ``found_by`` ("sweep" / "perturbation seed" / "multi-start" / "continuation": how the trace that first reached
     the point was started; see :mod:`contactvib.sweep`),
     ``state_y_um`` [µm], ``state_ydot_mm_s`` [mm/s] (orbit point at phase 0),
     ``harmonics_um`` (point, harmonic) [µm] one-sided amplitudes at j·f_e/period, j = 1…,
@@ -201,7 +201,7 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
         "origin": ("point", np.array([status_message(o, "origin") for o in rows.origin], dtype=object)),
         "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
-                                                    "sweep / perturbation seed / multi-start"}),
+                                                    "sweep / perturbation seed / multi-start / continuation"}),
         "state_y_um": ("point", rows.z[:, 0] * u.y_um, {"units": "um"}),
         "state_ydot_mm_s": ("point", rows.z[:, 1] * u.ydot_mm_s, {"units": "mm/s"}),
         "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um,

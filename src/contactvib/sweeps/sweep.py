@@ -59,7 +59,7 @@ _MAXA = 48  # attractors per frequency in the shared table
 
 #: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
 #: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
-TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start")
+TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation")
 
 
 @dataclass(frozen=True)
@@ -156,7 +156,7 @@ class TraceStop:
     Attributes
     ----------
     label : str
-        "up-sweep", "down-sweep", "reverse", "perturbation seed" or "multi-start".
+        "up-sweep", "down-sweep", "reverse", "perturbation seed", "multi-start" or "continuation".
     direction : int
         +1 up in frequency, −1 down.
     f_start_hz, f_stop_hz : float
@@ -408,6 +408,8 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
         The rows (per-row arrays, nondimensional), their basin fractions and the trace root that
         found them, the links between rows, the grid and one :class:`TraceStop` per trace.
     """
+    from contactvib.sweeps.unstable_parts import continue_unstable_parts
+
     st = settings
     f = frequency_grid(st)
     lv = _Level(model, pa_over_q, f, st)
@@ -424,6 +426,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     for n, i in enumerate(starts, 1):
         observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
         report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
+    continue_unstable_parts(lv, model, pa_over_q)  # stable parts beyond a jump (root "continuation")
     basin = np.full(lv.n_rows, np.nan)
     for obs in observations:
         for gid, frac in obs:
