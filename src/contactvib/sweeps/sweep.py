@@ -26,7 +26,9 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
 
-The basin fraction is measured at the multi-start frequencies only (NaN elsewhere).
+The basin fraction is measured at the multi-start frequencies only (NaN elsewhere). A box start
+that reaches no attractor by the verdict of step 6 is counted for none (as in the attractor
+search), so there the fractions sum to 1 minus the share of such starts.
 
 6. A non-periodic point is kept only if the attractor search's verdict accepts it
    (:mod:`contactvib.sweeps.verdict`: recurrent strobe cloud, λ ≥ −LYAPUNOV_ZERO); unsettled
