@@ -26,7 +26,13 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
 
-The basin fraction is measured at the multi-start frequencies only (NaN elsewhere).
+The basin fraction is measured at the multi-start frequencies only (NaN elsewhere). A box start
+that reaches no attractor by the verdict of step 6 is counted for none (as in the attractor
+search), so there the fractions sum to 1 minus the share of such starts.
+
+6. A non-periodic point is kept only if the attractor search's verdict accepts it
+   (:mod:`contactvib.sweeps.verdict`: recurrent strobe cloud, λ ≥ −LYAPUNOV_ZERO); unsettled
+   transients are dropped with their links.
 """
 
 from __future__ import annotations
@@ -346,6 +352,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
     from contactvib._kernels.table import settle_known_many
     from contactvib.interrupts import check_interrupt
     from contactvib.steady.attractors import ballistic_seeds, start_box
+    from contactvib.sweeps.verdict import settle_nonperiodic_start
 
     check_interrupt()
     st = lv.st
@@ -371,8 +378,12 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
             continue
         if status[j] == SETTLE_PERIODIC:
             z, k, kind = zz[j], int(kk[j]), 0
-        elif status[j] == SETTLE_NONPERIODIC:
-            z, k, kind = zz[j], 0, 1
+        elif status[j] == SETTLE_NONPERIODIC:  # an attractor only by the search's verdict
+            res = settle_nonperiodic_start(model, pa_over_q, float(lv.f[i]), zz[j], st.rtol_transient,
+                                           lambda z0: _settle_from(lv, i, z0))
+            if res is None:
+                continue
+            z, k, kind = res
         else:
             continue
         found.append((j, z, k, kind))
@@ -431,4 +442,6 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     for obs in observations:
         for gid, frac in obs:
             basin[gid] = frac
-    return lv.result(basin, pa_over_q)
+    from contactvib.sweeps.verdict import drop_unsettled
+
+    return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods)

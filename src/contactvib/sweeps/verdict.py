@@ -1,0 +1,85 @@
+"""The non-periodic verdict of the sweep: a non-periodic row is kept only if it is an attractor.
+
+The tracer (:mod:`contactvib._kernels.trace`) and the multi-start accept a state whose
+stroboscopic points found no period ``≤ kmax`` within the transient limit as a non-periodic
+point. Some of those are transients that have not settled yet (a spiral into a focus, a slow
+approach to an orbit of period above ``kmax``): their largest Lyapunov exponent is negative.
+:func:`drop_unsettled` applies the attractor search's own rule,
+:func:`contactvib.steady.transients.cloud_verdict` (recurrent strobe cloud of two windows of
+:data:`~contactvib.steady.transients.WINDOW` points that keeps its spread, and
+λ ≥ −:data:`~contactvib.steady.transients.LYAPUNOV_ZERO`), to every non-periodic row of a level:
+the cloud is the ``2 · WINDOW`` strobe points from the row's state, λ the row's own exponent.
+Rows that fail are removed, with their links; nothing else changes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contactvib.model import ContactModel
+from contactvib.steady.orbits import OrbitError, strobe_points
+from contactvib.steady.transients import WINDOW, cloud_verdict
+
+__all__ = ["settled_nonperiodic", "drop_unsettled"]
+
+
+def settled_nonperiodic(model: ContactModel, pa_over_q: float, f_hz: float, z, lyapunov: float,
+                        rtol: float, settle_periods: int) -> bool:
+    """Whether the non-periodic point ``z`` (nondimensional, phase 0) at (P_a/Q, f_e) with largest
+    Lyapunov exponent ``lyapunov`` [1/period] is on a non-periodic attractor:
+    :func:`~contactvib.steady.transients.cloud_verdict` on the next ``2 · WINDOW`` strobe points
+    (integrated at tolerance ``rtol``); a cloud that fails only the cloud test is settled
+    ``settle_periods`` longer and judged once more (λ < −LYAPUNOV_ZERO is final)."""
+    exc = model.excitation(pa_over_q, f_hz)
+    try:
+        tail = strobe_points(exc, z, 2 * WINDOW, rtol)
+        ok, why = cloud_verdict(tail, float(lyapunov))
+        if ok or why == "still converging" or settle_periods <= 0:
+            return ok
+        tail = strobe_points(exc, tail[-1], settle_periods + 2 * WINDOW, rtol)[-2 * WINDOW:]
+    except OrbitError:
+        return False
+    return cloud_verdict(tail, float(lyapunov))[0]
+
+
+def drop_unsettled(lt, model: ContactModel, rtol: float, settle_periods: int):
+    """The :class:`~contactvib.sweeps.sweep.LevelTrace` ``lt`` without its non-periodic rows that
+    :func:`settled_nonperiodic` rejects (rows, found_by, basin and links renumbered)."""
+    from contactvib._kernels.table import KIND_NONPERIODIC
+
+    rows = lt.rows
+    keep = np.ones(lt.n_rows, bool)
+    for j in np.flatnonzero(rows.kind == KIND_NONPERIODIC):
+        keep[j] = settled_nonperiodic(model, lt.pa_over_q, float(lt.f_hz[rows.i[j]]), rows.z[j],
+                                      rows.lyap[j], rtol, settle_periods)
+    if keep.all():
+        return lt
+    new_id = np.cumsum(keep) - 1
+    links = lt.links
+    ok = keep[links.a] & keep[links.b]
+    new_links = type(links)(new_id[links.a[ok]], new_id[links.b[ok]], links.jump[ok].copy())
+    return type(lt)(rows=type(rows)(*(v[keep] for v in rows)), found_by=lt.found_by[keep],
+                    basin=lt.basin[keep], links=new_links, f_hz=lt.f_hz, stops=lt.stops,
+                    pa_over_q=lt.pa_over_q)
+
+
+def settle_nonperiodic_start(model: ContactModel, pa_over_q: float, f_hz: float, z, rtol: float,
+                             resettle):
+    """The outcome of a multi-start start that ended non-periodic at ``z``: ``(z, 0, 1)`` when it
+    is on a non-periodic attractor (:func:`settled_nonperiodic`, λ computed here); else the
+    start is settled once more from there by ``resettle(z)`` (→ ``(z, k, kind)`` or None) and a
+    periodic outcome is returned, a non-periodic one only if it passes the verdict; None when it
+    has not settled (the start reached no attractor)."""
+    from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
+
+    exc = model.excitation(pa_over_q, f_hz)
+
+    def lyap(p):
+        return float(lyapunov_strobe(np.asarray(p, float).copy(), exc.kernel_parameters(), rtol, NP_LYAPUNOV))
+
+    if settled_nonperiodic(model, pa_over_q, f_hz, z, lyap(z), rtol, 0):
+        return np.asarray(z, float), 0, 1
+    res = resettle(z)
+    if res is None or res[2] == 0:
+        return res
+    return res if settled_nonperiodic(model, pa_over_q, f_hz, res[0], lyap(res[0]), rtol, 0) else None
