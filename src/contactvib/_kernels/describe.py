@@ -77,7 +77,7 @@ def lyapunov_strobe(z, par, rtol, n_periods):
     w1 = w0
     acc = 0.0
     for _ in range(n_periods):
-        if strobe_map(cur, 1, par, rtol, rtol, nxt, M) != STATUS_OK:
+        if strobe_map(cur, np.int64(1), par, rtol, rtol, nxt, M) != STATUS_OK:
             return math.nan
         a = M[0, 0] * w0 + M[0, 1] * w1
         b = M[1, 0] * w0 + M[1, 1] * w1

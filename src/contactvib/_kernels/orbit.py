@@ -75,14 +75,14 @@ def record_orbit(z, phase0, n_periods, par, rtol, max_records):
     y[1] = z[1]
     contact = initial_mode(y[0], y[1])
     h = 0.01
-    irec = 0
+    irec = np.int64(0)
     t_flight = 0.0
     n_events = 0
     start = phase0 * T
     for j in range(n_periods):
         i0 = irec
         contact, h, irec, _ns, tf, ne, st = advance(
-            y, start, T, contact, h, par, rtol, rtol, rec, irec, MAX_STEPS_PER_PERIOD)
+            y, start, T, contact, h, par, rtol, rtol, rec, irec, np.int64(MAX_STEPS_PER_PERIOD))
         start = 0.0
         t_flight += tf
         n_events += ne
@@ -207,9 +207,10 @@ def find_extrema(rec):
                     t2 = np.empty(cap)
                     x2 = np.empty(cap)
                     m2 = np.empty(cap, np.bool_)
-                    t2[:n] = t_out[:n]
-                    x2[:n] = x_out[:n]
-                    m2[:n] = m_out[:n]
+                    for q in range(n):  # a loop: a slice copy compiles numba's shape-error path
+                        t2[q] = t_out[q]
+                        x2[q] = x_out[q]
+                        m2[q] = m_out[q]
                     t_out, x_out, m_out = t2, x2, m2
                 t_out[n] = t0 + th * h
                 x_out[n] = dense_value(F, y, th, 0)
@@ -228,7 +229,7 @@ def sample_records(rec, times):
     cs = np.empty(m, np.bool_)
     i = 0
     n_rec = rec.shape[0]
-    F, y = _step_arrays(rec, 0)
+    F, y = _step_arrays(rec, np.int64(0))
     loaded = 0
     for j in range(m):
         t = times[j]

@@ -44,7 +44,7 @@ from .taylor import advance_state
 @njit(cache=True)
 def _refine(z, k, par, rtol, close_tol, out_z, out_M):
     """Newton at period k, then reduce k to the minimal period. Returns (ok, k, residual)."""
-    st, res = newton_orbit(z, k, par, rtol, rtol, close_tol, 12, out_z, out_M)
+    st, res = newton_orbit(z, k, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
     if st != STATUS_OK:
         return False, k, res
     if floquet_abs_max(out_M) > 1.0 + STABILITY_TOL:
@@ -59,7 +59,7 @@ def _refine(z, k, par, rtol, close_tol, out_z, out_M):
             return False, k, res
         if max(abs(pz[0] - out_z[0]), abs(pz[1] - out_z[1])) / sc < 1e-6:
             z2 = out_z.copy()
-            st, res = newton_orbit(z2, d, par, rtol, rtol, close_tol, 12, out_z, out_M)
+            st, res = newton_orbit(z2, d, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
             if st != STATUS_OK or floquet_abs_max(out_M) > 1.0 + STABILITY_TOL:
                 return False, k, res
             return True, d, res

@@ -55,7 +55,8 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
     h = 0.01
     for _ in range(k):
         contact, h, _i, _ns, _tf, _ne, st = advance(
-            y, 0.0, T, contact, h, par, rtol, atol, np.empty((0, REC_WIDTH)), 0, MAX_STEPS_PER_PERIOD
+            y, 0.0, T, contact, h, par, rtol, atol, np.empty((0, REC_WIDTH)), np.int64(0),
+            np.int64(MAX_STEPS_PER_PERIOD)
         )
         if st != STATUS_OK:
             return st

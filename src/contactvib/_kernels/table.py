@@ -139,7 +139,7 @@ def settle_known_many(Z, phases, i, par, cfg, capture_tol, table):
         hist = np.empty((cfg.max_periods + 1, 2))
         oz = np.empty(2)
         oM = np.zeros((2, 2))
-        st, k, n, _res = settle_core(Z[q], phases[q], par, cfg.kmax, 4, cfg.max_periods,
+        st, k, n, _res = settle_core(Z[q], phases[q], par, cfg.kmax, np.int64(4), cfg.max_periods,
                                      cfg.detect_tol, cfg.rtol_transient, cfg.rtol, cfg.close_tol,
                                      cap_pts, cap_id, capture_tol, hist, oz, oM, np.zeros(1, np.int64))
         status[q] = st

@@ -337,5 +337,6 @@ def advance_state(y, t, t_end, contact, h, par, tol, max_steps):
     if is_polynomial_law(par):
         return advance_taylor(y, t, t_end, contact, par, tol, max_steps)
     contact, h, _i, ns, tf, ne, st = advance(y, t, t_end, contact, h, par, tol, tol,
-                                             np.empty((0, REC_WIDTH)), 0, max_steps)
+                                             np.empty((0, REC_WIDTH)), np.int64(0),
+                                             np.int64(max_steps))
     return contact, h, ns, tf, ne, st

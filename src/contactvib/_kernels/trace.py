@@ -208,7 +208,7 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
             out_from[1] = zc[1]
             return 2 if have else 1
         par_s[4] = r_new
-        st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, 8, oz, oM)
+        st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, np.int64(8), oz, oM)
         if (st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + STABILITY_TOL
                 and (not have or stays_on_branch(oz, zg, zc))):
             zq[0] = zc[0]
@@ -257,7 +257,7 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
             zs = pts[j]
             if zs[0] == z[0] and zs[1] == z[1]:
                 continue
-            zq, hv, rq = zs, False, 0.0
+            zq, hv, rq = zs, np.bool_(False), 0.0
         how = bridge_orbit(zs, r_here, zq, rq, hv, r_next, k, par, cfg.rtol, cfg.close_tol, zg,
                            zb)
         if how:
@@ -271,6 +271,14 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
 
 
 @njit(cache=True, inline='always')
+def _copy_matrix(dst, src):
+    """``dst[:, :] = src`` as a loop (a slice copy compiles numba's shape-error path: ~1.5 s)."""
+    for a in range(src.shape[0]):
+        for b in range(src.shape[1]):
+            dst[a, b] = src[a, b]
+
+
+@njit(cache=True, inline='always')
 def _jump(z, kind, k, closure, par, cfg, hist, M):
     """Integrate from ``z`` until an attractor is detected (:func:`.settle.settle`).
 
@@ -280,12 +288,12 @@ def _jump(z, kind, k, closure, par, cfg, hist, M):
     oz = np.empty(2)
     oM = np.empty((2, 2))
     n_max = cfg.max_periods if kind == KIND_PERIODIC else min(cfg.max_periods, NP_FOLLOW)
-    st, kk, n_done, res = settle(z, 0.0, par, cfg.kmax, 4, n_max, cfg.detect_tol,
+    st, kk, n_done, res = settle(z, 0.0, par, cfg.kmax, np.int64(4), n_max, cfg.detect_tol,
                                  cfg.rtol_transient, cfg.rtol, cfg.close_tol, hist, oz, oM)
     if st == SETTLE_PERIODIC:
         z[0] = oz[0]
         z[1] = oz[1]
-        M[:, :] = oM
+        _copy_matrix(M, oM)
         return True, KIND_PERIODIC, kk, ORIGIN_JUMP, res
     origin = ORIGIN_JUMP if kind == KIND_PERIODIC else ORIGIN_NEWTON
     if st == SETTLE_NONPERIODIC:
@@ -341,7 +349,7 @@ def _refine_start(z, k, par, cfg, M):
         return False, k, res
     z[0] = oz[0]
     z[1] = oz[1]
-    M[:, :] = oM
+    _copy_matrix(M, oM)
     return True, kk, res
 
 
@@ -388,7 +396,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, cfg, table, rows, row_ba
         ok, k, closure = _refine_start(z, k, par, cfg, M)
         if not ok:
             return 0, 0, STOP_FAILED, i0
-    n_rows = 0
+    n_rows = np.int64(0)
     n_links = 0
     prev_row = -1
     i = i0
@@ -442,7 +450,7 @@ def trace(z0, k0, kind0, i0, direction, r_grid, par_in, cfg, table, rows, row_ba
             have_prev = True
             z[0] = oz[0]
             z[1] = oz[1]
-            M[:, :] = oM
+            _copy_matrix(M, oM)
             closure = res
             origin = ORIGIN_NEWTON
         else:
