@@ -323,7 +323,7 @@ def _write_row(rows, r, i, kind, k, z, origin, M, closure, par, rtol_transient):
         rows.mu_im[r, 0] = math.nan
         rows.mu_im[r, 1] = math.nan
         rows.closure[r] = math.inf
-        rows.lyap[r] = lyapunov_strobe(z, par, rtol_transient, NP_LYAPUNOV)
+        rows.lyap[r] = lyapunov_strobe(z, par, rtol_transient, np.int64(NP_LYAPUNOV))
 
 
 @njit(cache=True, inline='always')

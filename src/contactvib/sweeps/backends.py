@@ -99,12 +99,14 @@ class DaskBackend:
             object.__setattr__(self, "n_workers", check_int("dask_workers", self.n_workers, 1, WORKERS_MAX))
 
 
-def run_levels(tasks: dict, fn, backend, finished, progress=None) -> None:
+def run_levels(tasks: dict, fn, backend, finished, progress=None, warm_up=None) -> None:
     """Run ``fn(*tasks[pa])`` for every level ``pa`` of ``tasks`` on ``backend`` (a
     :class:`LocalPool`, a :class:`DaskBackend`, or None: the default pool), calling
     ``finished(pa, result)`` in this process as each ends and ``progress(pa, points)`` as the
     running levels report frequency points done (:func:`report_points`); highest levels first
-    (the slowest).
+    (the slowest). ``warm_up = (call, args)``, given on a first run: a local pool of two or more
+    workers runs ``call(*args)`` before the levels, on one worker while another starts the first
+    level, so the two compile different kernels at once (its result is dropped).
 
     Raises ParameterError ``scheduler`` when no scheduler answers at the address."""
     global _POINTS_SINK
@@ -123,7 +125,7 @@ def run_levels(tasks: dict, fn, backend, finished, progress=None) -> None:
         finally:
             _POINTS_SINK = previous
         return None
-    return _run_in_pool(order, tasks, fn, n_workers, finished, progress)
+    return _run_in_pool(order, tasks, fn, n_workers, finished, progress, warm_up)
 
 
 def kernel_cache_cold() -> bool:
@@ -164,7 +166,7 @@ def _drain_points(points, progress) -> None:
         progress(*item)
 
 
-def _run_in_pool(order, tasks, fn, n_workers, finished, progress):
+def _run_in_pool(order, tasks, fn, n_workers, finished, progress, warm_up=None):
     import multiprocessing as mp
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
@@ -174,13 +176,15 @@ def _run_in_pool(order, tasks, fn, n_workers, finished, progress):
     pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx,
                                initializer=_pool_worker_init, initargs=(os.getpid(), points))
     try:
+        warm = [pool.submit(warm_up[0], *warm_up[1])] if warm_up is not None else []
         futs = {pool.submit(fn, *tasks[pa]): pa for pa in order}
-        pending = set(futs)
+        pending = set(futs) | set(warm)
         while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
             ready, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
             _drain_points(points, progress)
             for fut in ready:
-                finished(futs[fut], fut.result())
+                if fut in futs:
+                    finished(futs[fut], fut.result())
             check_interrupt()
     except BaseException:
         _stop_pool(pool)

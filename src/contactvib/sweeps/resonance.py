@@ -167,6 +167,13 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     return ds, (on_level(model, ds) if on_level is not None else None)
 
 
+def _compile_late_first(model_params: dict, settings: dict) -> None:
+    """A pool worker's first task on a first run (:func:`.sweep.compile_late_kernels_first`)."""
+    from contactvib.sweeps.sweep import compile_late_kernels_first
+
+    compile_late_kernels_first(ContactModel(**model_params), SweepSettings(**settings))
+
+
 def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -> bool:
     """Whether the chunk at ``path`` is the finished level ``pa`` of this model and settings.
 
@@ -318,7 +325,8 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
     bar = tqdm(total=n_levels * n_points, initial=n_done * n_points, unit="f_e point", desc=name,
                disable=not progress, leave=False, unit_scale=True)
     bar.set_postfix_str(f"{n_done}/{n_levels} levels")
-    if progress and todo and kernel_cache_cold():
+    cold = bool(todo) and kernel_cache_cold()
+    if progress and cold:
         import sys
 
         bar.write("compiling the kernels (first run, ~30 s)…", file=sys.stderr)
@@ -349,7 +357,8 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
     tasks = {pa: (model.parameters(), pa, sd, str(chunk_path(out, pa).absolute()) if out is not None else None,
                   on_level, compress) for pa in todo}
     try:
-        run_levels(tasks, _run_level, backend, finished, advance)
+        run_levels(tasks, _run_level, backend, finished, advance,
+                   warm_up=(_compile_late_first, (model.parameters(), sd)) if cold else None)
     finally:
         bar.close()
 

@@ -59,7 +59,7 @@ if TYPE_CHECKING:
     from contactvib._kernels.trace import TraceLinks
 
 __all__ = ["SweepSettings", "LevelTrace", "TraceStop", "frequency_grid", "multistart_indices",
-           "trace_level"]
+           "trace_level", "compile_late_kernels_first"]
 
 _MAXA = 48  # attractors per frequency in the shared table
 
@@ -445,3 +445,35 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     from contactvib.sweeps.verdict import drop_unsettled
 
     return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods)
+
+
+def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> None:
+    """Compile (or load from the cache) the kernels of a level in about the reverse of the order
+    :func:`trace_level` first calls them: the continuation, Lyapunov exponent, description and
+    Newton kernels, then the multi-start's. On a first run (cold cache) a pool's second worker
+    runs this while the first starts a level with the settling and tracing kernels: the two
+    compile different kernels at once and each loads the other's from the cache. Every call has
+    the argument types of the real ones (one compiled specialization each); nothing is kept."""
+    from contactvib._kernels.describe import NP_LYAPUNOV, describe_point, lyapunov_strobe, new_rows
+    from contactvib._kernels.shooting import newton_orbit
+    from contactvib._kernels.table import settle_known_many
+    from contactvib.continuation.shooting import ContinuationError, ContinuationSettings, continue_orbit
+
+    st = settings
+    f0 = 0.5 * model.f_n0  # a small in-contact orbit: every kernel returns within milliseconds
+    exc = model.excitation(0.1, f0)
+    par = exc.kernel_parameters()
+    z = np.array([1.0, 0.0])
+    try:
+        continue_orbit(model, exc, z, 1, "f_e", "down",
+                       ContinuationSettings(fmin=0.9 * f0, fmax=f0, max_points=2, max_failures=2,
+                                            rtol=st.rtol, tol=st.close_tol))
+    except (ContinuationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
+        pass
+    lyapunov_strobe(z.copy(), par, st.rtol_transient, NP_LYAPUNOV)
+    describe_point(z.copy(), 1, par, st.rtol, new_rows(1), 0, np.empty(2))
+    newton_orbit(z.copy(), 1, par, st.rtol, st.rtol, st.close_tol, 8, np.empty(2), np.empty((2, 2)))
+    f = np.array([f0])
+    lv = _Level(model, 0.1, f, st)
+    settle_known_many(z.reshape(1, 2).copy(), np.zeros(1), 0, lv.par.copy(), lv.cfg, st.capture_tol,
+                      lv.table)
