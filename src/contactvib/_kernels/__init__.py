@@ -8,6 +8,14 @@ in the cache. Unless ``NUMBA_CACHE_DIR`` is set, the kernels are therefore cache
 ``$XDG_CACHE_HOME/contactvib/numba/<hash of this package's sources>`` (``~/.cache`` by default,
 a temporary folder keyed the same way when that cannot be written): a change to any kernel, or a
 new version of contactvib, compiles afresh.
+
+Compile time (a first run compiles ~45 CPU s): every kernel is compiled for one argument-type
+signature. numba would compile a separate copy of a callee for each integer or boolean constant
+a kernel passes it (``Literal[int](4)``), so such constants are passed as ``np.int64(4)`` /
+``np.bool_(False)``; and arrays are copied by loops, not slice assignments (which compile
+numba's shape-error formatting, ~5 s). The small DOP853 helpers of ``flow.py`` keep their
+constant stage counts and components on purpose (unrolled inner loops).
+``tests/sweeps/test_compile_split.py`` checks it.
 """
 
 from __future__ import annotations
