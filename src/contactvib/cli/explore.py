@@ -33,14 +33,18 @@ def _find(model, exc):
 
 
 @click.command()
+@click.argument("dataset", required=False)
 @click.option("--port", default="0", show_default=True, help="TCP port (0: a free one).")
 @click.option("--host", default="127.0.0.1", show_default=True,
               help="Interface to listen on; anything but 127.0.0.1 opens the page to the network.")
 @click.option("--no-browser", is_flag=True, help="Do not open a browser; print the address.")
 @click.option("--time-limit", default="30", show_default=True,
               help="Stop a computation after this many seconds.")
-def explore(port, host, no_browser, time_limit):
-    """The contact oscillator live in the browser: every attractor at the P_a and f_e you type."""
+def explore(dataset, port, host, no_browser, time_limit):
+    """The contact oscillator live in the browser: every attractor at the P_a and f_e you type.
+
+    DATASET (optional): a paper.nc/resonance.nc/atlas.nc, or a folder holding one; the page then
+    shows the resonance graph of each stored level, and a click on it moves f_e there."""
     port = _int("--port", port, 0, 65535, symbol="port")
     limit = _positive("--time-limit", "time_limit", time_limit, "s")
     host = host.strip()
@@ -49,13 +53,22 @@ def explore(port, host, no_browser, time_limit):
     if host not in ("127.0.0.1", "localhost"):
         click.echo(f"contactvib: warning: listening on {host}: the page is reachable from the network",
                    err=True)
+    levels = None
+    if dataset is not None:
+        from contactvib.explore.dataset_view import DatasetError, DatasetLevels
+
+        try:
+            levels = DatasetLevels(dataset)
+        except DatasetError as e:
+            why = str(e).removeprefix(f"{dataset}: ")
+            raise InputError(f"DATASET = {dataset}: {why}") from None
     from contactvib.explore.server import serve
 
     def ready(url):
         click.echo(f"contactvib explore: {url} (Ctrl-C stops)", err=False)
 
     try:
-        serve((_check, _find), port, host, not no_browser, limit, ready)
+        serve((_check, _find), port, host, not no_browser, limit, ready, levels)
     except OSError as e:
         raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
     except KeyboardInterrupt:

@@ -89,14 +89,21 @@ def _compute(point: Point, ops, limit_s: float):
 class Page:
     """One session's page."""
 
-    def __init__(self, point: Point, ops, limit_s: float = TIME_LIMIT_S):
+    def __init__(self, point: Point, ops, limit_s: float = TIME_LIMIT_S, levels=None):
         self.point, self.ops, self.limit_s, self.generation, self.payload = point, ops, limit_s, 0, None
+        self.levels, self.pick_um = levels, None  # a DatasetLevels; A_pp [µm] of the last click
         self.fields = {k: pn.widgets.TextInput(name=_LABELS[k], value=point.fields[k], width=150,
                                                css_classes=[f"field-{k}"]) for k in DEFAULTS}
         self.fe_slider = pn.widgets.FloatSlider(name="f_e slider [Hz]", start=50, end=1000, step=1,
                                                 value=self._float("fe", 360.0), width=320)
-        self.pa_slider = pn.widgets.FloatSlider(name="P_a slider [Q]", start=0.05, end=2.0, step=0.05,
-                                                value=self._float("pa", 0.65), width=320)
+        if levels is None:
+            self.pa_slider = pn.widgets.FloatSlider(name="P_a slider [Q]", start=0.05, end=2.0, step=0.05,
+                                                    value=self._float("pa", 0.65), width=320)
+        else:  # the dataset's levels
+            pa = levels.nearest_level(self._float("pa", levels.levels[0])) or levels.levels[0]
+            self.pa_slider = pn.widgets.DiscreteSlider(name="P_a level of the dataset [Q]", width=320,
+                                                       options=list(levels.levels), value=pa)
+        self.graph = pn.Column(css_classes=["graph"])
         self.message = pn.pane.HTML("", css_classes=["message"], width=900)
         self.status = pn.pane.HTML("", css_classes=["status"], width=900)
         self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
@@ -127,7 +134,8 @@ class Page:
                         pn.GridBox(*(self.fields[k] for k in DEFAULTS if k not in ("pa", "fe")), ncols=4),
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
-                         self.status, "### Attractors", self.table, pn.Row(self.select, self.download), self.plots)
+                         self.status, self.graph, "### Attractors", self.table,
+                         pn.Row(self.select, self.download), self.plots)
 
     async def _changed(self, event=None):
         await self.refresh()
@@ -137,7 +145,12 @@ class Page:
         self.point = Point({k: w.value for k, w in self.fields.items()})
         for name, slider in (("fe", self.fe_slider), ("pa", self.pa_slider)):
             value = self._float(name, None)
-            if value is not None and slider.start <= value <= slider.end:
+            if value is None:
+                continue
+            if isinstance(slider, pn.widgets.DiscreteSlider):
+                if value in slider.options:
+                    slider.value = value
+            elif slider.start <= value <= slider.end:
                 slider.value = value
         self.generation += 1
         mine = self.generation
@@ -154,6 +167,7 @@ class Page:
             self.payload, self.table.object = None, "<p>(no result for these values)</p>"
             self.select.options = {"-": -1}
             self._draw()
+            self._draw_graph(None)
             return
         self.message.object = ""
         self.payload = payload
@@ -164,8 +178,9 @@ class Page:
         self.table.object = _table_html(table_rows(result))
         opts = {f"#{i} period {r['period']}": i for i, r in enumerate(table_rows(result))} or {"-": -1}
         self.select.options = opts
-        self.select.value = next(iter(opts.values()))
+        self.select.value = self._picked(result, next(iter(opts.values())))
         self._draw()
+        self._draw_graph(result)
         total = time.perf_counter() - t0
         log.info("explore: P_a=%s Q f_e=%s Hz: find_attractors %.3f s, total with render %.3f s",
                  self.point.fields["pa"], self.point.fields["fe"], payload["search_s"], total)
@@ -194,6 +209,44 @@ class Page:
         hist = hists[i] if isinstance(i, int) and 0 <= i < len(hists) else None
         self.plots[:] = [pn.pane.Bokeh(f) for f in _history_figures(hist)]
 
+    def _picked(self, result, default):
+        """After a click on the graph: the attractor whose A_pp is nearest the clicked one (log)."""
+        pick, self.pick_um = self.pick_um, None
+        if pick is None or pick <= 0 or not len(result):
+            return default
+        app = np.array([a.app_um for a in result], float)
+        return int(np.nanargmin(np.abs(np.log(np.maximum(app, 1e-300)) - np.log(pick))))
+
+    def _draw_graph(self, result):
+        """The dataset's resonance graph of the current P_a with the page's attractors on it
+        (nothing without a dataset; a one-line note when P_a is not a stored level)."""
+        if self.levels is None:
+            return
+        from bokeh.events import Tap
+
+        from contactvib.explore.dataset_view import DatasetError, graph_figure
+
+        pa = self._float("pa", float("nan"))
+        try:
+            lv = self.levels.level(pa)
+        except DatasetError as e:
+            self.graph[:] = [pn.pane.HTML(f'<p class="graph-note">{html.escape(str(e))}</p>')]
+            return
+        fig, current = graph_figure(lv)
+        if result is not None:
+            fe = self._float("fe", float("nan"))
+            current.data = {"fe_hz": [fe] * len(result), "app_um": [a.app_um for a in result],
+                            "name": [f"#{i}" for i in range(len(result))]}
+
+        def tapped(event):
+            if event.x is None:
+                return
+            self.pick_um = event.y
+            self.fields["fe"].value = f"{lv.snap(event.x):g}"
+
+        fig.on_event(Tap, tapped)
+        self.graph[:] = [pn.pane.Bokeh(fig, css_classes=["resonance-graph"])]
+
     def _sync_url(self):
         loc = pn.state.location
         if loc is not None:
@@ -201,10 +254,16 @@ class Page:
             loc.search = ("?" + urlencode(q)) if q else ""
 
 
-def build(ops, limit_s: float = TIME_LIMIT_S):
-    """The page of a new session, from its URL query parameters (``ops``: see :func:`_compute`)."""
+def build(ops, limit_s: float = TIME_LIMIT_S, levels=None):
+    """The page of a new session, from its URL query parameters (``ops``: see :func:`_compute`;
+    ``levels``: a :class:`.dataset_view.DatasetLevels` or None). With a dataset and no P_a in
+    the URL, P_a starts at the stored level nearest the default."""
     args = {k: [v.decode("utf-8", "replace") if isinstance(v, bytes) else v for v in vs]
             for k, vs in (pn.state.session_args or {}).items()}
-    page = Page(Point.from_query(args), ops, limit_s)
+    point = Point.from_query(args)
+    if levels is not None and "pa" not in args:
+        lv = np.asarray(levels.levels)
+        point.fields["pa"] = f"{lv[np.argmin(np.abs(lv - float(point.fields['pa'])))]:g}"
+    page = Page(point, ops, limit_s, levels)
     pn.state.onload(page.refresh)
     return page.layout()

@@ -6,15 +6,17 @@ from contactvib.explore.state import TIME_LIMIT_S
 
 
 def serve(ops, port: int = 0, host: str = "127.0.0.1", open_browser: bool = True,
-          limit_s: float = TIME_LIMIT_S, ready=None):
+          limit_s: float = TIME_LIMIT_S, ready=None, levels=None):
     """Serve until stopped; ``ops = (check, find)`` (:func:`.app._compute`). ``ready(url)`` is
-    called once the server listens (the CLI prints it)."""
+    called once the server listens (the CLI prints it). ``levels``: a
+    :class:`.dataset_view.DatasetLevels` whose resonance graphs the pages show (read-only,
+    shared by the sessions)."""
     import panel as pn
 
     from contactvib.explore.app import build
 
     def page():
-        return build(ops, limit_s)
+        return build(ops, limit_s, levels)
 
     if not port:
         import socket

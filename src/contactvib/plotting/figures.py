@@ -86,12 +86,9 @@ def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | No
 # ---------------------------------------------------------------- resonance graphs (Figs. 2, 3)
 
 def _order_color(m):
-    import matplotlib.pyplot as plt
+    from contactvib.sweeps.labels import order_colour
 
-    if m == 1:
-        return "k"
-    cmap = plt.get_cmap("tab10")
-    return cmap((m - 2) % 10)
+    return order_colour(m)
 
 
 def _level(ds, pa_over_q):

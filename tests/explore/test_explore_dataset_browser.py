@@ -1,0 +1,71 @@
+"""contactvib explore with a dataset, in headless Chromium: the level's resonance graph, and a
+click on it moves f_e to the clicked grid frequency; the table is then the CLI's search there
+(to 1e-6) and the attractor nearest the clicked A_pp is selected. Screenshot in a tmp folder
+(docs/explore_dataset.png was taken the same way on the 8-level paper.nc)."""
+
+from __future__ import annotations
+
+import math
+import os
+import socket
+import subprocess
+import sys
+import time
+
+import pytest
+from test_explore_browser import CHROMIUM, ROOT, _cli_json, _free_port, _same, _table, _wait_done, browser  # noqa: F401
+
+pytestmark = [pytest.mark.browser,
+              pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
+
+#: Screen position of a data point (f_e [Hz], A_pp [µm]) on the resonance graph (Bokeh's scales).
+XY = """([fe, app]) => {
+  for (const v of Bokeh.index.all_views()) {
+    if (v.model.type === 'Figure' && v.model.title && v.model.title.text.startsWith('Resonance graph')) {
+      const r = v.canvas_view.el.getBoundingClientRect();
+      return [r.left + v.frame.x_scale.compute(fe), r.top + v.frame.y_scale.compute(app)];
+    }
+  }
+  return null;
+}"""
+
+
+@pytest.fixture(scope="module")
+def dataset_server(small_dataset):
+    port = _free_port()
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    proc = subprocess.Popen([sys.executable, "-m", "contactvib", "explore", str(small_dataset), "--no-browser",
+                             "--port", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    for _ in range(300):
+        try:
+            socket.create_connection(("127.0.0.1", port), 0.2).close()
+            break
+        except OSError:
+            time.sleep(0.2)
+    yield f"http://127.0.0.1:{port}/"
+    proc.terminate()
+    proc.wait(10)
+
+
+def test_click_on_the_resonance_graph_moves_fe(dataset_server, browser, tmp_path):  # noqa: F811
+    page = browser.new_page(viewport={"width": 1150, "height": 1400})
+    page.goto(dataset_server)
+    _wait_done(page)
+    _same(_table(page), _cli_json())  # 0.65 Q, 360 Hz
+    page.wait_for_function("() => Bokeh.index.all_views().some(v => v.model.title && "
+                           "v.model.title.text && v.model.title.text.startsWith('Resonance graph'))")
+    page.screenshot(path=str(tmp_path / "explore_dataset_360.png"), full_page=True)
+    xy = page.evaluate(XY, [371.3, 0.2])  # between grid points 370 and 372 Hz, near the 1/4
+    assert xy is not None
+    page.mouse.click(*xy)
+    page.wait_for_function("() => location.search.includes('fe=372')", timeout=30_000)
+    page.wait_for_timeout(300)
+    page.locator(".status .done").wait_for(timeout=120_000)
+    assert page.locator(".field-fe input").input_value() == "372"
+    rows = _table(page)
+    cli = _cli_json("--fe", "372")
+    _same(rows, cli)
+    apps = [a["app_um"] for a in cli["attractors"]]
+    nearest = min(range(len(apps)), key=lambda i: abs(math.log(apps[i] / 0.2)))
+    assert page.locator("select").first.evaluate("s => s.selectedIndex") == nearest  # the clicked one
+    page.screenshot(path=str(tmp_path / "explore_dataset_372.png"), full_page=True)
