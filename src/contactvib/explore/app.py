@@ -112,6 +112,11 @@ class Page:
         self.download = pn.widgets.FileDownload(callback=self._json, filename="attractors.json",
                                                 label="attractors.json (the CLI's --json)", width=260,
                                                 css_classes=["download-json"])
+        self.figure_files = [pn.widgets.FileDownload(callback=lambda fmt=fmt: self._figure_file(fmt),
+                                                     filename=f"attractor.{fmt}", width=170,
+                                                     label=f"figure ({fmt.upper()})",
+                                                     css_classes=[f"download-{fmt}"])
+                             for fmt in ("png", "svg")]
         self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
         for w in self.fields.values():
             w.param.watch(self._changed, "value")
@@ -135,7 +140,7 @@ class Page:
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
                          self.status, self.graph, "### Attractors", self.table,
-                         pn.Row(self.select, self.download), self.plots)
+                         pn.Row(self.select, self.download, *self.figure_files), self.plots)
 
     async def _changed(self, event=None):
         await self.refresh()
@@ -203,11 +208,33 @@ class Page:
         obj = {} if self.payload is None else finite(json.loads(self.payload["result"].to_json()))
         return io.StringIO(json.dumps(obj, allow_nan=False, indent=1))
 
-    def _draw(self):
+    def _selected(self):
+        """(history, attractor) of the selected attractor, or (None, None)."""
         i = self.select.value
         hists = [] if self.payload is None else self.payload["hists"]
-        hist = hists[i] if isinstance(i, int) and 0 <= i < len(hists) else None
+        if not (isinstance(i, int) and 0 <= i < len(hists)):
+            return None, None
+        return hists[i], self.payload["result"][i]
+
+    def _draw(self):
+        hist, _a = self._selected()
         self.plots[:] = [pn.pane.Bokeh(f) for f in _history_figures(hist)]
+        stem = (f"attractor{self.select.value}_pa{self.point.fields['pa'].strip()}_"
+                f"fe{self.point.fields['fe'].strip()}")
+        for w in self.figure_files:
+            w.filename = f"{stem}.{w.filename.rsplit('.', 1)[-1]}"
+
+    def _figure_file(self, fmt: str):
+        """The selected attractor's time history and phase portrait as a PNG or SVG file (the
+        figure ``contactvib simulate`` writes for each attractor)."""
+        import io
+
+        from contactvib.plotting.figures import attractor_figure, figure_bytes
+
+        hist, attractor = self._selected()
+        if hist is None:
+            return io.BytesIO(b"")
+        return io.BytesIO(figure_bytes(attractor_figure(hist, attractor), fmt))
 
     def _picked(self, result, default):
         """After a click on the graph: the attractor whose A_pp is nearest the clicked one (log)."""

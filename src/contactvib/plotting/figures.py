@@ -209,6 +209,15 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     return ax
 
 
+def figure_bytes(fig, fmt: str = "png", dpi: int = 130) -> bytes:
+    """``fig`` as the bytes of a ``fmt`` file ("png", "svg", "pdf"), e.g. for a download."""
+    import io
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format=fmt, dpi=dpi)
+    return buf.getvalue()
+
+
 def save_figure(fig, path, dpi: int = 130):
     """Write ``fig`` to ``path`` (format from the suffix) and release it; returns the path."""
     import matplotlib.pyplot as plt
