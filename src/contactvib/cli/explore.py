@@ -32,6 +32,42 @@ def _find(model, exc):
         raise BadInput(f"contactvib: {e}") from None
 
 
+#: Points per direction and shooting tolerance of the page's continuation (the CLI's
+#: ``--max-points`` and ``--rtol``; ~5 s for the 1/4 at 0.65 Q, 360 Hz over 180–720 Hz, against
+#: ~40 s with the CLI's defaults 2000 and 1e-12).
+CONTINUATION_POINTS = 150
+CONTINUATION_RTOL = "1e-10"
+
+
+def _continue(point, model, exc, result, n):
+    """The branch through attractor ``n`` of ``result`` in f_e, as ``contactvib continue``
+    computes it over the page's window (:func:`contactvib.explore.continuation_view.window_hz`),
+    and that command: ``(branch, command)``."""
+    from contactvib.cli.continuation import _settings
+    from contactvib.continuation.diagram import continue_attractors
+    from contactvib.continuation.shooting import ContinuationError
+    from contactvib.explore.continuation_view import window_hz
+    from contactvib.explore.state import BadInput
+
+    lo, hi = (f"{v:.10g}" for v in window_hz(exc.f_e))
+    command = (f"contactvib continue --pa {point.fields['pa'].strip()} --from-fe "
+               f"{point.fields['fe'].strip()} --attractor {n} --no-switch --fmin {lo} --fmax {hi} "
+               f"--max-points {CONTINUATION_POINTS} --rtol {CONTINUATION_RTOL}"
+               + "".join(f" --set {s}" for s in point.settings()))
+    try:
+        s = _settings({"fmin": lo, "fmax": hi, "max_points": str(CONTINUATION_POINTS), "app_max": "2000",
+                       "rtol": CONTINUATION_RTOL})
+        branches = continue_attractors(model, exc.pa_over_q, exc.f_e, n, s, switch=False,
+                                       attractors=result, parameter="f_e")
+    except InputError as e:
+        raise BadInput(f"contactvib: error: {e}") from None
+    except (ContinuationError, ValueError) as e:
+        raise BadInput(f"contactvib: continuation failed: {e}") from None
+    if not len(branches):
+        raise BadInput(f"contactvib: attractor {n} is not a periodic orbit: nothing to continue")
+    return branches[0], command
+
+
 @click.command()
 @click.argument("dataset", required=False)
 @click.option("--port", default="0", show_default=True, help="TCP port (0: a free one).")
@@ -68,7 +104,7 @@ def explore(dataset, port, host, no_browser, time_limit):
         click.echo(f"contactvib explore: {url} (Ctrl-C stops)", err=False)
 
     try:
-        serve((_check, _find), port, host, not no_browser, limit, ready, levels)
+        serve((_check, _find, _continue), port, host, not no_browser, limit, ready, levels)
     except OSError as e:
         raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
     except KeyboardInterrupt:

@@ -17,7 +17,17 @@ import panel as pn
 from bokeh.models import Span
 from bokeh.plotting import figure
 
-from contactvib.explore.state import DEFAULTS, TIME_LIMIT_S, BadInput, Point, Stopped, derived, search, table_rows
+from contactvib.explore.state import (
+    DEFAULTS,
+    TIME_LIMIT_S,
+    BadInput,
+    Point,
+    Stopped,
+    derived,
+    run_limited,
+    search,
+    table_rows,
+)
 
 log = logging.getLogger("contactvib.explore")
 _LABELS = {"pa": "P_a [Q]", "fe": "f_e [Hz]", "M": "M [kg]", "g": "g [m/s²]", "S": "S [m²]",
@@ -76,7 +86,7 @@ def _compute(point: Point, ops, limit_s: float):
     both raising :class:`.BadInput` with the CLI's message."""
     from contactvib.steady.simulate import attractor_history
 
-    check, find = ops
+    check, find = ops[:2]
     try:
         model, exc = check(point)
         result, seconds = search(find, model, exc, limit_s)
@@ -84,6 +94,19 @@ def _compute(point: Point, ops, limit_s: float):
     except (Stopped, BadInput) as e:
         return "error", str(e)
     return "ok", {"model": model, "exc": exc, "result": result, "hists": hists, "search_s": seconds}
+
+
+def _continue_compute(point: Point, ops, payload, n: int, limit_s: float):
+    """Worker thread: the continuation of attractor ``n`` (``ops[2]``, the CLI's: see
+    :func:`contactvib.cli.explore._continue`): ``("ok", (branch, command, seconds))`` or
+    ``("error", message)``."""
+    t0 = time.perf_counter()
+    try:
+        branch, command = run_limited(lambda: ops[2](point, payload["model"], payload["exc"],
+                                                     payload["result"], n), limit_s)
+    except (Stopped, BadInput) as e:
+        return "error", str(e)
+    return "ok", (branch, command, time.perf_counter() - t0)
 
 
 class Page:
@@ -118,6 +141,12 @@ class Page:
                                                      css_classes=[f"download-{fmt}"])
                              for fmt in ("png", "svg")]
         self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
+        self.cont_button = pn.widgets.Button(name="continue the selected orbit in f_e", width=260,
+                                             css_classes=["continue"], visible=len(ops) > 2)
+        self.cont_status = pn.pane.HTML("", css_classes=["cont-status"], width=700)
+        self.cont_plot = pn.Column(css_classes=["cont-plot"])
+        self.cont_generation = 0
+        self.cont_button.on_click(self._continue_clicked)
         for w in self.fields.values():
             w.param.watch(self._changed, "value")
         self.fe_slider.param.watch(lambda e: self._set("fe", e.new), "value_throttled")
@@ -140,7 +169,8 @@ class Page:
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
                          self.status, self.graph, "### Attractors", self.table,
-                         pn.Row(self.select, self.download, *self.figure_files), self.plots)
+                         pn.Row(self.select, self.download, *self.figure_files), self.plots,
+                         pn.Row(self.cont_button, self.cont_status), self.cont_plot)
 
     async def _changed(self, event=None):
         await self.refresh()
@@ -159,6 +189,8 @@ class Page:
                 slider.value = value
         self.generation += 1
         mine = self.generation
+        self.cont_generation += 1  # a continuation under way belongs to the old point
+        self.cont_status.object, self.cont_plot[:] = "", []
         self._sync_url()
         self.status.object = '<span class="busy">computing…</span>'
         t0 = time.perf_counter()
@@ -235,6 +267,34 @@ class Page:
         if hist is None:
             return io.BytesIO(b"")
         return io.BytesIO(figure_bytes(attractor_figure(hist, attractor), fmt))
+
+    async def _continue_clicked(self, event=None):
+        """Continue the selected periodic attractor in f_e and draw its branch (a newer
+        request or a new operating point drops the result)."""
+        from contactvib.explore.continuation_view import branch_figure
+
+        _hist, a = self._selected()
+        if a is None or a.period is None:
+            self.cont_status.object = '<span class="cont-error">select a periodic attractor first</span>'
+            return
+        self.cont_generation += 1
+        mine, n, payload = self.cont_generation, self.select.value, self.payload
+        self.cont_status.object = '<span class="busy">continuing…</span>'
+        kind, out = await asyncio.get_running_loop().run_in_executor(
+            _EXECUTOR, _continue_compute, self.point, self.ops, payload, n, self.limit_s)
+        if mine != self.cont_generation:
+            return
+        if kind == "error":
+            self.cont_status.object = f'<b style="color:#b00" class="cont-error">{html.escape(out)}</b>'
+            return
+        branch, command, seconds = out
+        fe = self._float("fe", float("nan"))
+        self.cont_plot[:] = [pn.pane.Bokeh(branch_figure(branch, fe, a.app_um))]
+        specials = ", ".join(f"{s.type} {s.fe_hz:.2f} Hz" for s in branch.special) or "no special point"
+        self.cont_status.object = (f'<span class="cont-done">{len(branch)} points, '
+                                   f'{branch.fe_hz.min():.1f}–{branch.fe_hz.max():.1f} Hz; '
+                                   f'{html.escape(specials)}; {seconds:.1f} s</span><br>'
+                                   f'<code>{html.escape(command)}</code>')
 
     def _picked(self, result, default):
         """After a click on the graph: the attractor whose A_pp is nearest the clicked one (log)."""
