@@ -24,6 +24,7 @@ from contactvib.explore.state import (
     Point,
     Stopped,
     derived,
+    resonance_of,
     run_limited,
     search,
     table_rows,
@@ -93,7 +94,9 @@ def _compute(point: Point, ops, limit_s: float):
         hists = [attractor_history(model, exc, a) for a in result]
     except (Stopped, BadInput) as e:
         return "error", str(e)
-    return "ok", {"model": model, "exc": exc, "result": result, "hists": hists, "search_s": seconds}
+    labels = [resonance_of(a, h, model.f_n0) for a, h in zip(result, hists)]
+    return "ok", {"model": model, "exc": exc, "result": result, "hists": hists, "search_s": seconds,
+                  "labels": labels}
 
 
 def _continue_compute(point: Point, ops, payload, n: int, limit_s: float):
@@ -131,7 +134,7 @@ class Page:
         self.status = pn.pane.HTML("", css_classes=["status"], width=900)
         self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
         self.table = pn.pane.HTML("", css_classes=["table"], width=900)
-        self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=120)
+        self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=230)
         self.download = pn.widgets.FileDownload(callback=self._json, filename="attractors.json",
                                                 label="attractors.json (the CLI's --json)", width=260,
                                                 css_classes=["download-json"])
@@ -212,8 +215,9 @@ class Page:
         self.derived.object = (f"f_n0 = {d['f_n0']:.1f} Hz, y0 = {d['y0']:.4f} µm, "
                                f"ζ = {d['zeta']:.4f}")
         result = payload["result"]
-        self.table.object = _table_html(table_rows(result))
-        opts = {f"#{i} period {r['period']}": i for i, r in enumerate(table_rows(result))} or {"-": -1}
+        rows = table_rows(result, payload["labels"])
+        self.table.object = _table_html(rows)
+        opts = {f"#{i} {r['resonance']}": i for i, r in enumerate(rows)} or {"-": -1}
         self.select.options = opts
         self.select.value = self._picked(result, next(iter(opts.values())))
         self._draw()

@@ -96,10 +96,38 @@ def _period(a) -> str:
     return str(a.period)
 
 
-def table_rows(result) -> list[dict]:
-    """One row per attractor, as the CLI's table (full-precision numbers)."""
-    return [{"#": i, "period": _period(a),
+#: Harmonics of y(t) used to name a periodic orbit's resonance (as the sweep's rows hold).
+N_HARMONICS = 64
+
+
+def resonance_of(attractor, history, fn0_hz: float) -> str:
+    """The resonance an attractor belongs to, named as the datasets name it
+    (:func:`contactvib.sweeps.labels.resonance_label`: "main", "1/3", "1/2 period-2",
+    "subharmonic 1/2 bouncing", …; a non-periodic one by its type, "chaotic", …). The harmonics
+    |Y_j| (frequency j f_e/k) come from one orbit period of ``history`` (sampled from phase 0,
+    ``len(t) - 1`` samples per whole number of excitation periods)."""
+    from contactvib.sweeps.labels import dominant_ratio, resonance_label
+
+    if attractor.period is None:
+        return attractor.kind
+    k, n_min = attractor.period, attractor.minima_per_period or 1
+    y = np.asarray(history.y_um, float)
+    n_periods = round(float(history.t_ms[-1] - history.t_ms[0]) * history.fe_hz / 1000.0)
+    per = (y.size - 1) // max(n_periods, 1)  # samples per excitation period
+    orbit = y[: per * k]
+    harm = np.abs(np.fft.rfft(orbit))[1:N_HARMONICS + 1] * 2.0 / max(orbit.size, 1)
+    nu = dominant_ratio(k, n_min, harm, attractor.loses_contact, history.fe_hz, fn0_hz)
+    return resonance_label(0, k, nu, n_min, attractor.loses_contact, history.fe_hz, fn0_hz)
+
+
+def table_rows(result, labels=None) -> list[dict]:
+    """One row per attractor, as the CLI's table (full-precision numbers), with its resonance
+    (``labels``, from :func:`resonance_of`) when given."""
+    rows = [{"#": i, "period": _period(a),
              "minima": "-" if a.minima_per_period is None else str(a.minima_per_period),
              "A_pp [µm]": a.app_um, "y_min [µm]": a.ymin_um, "y_max [µm]": a.ymax_um,
              "gap [frac]": a.contact_loss_fraction,
              "|μ|max": a.floquet_abs_max, "basin": a.basin_fraction} for i, a in enumerate(result)]
+    for row, label in zip(rows, labels or []):
+        row["resonance"] = label
+    return rows
