@@ -6,14 +6,9 @@ click on it moves f_e to the clicked grid frequency; the table is then the CLI's
 from __future__ import annotations
 
 import math
-import os
-import socket
-import subprocess
-import sys
-import time
 
 import pytest
-from test_explore_browser import CHROMIUM, ROOT, _cli_json, _free_port, _same, _table, _wait_done, browser  # noqa: F401
+from test_explore_browser import CHROMIUM, _cli_json, _same, _table, _wait_done, browser, serving  # noqa: F401
 
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
@@ -32,17 +27,8 @@ XY = """([fe, app]) => {
 
 @pytest.fixture(scope="module")
 def dataset_server(small_dataset):
-    port = _free_port()
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    proc = subprocess.Popen([sys.executable, "-m", "contactvib", "explore", str(small_dataset), "--no-browser",
-                             "--port", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    for _ in range(300):
-        try:
-            socket.create_connection(("127.0.0.1", port), 0.2).close()
-            break
-        except OSError:
-            time.sleep(0.2)
-    yield f"http://127.0.0.1:{port}/"
+    proc, url = serving(str(small_dataset))
+    yield url
     proc.terminate()
     proc.wait(10)
 
