@@ -66,19 +66,31 @@ def _cli_json(*args) -> dict:
     return json.loads(out)
 
 
+def _wait_done(page, fe: str | None = None, timeout=120_000):
+    """Wait for the answer to the current request: the status of a finished search (of
+    f_e = ``fe`` when given) or the CLI's error message."""
+    done = ".status .done" + (f'[data-fe="{fe}"]' if fe is not None else "")
+    page.locator(f"{done}, .message .error").first.wait_for(timeout=timeout)
+
+
 def _table(page) -> list[dict]:
-    """The page's attractor table: full-precision values of each row."""
-    rows = page.locator("tr.attractor")
+    """The attractor table of the finished request the status line names (the browser may draw
+    the status before the table): full-precision values of each row."""
+    errors = page.locator(".message .error")
+    assert errors.count() == 0, errors.first.inner_text()
+    done = page.locator(".status .done")
+    done.wait_for()
+    request, n = done.get_attribute("data-request"), int(done.get_attribute("data-n"))
+    table = page.locator(f'#attractors[data-request="{request}"]')
+    table.wait_for()
+    rows = table.locator("tr.attractor")
+    assert rows.count() == n, (done.inner_text(), rows.count())
     out = []
     for i in range(rows.count()):
         cells = rows.nth(i).locator("td[data-v]")
         out.append({cells.nth(j).get_attribute("data-k"): float(cells.nth(j).get_attribute("data-v"))
                     for j in range(cells.count())})
     return out
-
-
-def _wait_done(page, timeout=120_000):
-    page.locator(".status .done, .message .error").first.wait_for(timeout=timeout)
 
 
 def _same(rows, cli):
@@ -115,9 +127,7 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
 
     _set_field(page, "fe", "287")
     page.wait_for_function("() => location.search.includes('fe=287')")
-    page.wait_for_timeout(300)
-    _wait_done(page)
-    page.locator(".status .done").wait_for()
+    _wait_done(page, "287")
     rows287 = _table(page)
     _same(rows287, _cli_json("--fe", "287"))
     assert rows287 != rows
@@ -130,7 +140,7 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
     page.screenshot(path=str(shots / "explore_bad_fe.png"), full_page=True)
 
     _set_field(page, "fe", "287")
-    page.locator(".status .done").wait_for(timeout=120_000)
+    page.locator('.status .done[data-fe="287"]').wait_for(timeout=120_000)  # the error shows till then
     assert page.locator(".message .error").count() == 0
     _same(_table(page), _cli_json("--fe", "287"))
     url = page.url

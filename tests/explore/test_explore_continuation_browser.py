@@ -4,7 +4,7 @@ with the CLI command that reproduces it; a screenshot in a tmp folder."""
 from __future__ import annotations
 
 import pytest
-from test_explore_browser import CHROMIUM, _wait_done, browser, server  # noqa: F401
+from test_explore_browser import CHROMIUM, _table, _wait_done, browser, server  # noqa: F401
 
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
@@ -14,7 +14,8 @@ def test_continuation_button_draws_the_branch(server, browser, tmp_path):  # noq
     page = browser.new_page(viewport={"width": 1150, "height": 1700})
     page.goto(server)
     _wait_done(page)
-    assert page.locator(".message .error").count() == 0
+    assert len(_table(page)) == 5  # the table (and its selector) of this request
+    page.locator("select option").nth(4).wait_for(state="attached")
     page.locator("select").first.select_option(index=4)  # the 1/4 (in contact)
     page.wait_for_timeout(500)
     page.locator(".continue button").first.click()

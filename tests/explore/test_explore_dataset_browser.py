@@ -45,8 +45,7 @@ def test_click_on_the_resonance_graph_moves_fe(dataset_server, browser, tmp_path
     assert xy is not None
     page.mouse.click(*xy)
     page.wait_for_function("() => location.search.includes('fe=372')", timeout=30_000)
-    page.wait_for_timeout(300)
-    page.locator(".status .done").wait_for(timeout=120_000)
+    _wait_done(page, "372")
     assert page.locator(".field-fe input").input_value() == "372"
     rows = _table(page)
     cli = _cli_json("--fe", "372")

@@ -36,10 +36,13 @@ _LABELS = {"pa": "P_a [Q]", "fe": "f_e [Hz]", "M": "M [kg]", "g": "g [m/s²]", "
 _EXECUTOR = ThreadPoolExecutor(max_workers=2, thread_name_prefix="contactvib-explore")
 
 
-def _table_html(rows: list[dict]) -> str:
-    """The attractor table; every number also in a ``data-v`` attribute at full precision."""
+def _table_html(rows: list[dict], request: int = 0) -> str:
+    """The attractor table; every number also in a ``data-v`` attribute at full precision, and
+    the request it answers in ``data-request`` (the status line names the same request: the
+    browser may draw the two panes in either order, so a reader can tell the table of the
+    current point from an older one)."""
     if not rows:
-        return "<p>no attractor</p>"
+        return f'<p class="no-attractor" id="attractors" data-request="{request}">no attractor</p>'
     head = "".join(f"<th>{html.escape(k)}</th>" for k in rows[0])
     body = []
     for r in rows:
@@ -53,7 +56,8 @@ def _table_html(rows: list[dict]) -> str:
         body.append(f'<tr class="attractor">{"".join(cells)}</tr>')
     style = ("<style>table.att{border-collapse:collapse;font-family:monospace}"
              "table.att td,table.att th{padding:2px 8px;border-bottom:1px solid #ccc;text-align:right}</style>")
-    return f'{style}<table class="att" id="attractors"><tr>{head}</tr>{"".join(body)}</table>'
+    return (f'{style}<table class="att" id="attractors" data-request="{request}"><tr>{head}</tr>'
+            f'{"".join(body)}</table>')
 
 
 def _history_figures(hist):
@@ -216,7 +220,7 @@ class Page:
                                f"ζ = {d['zeta']:.4f}")
         result = payload["result"]
         rows = table_rows(result, payload["labels"])
-        self.table.object = _table_html(rows)
+        self.table.object = _table_html(rows, mine)
         opts = {f"#{i} {r['resonance']}": i for i, r in enumerate(rows)} or {"-": -1}
         self.select.options = opts
         self.select.value = self._picked(result, next(iter(opts.values())))
@@ -225,7 +229,9 @@ class Page:
         total = time.perf_counter() - t0
         log.info("explore: P_a=%s Q f_e=%s Hz: find_attractors %.3f s, total with render %.3f s",
                  self.point.fields["pa"], self.point.fields["fe"], payload["search_s"], total)
-        self.status.object = (f'<span class="done">{len(result)} attractors; search '
+        self.status.object = (f'<span class="done" data-request="{mine}" data-n="{len(result)}" '
+                              f'data-fe="{html.escape(self.point.fields["fe"].strip())}">'
+                              f'{len(result)} attractors; search '
                               f'{payload["search_s"]:.2f} s, with histories and render {total:.2f} s</span>')
 
     def _json(self):
