@@ -116,6 +116,7 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
     rows = _table(page)
     _same(rows, _cli_json())
     assert len(rows) == 5
+    playwright.expect(page.locator(".series-note")).to_contain_text("not drawn: the series has not converged")
     page.screenshot(path=str(shots / "explore_065Q_360Hz.png"), full_page=True)
     with page.expect_download() as info:  # the attractors as JSON: the CLI's contract
         page.locator(".download-json").first.click()
@@ -131,6 +132,13 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
     rows287 = _table(page)
     _same(rows287, _cli_json("--fe", "287"))
     assert rows287 != rows
+    # the perturbation series, on the in-contact period-1 orbit
+    playwright.expect(page.locator(".series-note")).to_contain_text("drawn on attractor #4")
+    page.locator("select").first.select_option(index=4)
+    page.wait_for_function("() => Array.from(Bokeh.index.all_views()).some(v => v.model.title && "
+                           "v.model.title.text === 'Time history' && v.model.renderers.some(r => r.glyph && "
+                           "JSON.stringify(r.glyph.line_color).includes('#c00000')))", timeout=30_000)
+    page.screenshot(path=str(shots / "explore_fe287_series.png"), full_page=True)
     page.screenshot(path=str(shots / "explore_fe287.png"), full_page=True)
 
     _set_field(page, "fe", "-5")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
 import pytest
 
 from contactvib.cli.explore import _check, _find
@@ -45,3 +46,26 @@ def test_time_limit_stops_the_kernels():
     with pytest.raises(Stopped, match=r"^stopped after 0.05 s$"):
         run_limited(lambda: _find(model, exc), 0.05)
     assert time.perf_counter() - t0 < 20
+
+
+def test_perturbation_series_is_drawn_where_valid_and_matches_the_numerics():
+    """At 287 Hz (contact kept, small amplitude) the series is drawn on the in-contact period-1
+    attractor, and its orbit equals that attractor's time history (shooting and integration, an
+    independent method) to 1e-5 of A_pp; at 360 Hz (not converged) and 742 Hz (the series loses
+    contact) it is not drawn, and the page says why in the series' own words."""
+    from contactvib.explore.app import _compute
+
+    k, payload = _compute(Point({**DEFAULTS, "fe": "287"}), (_check, _find), 30.0)
+    overlay = payload["series"]
+    i = overlay.attractor
+    a, hist = payload["result"][i], payload["hists"][i]
+    assert a.period == 1 and not a.loses_contact
+    assert "drawn on attractor #" in overlay.note
+    n = round(float(hist.t_ms[-1] - hist.t_ms[0]) * hist.fe_hz / 1000.0)
+    series = overlay.series.history(n_periods=n, samples_per_period=(hist.y_um.size - 1) // n)
+    assert series.t_ms == pytest.approx(hist.t_ms, abs=1e-9)
+    assert np.max(np.abs(series.y_um - hist.y_um)) < 1e-5 * a.app_um
+    for fe, why in (("360", "has not converged"), ("742", "predicts loss of contact")):
+        k, payload = _compute(Point({**DEFAULTS, "fe": fe}), (_check, _find), 30.0)
+        assert payload["series"].attractor is None
+        assert "not drawn" in payload["series"].note and why in payload["series"].note

@@ -60,8 +60,9 @@ def _table_html(rows: list[dict], request: int = 0) -> str:
             f'{"".join(body)}</table>')
 
 
-def _history_figures(hist):
-    """Time history y(t) (contact loss shaded, y = 0 and y0 drawn) and phase portrait."""
+def _history_figures(hist, series=None):
+    """Time history y(t) (contact loss shaded, y = 0 and y0 drawn) and phase portrait, with the
+    perturbation series' orbit ``series`` (a TimeHistory over the same times, or None) dashed."""
     th = figure(height=300, width=520, title="Time history", x_axis_label="t [ms]",
                 y_axis_label="y [µm] (> 0 contact deflection)")
     ph = figure(height=300, width=400, title="Phase portrait", x_axis_label="y [µm]",
@@ -78,8 +79,12 @@ def _history_figures(hist):
     th.line(t, y, line_width=1.5, legend_label="y(t)")
     th.add_layout(Span(location=0.0, dimension="width", line_color="black", line_dash="dashed"))
     th.add_layout(Span(location=hist.y0_um, dimension="width", line_color="green", line_dash="dotted"))
-    th.legend.location = "bottom_right"
     ph.line(y, hist.ydot_mm_s, line_width=1.5)
+    if series is not None:  # on top of the numerics
+        th.line(series.t_ms, series.y_um, line_width=2, line_dash="dashed", color="#c00000",
+                legend_label="perturbation series")
+        ph.line(series.y_um, series.ydot_mm_s, line_width=2, line_dash="dashed", color="#c00000")
+    th.legend.location = "bottom_right"
     ph.add_layout(Span(location=0.0, dimension="height", line_color="black", line_dash="dashed"))
     ph.add_layout(Span(location=hist.y0_um, dimension="height", line_color="green", line_dash="dotted"))
     return th, ph
@@ -89,6 +94,7 @@ def _compute(point: Point, ops, limit_s: float):
     """Worker thread: checks, search, histories. ``("error", message)`` or ``("ok", payload)``;
     ``ops = (check, find)``: ``check(point) -> (model, excitation)`` and ``find(model, exc)``,
     both raising :class:`.BadInput` with the CLI's message."""
+    from contactvib.explore.state import series_overlay
     from contactvib.steady.simulate import attractor_history
 
     check, find = ops[:2]
@@ -100,7 +106,7 @@ def _compute(point: Point, ops, limit_s: float):
         return "error", str(e)
     labels = [resonance_of(a, h, model.f_n0) for a, h in zip(result, hists)]
     return "ok", {"model": model, "exc": exc, "result": result, "hists": hists, "search_s": seconds,
-                  "labels": labels}
+                  "labels": labels, "series": series_overlay(model, exc, result)}
 
 
 def _continue_compute(point: Point, ops, payload, n: int, limit_s: float):
@@ -148,6 +154,7 @@ class Page:
                                                      css_classes=[f"download-{fmt}"])
                              for fmt in ("png", "svg")]
         self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
+        self.series_note = pn.pane.HTML("", css_classes=["series-note"], width=900)
         self.cont_button = pn.widgets.Button(name="continue the selected orbit in f_e", width=260,
                                              css_classes=["continue"], visible=len(ops) > 2)
         self.cont_status = pn.pane.HTML("", css_classes=["cont-status"], width=700)
@@ -176,7 +183,7 @@ class Page:
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
                          self.status, self.graph, "### Attractors", self.table,
-                         pn.Row(self.select, self.download, *self.figure_files), self.plots,
+                         pn.Row(self.select, self.download, *self.figure_files), self.plots, self.series_note,
                          pn.Row(self.cont_button, self.cont_status), self.cont_plot)
 
     async def _changed(self, event=None):
@@ -258,9 +265,20 @@ class Page:
             return None, None
         return hists[i], self.payload["result"][i]
 
+    def _series_history(self, hist):
+        """The perturbation series' orbit over the selected attractor's times, when the series is
+        drawn on that attractor (:func:`.state.series_overlay`), else None."""
+        overlay = None if self.payload is None else self.payload["series"]
+        if hist is None or overlay is None or overlay.attractor != self.select.value:
+            return None
+        n_periods = max(1, round(float(hist.t_ms[-1] - hist.t_ms[0]) * hist.fe_hz / 1000.0))
+        return overlay.series.history(n_periods=n_periods, samples_per_period=200)  # both from phase 0
+
     def _draw(self):
         hist, _a = self._selected()
-        self.plots[:] = [pn.pane.Bokeh(f) for f in _history_figures(hist)]
+        self.plots[:] = [pn.pane.Bokeh(f) for f in _history_figures(hist, self._series_history(hist))]
+        note = "" if self.payload is None else self.payload["series"].note
+        self.series_note.object = f"<small>{html.escape(note)}</small>"
         stem = (f"attractor{self.select.value}_pa{self.point.fields['pa'].strip()}_"
                 f"fe{self.point.fields['fe'].strip()}")
         for w in self.figure_files:

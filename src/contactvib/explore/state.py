@@ -131,3 +131,44 @@ def table_rows(result, labels=None) -> list[dict]:
     for row, label in zip(rows, labels or []):
         row["resonance"] = label
     return rows
+
+
+#: The series' A_pp may differ from its attractor's by at most this fraction to be drawn on it.
+SERIES_MATCH_RTOL = 1e-2
+
+
+@dataclass(frozen=True)
+class SeriesOverlay:
+    """The perturbation series at the page's point (:func:`series_overlay`): ``series`` (a
+    :class:`~contactvib.frequency.perturbation.PerturbationResult` or None), the index of the
+    attractor it is drawn on (None: not drawn), and one line saying which, or why not."""
+
+    series: object
+    attractor: int | None
+    note: str
+
+
+def series_overlay(model, exc, result) -> SeriesOverlay:
+    """The perturbation series (the CLI's ``perturbation`` defaults: order 40, Padé) and the
+    attractor of ``result`` it describes (:func:`~contactvib.frequency.perturbation.described_attractor`),
+    drawn only where the series is valid (contact kept, converged) and within
+    :data:`SERIES_MATCH_RTOL` of that attractor's A_pp."""
+    from contactvib.frequency.perturbation import described_attractor, perturbation_series
+    from contactvib.model import ParameterError
+
+    try:
+        series = perturbation_series(model, exc)
+    except (ParameterError, FloatingPointError, ZeroDivisionError, np.linalg.LinAlgError) as e:
+        return SeriesOverlay(None, None, f"perturbation series not computed: {e}")
+    head = f"perturbation series (N = {series.order}, {series.summation})"
+    if not series.valid:
+        return SeriesOverlay(series, None, f"{head} not drawn: {series.reason}")
+    if not len(result):
+        return SeriesOverlay(series, None, f"{head} not drawn: no attractor to compare with")
+    i = described_attractor(result, series)
+    diff = abs(result[i].app_um - series.app_um) / series.app_um
+    if diff > SERIES_MATCH_RTOL:
+        return SeriesOverlay(series, None, f"{head} not drawn: A_pp {series.app_um:.5g} µm matches no "
+                                           f"attractor (nearest #{i}, {result[i].app_um:.5g} µm)")
+    return SeriesOverlay(series, i, f"{head} drawn on attractor #{i} (dashed red): A_pp {series.app_um:.6g} µm, "
+                                    f"numerics {result[i].app_um:.6g} µm, relative difference {diff:.1e}")

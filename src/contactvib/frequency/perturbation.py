@@ -62,7 +62,7 @@ from contactvib.model.contact_law import PowerLaw
 from contactvib.steady.results import TimeHistory
 
 __all__ = ["PerturbationResult", "perturbation_series", "perturbation_curve", "linear_response", "steady_counterpart",
-           "convergence_table", "VALID_RTOL", "MAX_ORDER", "SUMMATIONS"]
+           "described_attractor", "convergence_table", "VALID_RTOL", "MAX_ORDER", "SUMMATIONS"]
 
 #: ``valid`` requires an estimated A_pp truncation error at most this fraction of A_pp.
 VALID_RTOL = 1e-3
@@ -460,8 +460,16 @@ def steady_counterpart(model: ContactModel, excitation: Excitation, result: Pert
     found = find_attractors(model, excitation)
     if len(found) == 0:
         raise RuntimeError("no steady state found at this operating point")
-    pool = [a for a in found if a.period == 1 and not a.loses_contact] or list(found)
-    return min(pool, key=lambda a: abs(a.app_um - result.app_um))
+    return found[described_attractor(found, result)]
+
+
+def described_attractor(attractors, result: PerturbationResult) -> int:
+    """Index of the attractor the series describes among ``attractors`` (non-empty): the
+    period-1 orbit without loss of contact closest to the series in A_pp, else the closest
+    attractor of all."""
+    pool = [i for i, a in enumerate(attractors) if a.period == 1 and not a.loses_contact]
+    pool = pool or list(range(len(attractors)))
+    return min(pool, key=lambda i: abs(attractors[i].app_um - result.app_um))
 
 
 def convergence_table(model: ContactModel, excitation: Excitation, orders, reference_app_um: float,
