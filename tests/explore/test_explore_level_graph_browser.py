@@ -1,7 +1,8 @@
 """The resonance graph computed in the background (no dataset), in headless Chromium: the button
-shows the sweep's progress, a new P_a stops the run, the finished graph is drawn as with a
-dataset, and a click on it moves f_e (the table is then the CLI's search there). Screenshots in a
-tmp folder (docs/explore_level_graph.png was taken the same way)."""
+shows the sweep's progress, a new P_a stops the run, a bad P_a is the resonance command's
+message, the finished graph is drawn as with a dataset, and a click on it moves f_e (the table is
+then the CLI's search there). Screenshots in a tmp folder (docs/explore_level_graph.png: the
+same page with the default grid, 30-2000 Hz, 1 Hz)."""
 
 from __future__ import annotations
 
@@ -41,11 +42,21 @@ def test_background_graph_progress_stop_and_click(graph_server, browser, tmp_pat
     _set_field(page, "pa", "0.7")
     busy.wait_for(state="detached", timeout=30_000)
     _wait_done(page)
-    assert page.locator(".graph-status").inner_text().strip() == ""
+    assert page.locator(".graph-status span, .graph-status b").count() == 0  # no progress, no message
+    assert not page.locator(".graph-progress progress").is_visible()
     assert button.is_visible() and button.is_enabled() and not page.evaluate(GRAPH)
 
+    _set_field(page, "pa", "-1")  # a bad P_a: the resonance command's message, no run
+    page.locator(".message .error").wait_for(timeout=30_000)
+    button.click()
+    error = page.locator(".graph-status .graph-error")
+    error.wait_for(timeout=30_000)
+    assert error.inner_text() == "contactvib: error: --pa (P_a/Q) = -1: must be > 0 (multiple of Q = M g)"
+    assert not page.locator(".graph-progress progress").is_visible()
+
     _set_field(page, "pa", "0.65")
-    _wait_done(page)
+    page.locator(".status .done").wait_for(timeout=120_000)
+    assert error.count() == 0
     button.click()
     busy.wait_for(timeout=30_000)
     assert page.locator(".graph-progress progress").is_visible()  # the progress bar

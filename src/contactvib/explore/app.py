@@ -369,7 +369,8 @@ class Page:
         self.graph_progress.value, self.graph_button.visible = run.total, False
         self.graph_status.object = (f'<span class="graph-done">{run.total}/{run.total} f_e points, '
                                     f'{len(self.graph_level.fe_hz)} attractor points in {seconds:.1f} s, as '
-                                    f'<code>{html.escape(run.command)}</code> computes them</span>')
+                                    f'<code style="white-space:nowrap">{html.escape(run.command)}</code> '
+                                    'computes them</span>')
         self._draw_graph(None if self.payload is None else self.payload["result"])
 
     def _graph_points(self):
