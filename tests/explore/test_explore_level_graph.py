@@ -1,18 +1,22 @@
 """The explore page's resonance graph without a dataset, without a browser: the level swept in
 the background equals the level ``contactvib resonance`` writes with the command the page shows
 (read back by the dataset mode's reader), its progress is the sweep's own, it stops when told or
-at its time limit, and a bad input is the resonance command's one-line message."""
+at its time limit, and a bad input is the resonance command's one-line message; the page's
+button draws it, a new f_e keeps it, a new P_a or model drops it and stops a run under way."""
 
 from __future__ import annotations
 
+import asyncio
 import threading
 import time
+from functools import partial
 
 import numpy as np
 import pytest
 
 from contactvib.cli import main
 from contactvib.cli.explore import _graph_grid, _level_inputs
+from contactvib.explore.app import Page
 from contactvib.explore.dataset_view import DatasetLevels
 from contactvib.explore.level_graph import LevelRun, sweep_level
 from contactvib.explore.state import BadInput, Point
@@ -88,3 +92,36 @@ def test_bad_graph_options_are_one_line_before_serving(capsys, args, message):
     assert main(["explore", *args, "--no-browser", "--port", "1"]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"contactvib: error: {message}") and len(err.strip().splitlines()) == 1
+
+
+def _no_search(point):
+    raise BadInput("contactvib: error: (no search in this test)")
+
+
+def test_page_button_draws_the_level_and_a_new_pa_or_model_stops_it():
+    page = Page(Point(), (_no_search, None, None, partial(_level_inputs, grid=_graph_grid(*SMALL))))
+    assert page.graph_button.visible and not page.graph[:]
+
+    async def scenario():
+        await page._graph_clicked()
+        fig = page.graph[0].object
+        assert fig.title.text.startswith("Resonance graph, P_a = 0.65 Q")
+        assert 'class="graph-done"' in page.graph_status.object and not page.graph_button.visible
+        assert page.graph_progress.value == page.graph_progress.max == 21
+        page.fields["fe"].value = "372"  # a new f_e keeps the graph
+        await asyncio.sleep(0.3)
+        assert page.graph_level is not None and page.graph[:]
+        page.fields["pa"].value = "0.7"  # a new P_a drops it
+        await asyncio.sleep(0.3)
+        assert page.graph_level is None and not page.graph[:] and page.graph_button.visible
+        clicked = asyncio.ensure_future(page._graph_clicked())
+        await asyncio.sleep(0.1)
+        run = page.graph_run
+        assert run is not None and run.pa_over_q == 0.7 and not run.flag[0]
+        page.fields["h_n"].value = "3e11"  # a new model stops the run under way
+        await asyncio.sleep(0.3)
+        assert run.flag[0] == 1 and page.graph_run is None
+        await clicked
+        assert page.graph_level is None and not page.graph[:] and page.graph_status.object == ""
+
+    asyncio.run(scenario())

@@ -431,4 +431,5 @@ def build(ops, limit_s: float = TIME_LIMIT_S, levels=None, graph_limit_s: float 
         point.fields["pa"] = f"{lv[np.argmin(np.abs(lv - float(point.fields['pa'])))]:g}"
     page = Page(point, ops, limit_s, levels, graph_limit_s)
     pn.state.onload(page.refresh)
+    pn.state.on_session_destroyed(lambda _context: page.graph_run and page.graph_run.stop())  # tab closed
     return page.layout()
