@@ -125,3 +125,13 @@ def test_page_button_draws_the_level_and_a_new_pa_or_model_stops_it():
         assert page.graph_level is None and not page.graph[:] and page.graph_status.object == ""
 
     asyncio.run(scenario())
+
+
+def test_a_failing_sweep_is_one_line(monkeypatch):
+    import contactvib.sweeps.resonance as resonance
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(resonance, "resonance_dataset", broken)
+    assert sweep_level(_run()) == ("error", "contactvib: the sweep failed: RuntimeError: disk full")

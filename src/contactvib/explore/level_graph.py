@@ -13,6 +13,7 @@ drawn by :func:`.dataset_view.graph_figure`. Pure Python, no browser."""
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
 
@@ -58,7 +59,7 @@ class LevelRun:
 def sweep_level(run: LevelRun, limit_s: float = GRAPH_TIME_LIMIT_S):
     """Worker thread: the level of ``run``, ``("ok", (LevelPoints, seconds))``, or
     ``("stopped", "stopped after 300 s")`` (its time limit, or ``"stopped"`` when the page
-    stopped it), or ``("error", message)``."""
+    stopped it), or ``("error", message)`` (one line; never an exception)."""
     from contactvib.explore.dataset_view import level_points
     from contactvib.model import ParameterError
     from contactvib.sweeps.backends import points_to
@@ -75,4 +76,7 @@ def sweep_level(run: LevelRun, limit_s: float = GRAPH_TIME_LIMIT_S):
         return "stopped", str(e)
     except ParameterError as e:  # the inputs are checked before; a refusal is still one line
         return "error", f"contactvib: error: {e}"
+    except Exception as e:  # a failure is one line in the page, its traceback in the server's log
+        logging.getLogger("contactvib.explore").exception("explore: the level sweep failed")
+        return "error", f"contactvib: the sweep failed: {type(e).__name__}: {e}"
     return "ok", (level_points(ds, run.pa_over_q), time.perf_counter() - t0)
