@@ -21,6 +21,10 @@ wherever Python regains control between kernel calls (every trace and multi-star
 
 Worker processes ignore SIGINT (the parent handles it and terminates them) and end when their
 parent dies, even by SIGKILL (:func:`end_with_parent`).
+
+Another thread stops a run through a stop flag (:func:`stop_scope`, ``contactvib explore``): the
+kernels that take a stop flag (:func:`new_stop_flag`) return within one period, and
+:func:`check_interrupt` raises KeyboardInterrupt between the kernel calls of a sweep.
 """
 
 from __future__ import annotations

@@ -140,8 +140,8 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
 
     DATASET (optional): a paper.nc/resonance.nc/atlas.nc, or a folder holding one; the page then
     shows the resonance graph of each stored level, and a click on it moves f_e there. Without
-    one, a button computes the graph of the current level (``resonance``'s sweep of that level over
-    --graph-fmin..--graph-fmax, step --graph-df) in the background."""
+    one, a button computes the graph of the current level in the background: the sweep of
+    contactvib resonance from --graph-fmin to --graph-fmax, step --graph-df."""
     port = _int("--port", port, 0, 65535, symbol="port")
     limit = _positive("--time-limit", "time_limit", time_limit, "s")
     grid = _graph_grid(graph_fmin, graph_fmax, graph_df)
