@@ -21,6 +21,10 @@ wherever Python regains control between kernel calls (every trace and multi-star
 
 Worker processes ignore SIGINT (the parent handles it and terminates them) and end when their
 parent dies, even by SIGKILL (:func:`end_with_parent`).
+
+Another thread stops a run through a stop flag (:func:`stop_scope`, ``contactvib explore``): the
+kernels that take a stop flag (:func:`new_stop_flag`) return within one period, and
+:func:`check_interrupt` raises KeyboardInterrupt between the kernel calls of a sweep.
 """
 
 from __future__ import annotations
@@ -62,6 +66,7 @@ class Interrupted(KeyboardInterrupt):
         return f"interrupted: {self.n_kept} {levels} kept in {self.chunks}; rerun with {resume}"
 
 
+_SCOPE = threading.local()  # the stop flag of this thread's stop_scope, if any
 _PENDING = [False]  # SIGINT received under deferred_sigint, not yet raised (no lock: a handler sets it)
 _NUMBA = tuple(f"{os.sep}{name}{os.sep}" for name in ("numba", "llvmlite"))
 
@@ -79,9 +84,14 @@ def _note_sigint(signum, frame):
 
 def check_interrupt() -> None:
     """Raise KeyboardInterrupt if SIGINT arrived under :func:`deferred_sigint` while numba was on
-    the stack (call it where no kernel runs)."""
+    the stack, or if this thread runs in a :func:`stop_scope` whose flag is set (another thread
+    stopped the run: the resonance sweeps of ``contactvib explore``, whose kernels take no stop
+    flag, stop at their next check). Call it where no kernel runs."""
     if _PENDING[0]:
         _PENDING[0] = False
+        raise KeyboardInterrupt
+    scoped = getattr(_SCOPE, "flag", None)
+    if scoped is not None and scoped[0]:
         raise KeyboardInterrupt
 
 
@@ -136,14 +146,12 @@ def end_with_parent(parent: int) -> None:
                      name="contactvib-parent-watch").start()
 
 
-_SCOPE = threading.local()  # the stop flag of this thread's stop_scope, if any
-
-
 @contextmanager
 def stop_scope(flag: np.ndarray):
     """Within (in this thread): :func:`new_stop_flag` returns ``flag``, so that another thread
     stops every kernel run here by setting ``flag[0] = 1`` (``contactvib explore``'s time
-    limit; the result computed under a set flag is incomplete and must be dropped)."""
+    limit; the result computed under a set flag is incomplete and must be dropped), and
+    :func:`check_interrupt` raises KeyboardInterrupt once it is set."""
     previous = getattr(_SCOPE, "flag", None)
     _SCOPE.flag = flag
     try:

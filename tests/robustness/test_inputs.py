@@ -74,7 +74,8 @@ OPTIONS = {
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                      "--order": "value", "--summation": "value"},
     "map": {"--orders": "levels", "--curves": "value"},
-    "explore": {"--port": "value", "--host": "value", "--time-limit": "value"},
+    "explore": {"--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
+                "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and

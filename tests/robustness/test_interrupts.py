@@ -165,6 +165,27 @@ def test_deferred_sigint_only_defers_inside_numba():
     check_interrupt()  # nothing pending any more
 
 
+def test_check_interrupt_raises_under_a_set_stop_scope_flag_in_its_thread_only():
+    import threading
+
+    import numpy as np
+
+    from contactvib.interrupts import check_interrupt, stop_scope
+
+    flag = np.zeros(1, np.int64)
+    with stop_scope(flag):
+        check_interrupt()  # cleared: nothing
+        flag[0] = 1
+        other = []
+        t = threading.Thread(target=lambda: other.append(check_interrupt()))  # another thread: no scope
+        t.start()
+        t.join()
+        assert other == [None]
+        with pytest.raises(KeyboardInterrupt):
+            check_interrupt()
+    check_interrupt()  # outside the scope: nothing
+
+
 def test_library_interrupted_keeps_finished_levels_and_releases_lock(tmp_path):
     """SIGINT in this process after the first level (workers 1): Interrupted before the next
     level, one level kept, the lock released."""

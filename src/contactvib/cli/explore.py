@@ -2,9 +2,21 @@
 
 from __future__ import annotations
 
+from functools import partial
+
 import click
 
-from contactvib.cli.common import InputError, RunInterrupted, _excitation, _int, _model, _positive
+from contactvib.cli.common import (
+    InputError,
+    RunInterrupted,
+    _excitation,
+    _feasible_frequencies,
+    _int,
+    _levels,
+    _mapped,
+    _model,
+    _positive,
+)
 
 
 def _check(point):
@@ -68,6 +80,44 @@ def _continue(point, model, exc, result, n):
     return branches[0], command
 
 
+#: The options of the page's resonance graph (its grid), by SweepSettings' symbols.
+_GRAPH_OPTIONS = {"f_min": "--graph-fmin", "f_max": "--graph-fmax", "df": "--graph-df"}
+
+
+def _graph_grid(fmin, fmax, df) -> tuple[str, str, str]:
+    """The grid of the page's resonance graph as typed (``--graph-fmin``, ``--graph-fmax``,
+    ``--graph-df``), checked as ``resonance`` checks ``--fmin``, ``--fmax`` and ``--df`` (with the
+    paper's model) before anything is served."""
+    from contactvib.model import ContactModel
+    from contactvib.sweeps.sweep import SweepSettings
+
+    st = _mapped(_GRAPH_OPTIONS, SweepSettings, fmin_hz=fmin, fmax_hz=fmax,
+                 df_hz=_positive("--graph-df", "df", df, "Hz"))
+    _feasible_frequencies(ContactModel(), st.fmin_hz, st.fmax_hz, ("--graph-fmin", "--graph-fmax"))
+    return fmin.strip(), fmax.strip(), df.strip()
+
+
+def _level_inputs(point, grid):
+    """The page's resonance graph as ``contactvib resonance --pa P_A --fmin .. --fmax .. --df ..
+    [--set ..]`` computes it for one level (its other options at their defaults), checked as that
+    command checks them (same one-line messages): ``(model, P_a [Q], SweepSettings, command)``."""
+    from contactvib.cli.sweeps import _sweep_inputs, resonance
+    from contactvib.explore.state import BadInput
+
+    fmin, fmax, df = grid
+    pa = point.fields["pa"].strip()
+    command = (f"contactvib resonance --pa {pa} --fmin {fmin} --fmax {fmax} --df {df}"
+               + "".join(f" --set {s}" for s in point.settings()))
+    sweep = {**{p.name: p.default for p in resonance.params}, "fmin": fmin, "fmax": fmax, "df": df,
+             "settings": point.settings()}
+    try:
+        level = _levels((pa,))[0]
+        model, st, _workers = _sweep_inputs(sweep)
+    except InputError as e:
+        raise BadInput(f"contactvib: error: {e}") from None
+    return model, level, st, command
+
+
 @click.command()
 @click.argument("dataset", required=False)
 @click.option("--port", default="0", show_default=True, help="TCP port (0: a free one).")
@@ -76,13 +126,26 @@ def _continue(point, model, exc, result, n):
 @click.option("--no-browser", is_flag=True, help="Do not open a browser; print the address.")
 @click.option("--time-limit", default="30", show_default=True,
               help="Stop a computation after this many seconds.")
-def explore(dataset, port, host, no_browser, time_limit):
+@click.option("--graph-fmin", default="30", show_default=True, metavar="HZ",
+              help="Without DATASET: lowest f_e [Hz] of the resonance graph the page computes.")
+@click.option("--graph-fmax", default="2000", show_default=True, metavar="HZ",
+              help="Without DATASET: highest f_e [Hz] of that graph.")
+@click.option("--graph-df", default="1", show_default=True, metavar="HZ",
+              help="Without DATASET: frequency step [Hz] of that graph.")
+@click.option("--graph-time-limit", default="300", show_default=True,
+              help="Stop the computation of that graph after this many seconds.")
+def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax, graph_df,
+            graph_time_limit):
     """The contact oscillator live in the browser: every attractor at the P_a and f_e you type.
 
     DATASET (optional): a paper.nc/resonance.nc/atlas.nc, or a folder holding one; the page then
-    shows the resonance graph of each stored level, and a click on it moves f_e there."""
+    shows the resonance graph of each stored level, and a click on it moves f_e there. Without
+    one, a button computes the graph of the current level in the background: the sweep of
+    contactvib resonance from --graph-fmin to --graph-fmax, step --graph-df."""
     port = _int("--port", port, 0, 65535, symbol="port")
     limit = _positive("--time-limit", "time_limit", time_limit, "s")
+    grid = _graph_grid(graph_fmin, graph_fmax, graph_df)
+    graph_limit = _positive("--graph-time-limit", "time_limit", graph_time_limit, "s")
     host = host.strip()
     if not host or any(c.isspace() for c in host):
         raise InputError(f"--host {host!r}: expected a host name or an address")
@@ -104,7 +167,8 @@ def explore(dataset, port, host, no_browser, time_limit):
         click.echo(f"contactvib explore: {url} (Ctrl-C stops)", err=False)
 
     try:
-        serve((_check, _find, _continue), port, host, not no_browser, limit, ready, levels)
+        ops = (_check, _find, _continue, partial(_level_inputs, grid=grid))
+        serve(ops, port, host, not no_browser, limit, ready, levels, graph_limit)
     except OSError as e:
         raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
     except KeyboardInterrupt:

@@ -1,7 +1,9 @@
 """The explore page of one browser session (Panel): fields, derived quantities, the attractor
 table, the time history and phase portrait of the selected attractor. Every session has its own
 :class:`Page` (tabs share nothing); searches run in a worker thread, a generation counter drops
-a stale result, and the time limit stops the kernels (:func:`.state.run_limited`)."""
+a stale result, and the time limit stops the kernels (:func:`.state.run_limited`). Without a
+dataset, a button sweeps the current level in the background (:mod:`.level_graph`) and draws its
+resonance graph as the dataset mode does."""
 
 from __future__ import annotations
 
@@ -17,6 +19,7 @@ import panel as pn
 from bokeh.models import Span
 from bokeh.plotting import figure
 
+from contactvib.explore.level_graph import GRAPH_TIME_LIMIT_S, LevelRun, sweep_level
 from contactvib.explore.state import (
     DEFAULTS,
     TIME_LIMIT_S,
@@ -34,6 +37,8 @@ log = logging.getLogger("contactvib.explore")
 _LABELS = {"pa": "P_a [Q]", "fe": "f_e [Hz]", "M": "M [kg]", "g": "g [m/s²]", "S": "S [m²]",
            "c_n": "c_n [N/m^(2+m2)]", "m2": "m2 [1]", "h_n": "h_n [N s/m^(3+l)]", "l": "l [1]"}
 _EXECUTOR = ThreadPoolExecutor(max_workers=2, thread_name_prefix="contactvib-explore")
+#: The background levels of every session, one at a time (a queued one shows 0 points done).
+_GRAPH_EXECUTOR = ThreadPoolExecutor(max_workers=1, thread_name_prefix="contactvib-graph")
 
 
 def _table_html(rows: list[dict], request: int = 0) -> str:
@@ -125,8 +130,11 @@ def _continue_compute(point: Point, ops, payload, n: int, limit_s: float):
 class Page:
     """One session's page."""
 
-    def __init__(self, point: Point, ops, limit_s: float = TIME_LIMIT_S, levels=None):
+    def __init__(self, point: Point, ops, limit_s: float = TIME_LIMIT_S, levels=None,
+                 graph_limit_s: float = GRAPH_TIME_LIMIT_S):
         self.point, self.ops, self.limit_s, self.generation, self.payload = point, ops, limit_s, 0, None
+        self.graph_limit_s, self.graph_run, self.graph_level = graph_limit_s, None, None
+        self.graph_key = self._level_key()  # the (P_a, model) of graph_run or graph_level
         self.levels, self.pick_um = levels, None  # a DatasetLevels; A_pp [µm] of the last click
         self.fields = {k: pn.widgets.TextInput(name=_LABELS[k], value=point.fields[k], width=150,
                                                css_classes=[f"field-{k}"]) for k in DEFAULTS}
@@ -140,6 +148,13 @@ class Page:
             self.pa_slider = pn.widgets.DiscreteSlider(name="P_a level of the dataset [Q]", width=320,
                                                        options=list(levels.levels), value=pa)
         self.graph = pn.Column(css_classes=["graph"])
+        self.graph_button = pn.widgets.Button(name="compute the resonance graph of this P_a", width=300,
+                                              css_classes=["graph-compute"],
+                                              visible=levels is None and len(ops) > 3)
+        self.graph_progress = pn.indicators.Progress(value=0, max=1, width=260, visible=False,
+                                                     css_classes=["graph-progress"])
+        self.graph_status = pn.pane.HTML("", css_classes=["graph-status"], width=700)
+        self.graph_button.on_click(self._graph_clicked)
         self.message = pn.pane.HTML("", css_classes=["message"], width=900)
         self.status = pn.pane.HTML("", css_classes=["status"], width=900)
         self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
@@ -182,7 +197,8 @@ class Page:
                         pn.GridBox(*(self.fields[k] for k in DEFAULTS if k not in ("pa", "fe")), ncols=4),
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
-                         self.status, self.graph, "### Attractors", self.table,
+                         self.status, pn.Row(self.graph_button, self.graph_progress, self.graph_status),
+                         self.graph, "### Attractors", self.table,
                          pn.Row(self.select, self.download, *self.figure_files), self.plots, self.series_note,
                          pn.Row(self.cont_button, self.cont_status), self.cont_plot)
 
@@ -192,6 +208,8 @@ class Page:
     async def refresh(self):
         """Check the fields and search (the newest request wins; older results are dropped)."""
         self.point = Point({k: w.value for k, w in self.fields.items()})
+        if self._level_key() != self.graph_key:
+            self._drop_graph()
         for name, slider in (("fe", self.fe_slider), ("pa", self.pa_slider)):
             value = self._float(name, None)
             if value is None:
@@ -332,20 +350,76 @@ class Page:
         app = np.array([a.app_um for a in result], float)
         return int(np.nanargmin(np.abs(np.log(np.maximum(app, 1e-300)) - np.log(pick))))
 
-    def _draw_graph(self, result):
-        """The dataset's resonance graph of the current P_a with the page's attractors on it
-        (nothing without a dataset; a one-line note when P_a is not a stored level)."""
-        if self.levels is None:
+    def _level_key(self):
+        """What a level's graph depends on: P_a and the model fields, as typed."""
+        return self.point.fields["pa"].strip(), self.point.settings()
+
+    def _drop_graph(self):
+        """A new P_a or model: stop the background level under way, drop the computed graph."""
+        if self.graph_run is not None:
+            self.graph_run.stop()
+        self.graph_run, self.graph_level, self.graph_key = None, None, self._level_key()
+        self.graph_status.object, self.graph_progress.visible = "", False
+        self.graph_button.visible, self.graph_button.disabled = self.levels is None and len(self.ops) > 3, False
+
+    async def _graph_clicked(self, event=None):
+        """Sweep the current level in the background (:func:`.level_graph.sweep_level`), showing
+        its progress; a new P_a or model stops it (:meth:`_drop_graph`)."""
+        if self.graph_run is not None:
             return
+        try:
+            run = LevelRun(*self.ops[3](self.point))
+        except BadInput as e:
+            self.graph_status.object = f'<b style="color:#b00" class="graph-error">{html.escape(str(e))}</b>'
+            return
+        self.graph_run, self.graph_button.disabled = run, True
+        self.graph_progress.max, self.graph_progress.value, self.graph_progress.visible = run.total, 0, True
+        t0 = time.perf_counter()
+        future = asyncio.wrap_future(_GRAPH_EXECUTOR.submit(sweep_level, run, self.graph_limit_s))
+        while run is self.graph_run and not future.done():
+            self.graph_progress.value = min(run.points, run.total)
+            self.graph_status.object = (f'<span class="graph-busy">P_a = {run.pa_over_q:g} Q: {run.points}/'
+                                        f'{run.total} f_e points, {time.perf_counter() - t0:.0f} s</span>')
+            await asyncio.wait({future}, timeout=0.25)
+        if run is not self.graph_run:
+            return  # dropped: a new P_a or model
+        kind, out = future.result()
+        self.graph_run, self.graph_button.disabled = None, False
+        if kind != "ok":
+            self.graph_progress.visible = False
+            self.graph_status.object = f'<b style="color:#b00" class="graph-error">{html.escape(out)}</b>'
+            return
+        self.graph_level, seconds = out
+        self.graph_progress.value, self.graph_button.visible = run.total, False
+        self.graph_status.object = (f'<span class="graph-done">{run.total}/{run.total} f_e points, '
+                                    f'{len(self.graph_level.fe_hz)} attractor points in {seconds:.1f} s, as '
+                                    f'<code style="white-space:nowrap">{html.escape(run.command)}</code> '
+                                    'computes them</span>')
+        self._draw_graph(None if self.payload is None else self.payload["result"])
+
+    def _graph_points(self):
+        """(the current level's points or None, a note or None): the dataset's level, or the
+        level computed in the background for this P_a and model."""
+        if self.levels is None:
+            return (self.graph_level if self.graph_key == self._level_key() else None), None
+        from contactvib.explore.dataset_view import DatasetError
+
+        try:
+            return self.levels.level(self._float("pa", float("nan"))), None
+        except DatasetError as e:
+            return None, str(e)
+
+    def _draw_graph(self, result):
+        """The level's resonance graph (the dataset's, or the one computed in the background)
+        with the page's attractors on it; a one-line note when P_a is not a stored level."""
         from bokeh.events import Tap
 
-        from contactvib.explore.dataset_view import DatasetError, graph_figure
+        from contactvib.explore.dataset_view import graph_figure
 
-        pa = self._float("pa", float("nan"))
-        try:
-            lv = self.levels.level(pa)
-        except DatasetError as e:
-            self.graph[:] = [pn.pane.HTML(f'<p class="graph-note">{html.escape(str(e))}</p>')]
+        lv, note = self._graph_points()
+        if lv is None:
+            self.graph[:] = [] if note is None else [
+                pn.pane.HTML(f'<p class="graph-note">{html.escape(note)}</p>')]
             return
         fig, current = graph_figure(lv)
         if result is not None:
@@ -369,7 +443,7 @@ class Page:
             loc.search = ("?" + urlencode(q)) if q else ""
 
 
-def build(ops, limit_s: float = TIME_LIMIT_S, levels=None):
+def build(ops, limit_s: float = TIME_LIMIT_S, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S):
     """The page of a new session, from its URL query parameters (``ops``: see :func:`_compute`;
     ``levels``: a :class:`.dataset_view.DatasetLevels` or None). With a dataset and no P_a in
     the URL, P_a starts at the stored level nearest the default."""
@@ -379,6 +453,7 @@ def build(ops, limit_s: float = TIME_LIMIT_S, levels=None):
     if levels is not None and "pa" not in args:
         lv = np.asarray(levels.levels)
         point.fields["pa"] = f"{lv[np.argmin(np.abs(lv - float(point.fields['pa'])))]:g}"
-    page = Page(point, ops, limit_s, levels)
+    page = Page(point, ops, limit_s, levels, graph_limit_s)
     pn.state.onload(page.refresh)
+    pn.state.on_session_destroyed(lambda _context: page.graph_run and page.graph_run.stop())  # tab closed
     return page.layout()

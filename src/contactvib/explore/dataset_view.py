@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["DatasetLevels", "LevelPoints", "graph_figure", "DatasetError"]
+__all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "DatasetError"]
 
 _VARS = ("fe_hz", "app_um", "branch_index", "kind", "resonance")
 
@@ -82,17 +82,28 @@ class DatasetLevels:
             raise DatasetError(f"P_a = {pa_over_q:g} Q is not a level of {self.path.name} "
                                f"(levels: {', '.join(f'{p:g}' for p in self.levels)} Q)")
         if pa not in self._cache:
-            idx = np.flatnonzero(self._pa == pa)
-            part = self.ds.isel(point=slice(int(idx[0]), int(idx[-1]) + 1))  # a level is contiguous
-            keep = self._pa[idx[0]:idx[-1] + 1] == pa
-            v = {k: part[k].values[keep] for k in _VARS}
-            reach = (self.ds["branch_reached_by_sweep"].values if "branch_reached_by_sweep" in self.ds
-                     else np.ones(self.ds.sizes.get("branch", 0), np.int8))
-            br = v["branch_index"].astype(int)
-            self._cache[pa] = LevelPoints(pa, v["fe_hz"].astype(float), v["app_um"].astype(float), br,
-                                          v["kind"].astype(str), v["resonance"].astype(str),
-                                          reach[br] == 0 if reach.size else np.zeros(br.size, bool))
+            self._cache[pa] = level_points(self.ds, pa, self._pa)
         return self._cache[pa]
+
+
+def level_points(ds, pa_over_q: float, pa_rounded=None) -> LevelPoints:
+    """The points of level ``pa_over_q`` [Q] (compared to 1e-6) of a resonance dataset: a file
+    opened lazily (only that level's slice is read) or a sweep's dataset in memory
+    (:mod:`.level_graph`). ``pa_rounded``: ``pa_over_q`` of every point rounded to 6 decimals,
+    when the caller holds it already. Empty when the level holds no point."""
+    pa_all = np.round(ds["pa_over_q"].values.astype(float), 6) if pa_rounded is None else pa_rounded
+    pa = float(np.round(float(pa_over_q), 6))
+    idx = np.flatnonzero(pa_all == pa)
+    lo, hi = (int(idx[0]), int(idx[-1]) + 1) if idx.size else (0, 0)
+    part = ds.isel(point=slice(lo, hi))  # a level is contiguous
+    keep = pa_all[lo:hi] == pa
+    v = {k: part[k].values[keep] for k in _VARS}
+    reach = (ds["branch_reached_by_sweep"].values if "branch_reached_by_sweep" in ds
+             else np.ones(ds.sizes.get("branch", 0), np.int8))
+    br = v["branch_index"].astype(int)
+    return LevelPoints(float(pa_over_q), v["fe_hz"].astype(float), v["app_um"].astype(float), br,
+                       v["kind"].astype(str), v["resonance"].astype(str),
+                       reach[br] == 0 if reach.size else np.zeros(br.size, bool))
 
 
 def _lines(lv: LevelPoints):

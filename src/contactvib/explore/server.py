@@ -2,21 +2,23 @@
 
 from __future__ import annotations
 
+from contactvib.explore.level_graph import GRAPH_TIME_LIMIT_S
 from contactvib.explore.state import TIME_LIMIT_S
 
 
 def serve(ops, port: int = 0, host: str = "127.0.0.1", open_browser: bool = True,
-          limit_s: float = TIME_LIMIT_S, ready=None, levels=None):
-    """Serve until stopped; ``ops = (check, find)`` (:func:`.app._compute`). ``ready(url)`` is
-    called once the server listens (the CLI prints it). ``levels``: a
-    :class:`.dataset_view.DatasetLevels` whose resonance graphs the pages show (read-only,
-    shared by the sessions)."""
+          limit_s: float = TIME_LIMIT_S, ready=None, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S):
+    """Serve until stopped; ``ops = (check, find, continue, level inputs)`` (:func:`.app._compute`,
+    :class:`.app.Page`). ``ready(url)`` is called once the server listens (the CLI prints it).
+    ``levels``: a :class:`.dataset_view.DatasetLevels` whose resonance graphs the pages show
+    (read-only, shared by the sessions); without it a page computes the graph of its level in
+    the background, stopped after ``graph_limit_s``."""
     import panel as pn
 
     from contactvib.explore.app import build
 
     def page():
-        return build(ops, limit_s, levels)
+        return build(ops, limit_s, levels, graph_limit_s)
 
     if not port:
         import socket

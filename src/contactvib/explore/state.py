@@ -64,22 +64,29 @@ class Stopped(Exception):
     """A computation stopped at the time limit."""
 
 
-def run_limited(call, limit_s: float = TIME_LIMIT_S):
+def run_limited(call, limit_s: float = TIME_LIMIT_S, flag: np.ndarray | None = None):
     """``call()`` with every kernel's stop flag set after ``limit_s`` (:func:`stop_scope`);
-    raises :class:`Stopped` ("stopped after 30 s") when the limit stopped it."""
+    raises :class:`Stopped` ("stopped after 30 s") when the limit stopped it. ``flag``: the
+    stop flag (int64[1]; a new one when None) that another thread may also set to stop the call
+    (then :class:`Stopped` "stopped"). A call that stops between kernel calls
+    (:func:`contactvib.interrupts.check_interrupt`: the resonance sweeps) stops the same way."""
     from contactvib.interrupts import stop_scope
 
-    flag = np.zeros(1, np.int64)
-    timer = threading.Timer(limit_s, lambda: flag.__setitem__(0, 1))
+    flag = np.zeros(1, np.int64) if flag is None else flag
+    timed_out = []
+    timer = threading.Timer(limit_s, lambda: (timed_out.append(True), flag.__setitem__(0, 1)))
     timer.daemon = True
     timer.start()
     try:
         with stop_scope(flag):
             value = call()
+    except KeyboardInterrupt:  # check_interrupt under the set flag
+        if not flag[0]:
+            raise
     finally:
         timer.cancel()
     if flag[0]:
-        raise Stopped(f"stopped after {limit_s:g} s")
+        raise Stopped(f"stopped after {limit_s:g} s" if timed_out else "stopped")
     return value
 
 

@@ -18,7 +18,8 @@ same chunks and the same merged dataset:
 Progress inside running levels: a level's task calls :func:`report_points` with the frequency
 points it has done; the pool's workers send them through a ``multiprocessing`` queue, Dask's
 through the worker's event log (``log_event`` / ``Client.subscribe_topic``), and ``run_levels``
-hands them to ``progress(pa, points)`` in this process while it waits.
+hands them to ``progress(pa, points)`` in this process while it waits; a thread may send its own
+levels' reports elsewhere (:func:`points_to`).
 
 SIGINT (deferred by the caller, :mod:`contactvib.interrupts`) is honoured within 0.2 s while
 waiting: the pool's workers are terminated, the Dask tasks cancelled and a LocalCluster closed.
@@ -29,6 +30,7 @@ from __future__ import annotations
 import os
 import re
 import threading
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,7 +38,7 @@ from contactvib.interrupts import check_interrupt
 from contactvib.model import WORKERS_MAX, ParameterError, check_int
 
 __all__ = ["LocalPool", "DaskBackend", "run_levels", "check_scheduler_address", "kernel_cache_cold",
-           "report_points"]
+           "report_points", "points_to"]
 
 _ADDRESS = re.compile(r"^(?:(tcp|tls|ws|wss|ucx)://)?([A-Za-z0-9._\-]+|\[[0-9A-Fa-f:.]+\]):(\d{1,5})$")
 
@@ -58,6 +60,19 @@ def report_points(pa: float, points: int) -> None:
             sink((float(pa), int(points)))
         except Exception:  # progress is news, not a result
             pass
+
+
+@contextmanager
+def points_to(sink):
+    """Within (in this thread): :func:`report_points` calls ``sink((pa, points))``, before any
+    sink of the run (a Dask task's topic; the page of ``contactvib explore``, whose level runs in
+    one of its threads)."""
+    previous = getattr(_THREAD, "sink", None)
+    _THREAD.sink = sink
+    try:
+        yield
+    finally:
+        _THREAD.sink = previous
 
 
 def check_scheduler_address(address) -> str:

@@ -53,11 +53,8 @@ def dask_task(threads: int, topic: str, fn, *args):
 
     numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
     worker = get_worker()
-    backends._THREAD.sink = lambda item: worker.log_event(topic, list(item))
-    try:
+    with backends.points_to(lambda item: worker.log_event(topic, list(item))):
         return fn(*args)
-    finally:
-        backends._THREAD.sink = None
 
 
 def open_client(backend, timeout: float):
