@@ -22,6 +22,14 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    looks for attractors no sweep has met; each new one is traced up and down. This is how the
    isolated parts of the 1/2 and 1/3 resonances (Kostek 2013, Sec. 3: "cannot be found with a
    sweeping signal") are found.
+   **Period-2 Newton seeds** (at multi-start frequencies with f_e ≥ ``NEWTON_MIN_RATIO`` f_n0):
+   the same box starts, shrunk towards the static equilibrium by 1/2, 1/4, 1/8 in turn, are
+   corrected by Newton shooting as orbits of period 2 (the settle's refinement: minimal period,
+   stable); each stable orbit no trace has met is traced up and down (root "multi-start"). This
+   finds the ultrasubharmonic isolas (period 2 with 3 minima, and their period-4, -8 doublings
+   by tracing on) whose basins are 0.2–1 % of the box: a 24-start search lands in them by
+   chance, a Newton start converges to them from 2–9 % of the shrunk starts. They are not box
+   hits, so they do not change the basin fractions.
 5. All traces share one table of known attractors per frequency; a trace that reaches an
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
@@ -62,6 +70,16 @@ __all__ = ["SweepSettings", "LevelTrace", "TraceStop", "frequency_grid", "multis
            "trace_level", "compile_late_kernels_first"]
 
 _MAXA = 48  # attractors per frequency in the shared table
+
+#: Period-2 Newton seeds run only at f_e ≥ this × f_n0: one Newton iteration integrates two
+#: excitation periods, 2 f_n0/f_e natural periods, so below this they cost more than the
+#: multi-start's settling (above it about 0.4 s CPU per level, 3–10 % of ``trace_level``).
+NEWTON_MIN_RATIO = 0.2
+#: Period of the Newton seeds (the ultrasubharmonic isolas; their doublings are traced on).
+NEWTON_PERIOD = 2
+#: The Newton seeds shrink the box starts towards the static equilibrium by these factors, in
+#: turn (the isolas lie within 1/4–1/2 of the box: A_pp 0.6–2.4 µm, the box ±(2 + 10 P_a/Q) y0).
+NEWTON_SHRINK = (0.5, 0.25, 0.125)
 
 #: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
 #: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
@@ -389,6 +407,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
         found.append((j, z, k, kind))
         if lv.known_slot(i, z, k, kind) < 0:
             lv.trace_both_ways(z, k, kind, i, "multi-start")
+    _newton_seeds(lv, i, Zb, par)
     for j, z, k, kind in found:
         if j >= Zb.shape[0]:
             continue
@@ -402,6 +421,26 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
         if gid not in hits:
             obs.append((gid, 0.0))
     return obs
+
+
+def _newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray) -> None:
+    """Period-2 Newton seeds at grid index ``i`` from the box starts ``Zb`` (module doc, step 4):
+    trace every new stable orbit up and down."""
+    from contactvib._kernels.settle import _refine
+    from contactvib.interrupts import check_interrupt
+
+    if lv.r[i] < NEWTON_MIN_RATIO:
+        return
+    st = lv.st
+    oz = np.empty(2)
+    oM = np.empty((2, 2))
+    for j in range(Zb.shape[0]):
+        check_interrupt()
+        shrink = NEWTON_SHRINK[j % len(NEWTON_SHRINK)]
+        z0 = np.array([1.0 + shrink * (Zb[j, 0] - 1.0), shrink * Zb[j, 1]])
+        ok, k, _res = _refine(z0, NEWTON_PERIOD, par, st.rtol, st.close_tol, oz, oM)
+        if ok and lv.known_slot(i, oz, k, 0) < 0:
+            lv.trace_both_ways(oz.copy(), k, 0, i, "multi-start")
 
 
 def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
