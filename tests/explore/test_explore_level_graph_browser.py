@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import re
+import time
 
 import pytest
 from test_explore_browser import CHROMIUM, _cli_json, _same, _set_field, _table, _wait_done, browser, serving  # noqa: F401
@@ -41,7 +42,8 @@ def test_background_graph_progress_stop_and_click(graph_server, browser, tmp_pat
     assert re.fullmatch(r"P_a = 0\.65 Q: \d+/201 f_e points, \d+ s", busy.inner_text())
     _set_field(page, "pa", "0.7")
     busy.wait_for(state="detached", timeout=30_000)
-    _wait_done(page)
+    page.wait_for_function("() => location.search.includes('pa=0.7')", timeout=30_000)
+    page.locator(".status .done").wait_for(timeout=120_000)
     assert page.locator(".graph-status span, .graph-status b").count() == 0  # no progress, no message
     assert not page.locator(".graph-progress progress").is_visible()
     assert button.is_visible() and button.is_enabled() and not page.evaluate(GRAPH)
@@ -62,7 +64,9 @@ def test_background_graph_progress_stop_and_click(graph_server, browser, tmp_pat
     assert page.locator(".graph-progress progress").is_visible()  # the progress bar
     seen = {busy.inner_text()}
     done = page.locator(".graph-status .graph-done")
+    deadline = time.monotonic() + 120
     while not done.count():
+        assert time.monotonic() < deadline, "the background graph did not finish within 120 s"
         if busy.count():
             seen.add(busy.text_content())
         page.wait_for_timeout(100)
@@ -78,8 +82,7 @@ def test_background_graph_progress_stop_and_click(graph_server, browser, tmp_pat
     assert xy is not None
     page.mouse.click(*xy)
     page.wait_for_function("() => location.search.includes('fe=371')", timeout=30_000)
-    page.wait_for_timeout(300)
-    page.locator(".status .done").wait_for(timeout=120_000)
+    _wait_done(page, "371")
     assert page.locator(".field-fe input").input_value() == "371"
     cli = _cli_json("--fe", "371")
     _same(_table(page), cli)
