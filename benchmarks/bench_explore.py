@@ -41,36 +41,31 @@ def main() -> None:
     if chromium is None:
         sys.exit("bench_explore: no chromium binary (apt-get install chromium)")
     from playwright.sync_api import sync_playwright
-    from test_explore_browser import _table, _wait_done, serving
+    from test_explore_browser import _table, _wait_done, served
 
     load = os.getloadavg()[0]
-    proc, url = serving()
     walls, searches, servers = [], [], []
-    try:
-        with sync_playwright() as p:
-            browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
-            page = browser.new_page(viewport={"width": 1100, "height": 1300})
-            page.goto(url)
-            _wait_done(page, timeout=300_000)
-            assert len(_table(page)) == 5
-            box = page.locator(".field-fe input")
-            for i in range(args.changes):
-                fe = "361" if i % 2 == 0 else "360"
-                request = int(page.locator(".status .done").get_attribute("data-request"))
-                box.fill(fe)
-                t0 = time.perf_counter()
-                box.press("Enter")
-                page.locator(f'#attractors[data-request="{request + 1}"]').wait_for(timeout=60_000)
-                walls.append(time.perf_counter() - t0)
-                done = page.locator(f'.status .done[data-request="{request + 1}"]')
-                done.wait_for(timeout=60_000)
-                s, total = map(float, re.findall(r"([0-9.]+) s", done.inner_text()))
-                searches.append(s)
-                servers.append(total)
-            browser.close()
-    finally:
-        proc.terminate()
-        proc.wait(10)
+    with served() as url, sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1100, "height": 1300})
+        page.goto(url)
+        _wait_done(page, timeout=300_000)
+        assert len(_table(page)) == 5
+        box = page.locator(".field-fe input")
+        for i in range(args.changes):
+            fe = "361" if i % 2 == 0 else "360"
+            request = int(page.locator(".status .done").get_attribute("data-request"))
+            box.fill(fe)
+            t0 = time.perf_counter()
+            box.press("Enter")
+            page.locator(f'#attractors[data-request="{request + 1}"]').wait_for(timeout=60_000)
+            walls.append(time.perf_counter() - t0)
+            done = page.locator(f'.status .done[data-request="{request + 1}"]')
+            done.wait_for(timeout=60_000)
+            s, total = map(float, re.findall(r"([0-9.]+) s", done.inner_text()))
+            searches.append(s)
+            servers.append(total)
+        browser.close()
 
     def stats(xs):
         return {"median_s": statistics.median(xs), "best_s": min(xs), "worst_s": max(xs)}

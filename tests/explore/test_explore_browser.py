@@ -11,6 +11,7 @@ import socket
 import subprocess
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -43,12 +44,21 @@ def serving(*args):
     return proc, f"http://127.0.0.1:{port}/"
 
 
+@contextmanager
+def served(*args):
+    """The URL of ``contactvib explore ARGS`` (:func:`serving`), stopped on exit."""
+    proc, url = serving(*args)
+    try:
+        yield url
+    finally:
+        proc.terminate()
+        proc.wait(10)
+
+
 @pytest.fixture(scope="module")
 def server():
-    proc, url = serving()
-    yield url
-    proc.terminate()
-    proc.wait(10)
+    with served() as url:
+        yield url
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from test_explore_browser import CHROMIUM, _cli_json, _same, _table, _wait_done, browser, serving  # noqa: F401
+from test_explore_browser import CHROMIUM, _cli_json, _same, _table, _wait_done, browser, served  # noqa: F401
 
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
@@ -27,10 +27,8 @@ XY = """([fe, app]) => {
 
 @pytest.fixture(scope="module")
 def dataset_server(small_dataset):
-    proc, url = serving(str(small_dataset))
-    yield url
-    proc.terminate()
-    proc.wait(10)
+    with served(str(small_dataset)) as url:
+        yield url
 
 
 def test_click_on_the_resonance_graph_moves_fe(dataset_server, browser, tmp_path):  # noqa: F811

@@ -11,7 +11,7 @@ import re
 import time
 
 import pytest
-from test_explore_browser import CHROMIUM, _cli_json, _same, _set_field, _table, _wait_done, browser, serving  # noqa: F401
+from test_explore_browser import CHROMIUM, _cli_json, _same, _set_field, _table, _wait_done, browser, served  # noqa: F401
 from test_explore_dataset_browser import XY
 
 pytestmark = [pytest.mark.browser,
@@ -23,10 +23,8 @@ GRAPH = "() => Bokeh.index.all_views().some(v => v.model.title && v.model.title.
 
 @pytest.fixture(scope="module")
 def graph_server():
-    proc, url = serving("--graph-fmin", "250", "--graph-fmax", "450", "--graph-df", "1")
-    yield url
-    proc.terminate()
-    proc.wait(10)
+    with served("--graph-fmin", "250", "--graph-fmax", "450", "--graph-df", "1") as url:
+        yield url
 
 
 def test_background_graph_progress_stop_and_click(graph_server, browser, tmp_path):  # noqa: F811
