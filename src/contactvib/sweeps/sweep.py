@@ -30,6 +30,11 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    by tracing on) whose basins are 0.2–1 % of the box: a 24-start search lands in them by
    chance, a Newton start converges to them from 2–9 % of the shrunk starts. They are not box
    hits, so they do not change the basin fractions.
+   **Period-3, -4, -5 Newton seeds**, after the multi-start at every frequency: the first 8 box
+   starts, as drawn and moved twice as far from the equilibrium in turn, corrected as orbits of
+   period 3, 4, 5 (loosely first, :data:`NEWTON_SEEDS`). This finds bouncing orbits above f_n0
+   (period 5 at 0.85 Q) and large orbits whose strobe points lie outside the box (period 3 at
+   0.80 Q near 400 Hz); running after the multi-start, they trace only what it found nowhere.
 5. All traces share one table of known attractors per frequency; a trace that reaches an
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
@@ -75,11 +80,26 @@ _MAXA = 48  # attractors per frequency in the shared table
 #: excitation periods, 2 f_n0/f_e natural periods, so below this they cost more than the
 #: multi-start's settling (above it about 0.4 s CPU per level, 3–10 % of ``trace_level``).
 NEWTON_MIN_RATIO = 0.2
-#: Period of the Newton seeds (the ultrasubharmonic isolas; their doublings are traced on).
-NEWTON_PERIOD = 2
-#: The Newton seeds shrink the box starts towards the static equilibrium by these factors, in
-#: turn (the isolas lie within 1/4–1/2 of the box: A_pp 0.6–2.4 µm, the box ±(2 + 10 P_a/Q) y0).
-NEWTON_SHRINK = (0.5, 0.25, 0.125)
+#: The Newton seeds: (period, start factors, number of box starts, loose first, stage). For each
+#: entry the first box starts (all if None), moved towards (factor < 1) or away from (factor > 1)
+#: the static equilibrium by the factors in turn, are corrected by Newton shooting as orbits of
+#: that period; with "loose first" Newton runs at :data:`NEWTON_LOOSE_RTOL` first and only what
+#: closes there is refined at the sweep's tolerance (a start that fails costs about 0.6 as much).
+#: Stage 0 runs with the multi-start at each frequency, stage 1 after the multi-start at every
+#: frequency (so it traces only what the multi-start found nowhere, and changes none of it).
+#: Period 2 from all starts shrunk by 1/2, 1/4, 1/8: the ultrasubharmonic isolas (A_pp 0.6–2.4
+#: µm, within 1/4–1/2 of the box ±(2 + 10 P_a/Q) y0; their doublings are traced on). Periods 3,
+#: 4, 5 from 8 starts each, as drawn and doubled: bouncing orbits above f_n0 (period 5 at 0.85 Q,
+#: 1589–2000 Hz) and large orbits whose strobe points lie outside the box (period 3 with 2 minima
+#: at 0.80 Q, 366–450 Hz: x down to −45 y0); a period-k Newton start converges to them from
+#: 3–20 % of such starts.
+NEWTON_SEEDS = ((2, (0.5, 0.25, 0.125), None, False, 0),
+                (3, (1.0, 2.0), 8, True, 1),
+                (4, (1.0, 2.0), 8, True, 1),
+                (5, (1.0, 2.0), 8, True, 1))
+#: Integrator tolerance and closure of a loose first Newton (then refined at the sweep's).
+NEWTON_LOOSE_RTOL = 1e-7
+NEWTON_LOOSE_CLOSE = 1e-6
 
 #: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
 #: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
@@ -407,7 +427,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
         found.append((j, z, k, kind))
         if lv.known_slot(i, z, k, kind) < 0:
             lv.trace_both_ways(z, k, kind, i, "multi-start")
-    _newton_seeds(lv, i, Zb, par)
+    _newton_seeds(lv, i, Zb, par, 0)
     for j, z, k, kind in found:
         if j >= Zb.shape[0]:
             continue
@@ -423,10 +443,12 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
     return obs
 
 
-def _newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray) -> None:
-    """Period-2 Newton seeds at grid index ``i`` from the box starts ``Zb`` (module doc, step 4):
-    trace every new stable orbit up and down."""
+def _newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray, stage: int) -> None:
+    """Newton seeds of ``stage`` at grid index ``i`` from the box starts ``Zb`` (module doc,
+    step 4, :data:`NEWTON_SEEDS`): trace every new stable orbit up and down."""
     from contactvib._kernels.settle import _refine
+    from contactvib._kernels.shooting import newton_orbit
+    from contactvib._kernels.status import STATUS_OK
     from contactvib.interrupts import check_interrupt
 
     if lv.r[i] < NEWTON_MIN_RATIO:
@@ -434,13 +456,37 @@ def _newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray) -> None:
     st = lv.st
     oz = np.empty(2)
     oM = np.empty((2, 2))
-    for j in range(Zb.shape[0]):
-        check_interrupt()
-        shrink = NEWTON_SHRINK[j % len(NEWTON_SHRINK)]
-        z0 = np.array([1.0 + shrink * (Zb[j, 0] - 1.0), shrink * Zb[j, 1]])
-        ok, k, _res = _refine(z0, NEWTON_PERIOD, par, st.rtol, st.close_tol, oz, oM)
-        if ok and lv.known_slot(i, oz, k, 0) < 0:
-            lv.trace_both_ways(oz.copy(), k, 0, i, "multi-start")
+    for period, shrinks, n_starts, loose, when in NEWTON_SEEDS:
+        if when != stage:
+            continue
+        for j in range(Zb.shape[0] if n_starts is None else min(n_starts, Zb.shape[0])):
+            check_interrupt()
+            shrink = shrinks[j % len(shrinks)]
+            z0 = np.array([1.0 + shrink * (Zb[j, 0] - 1.0), shrink * Zb[j, 1]])
+            if loose:
+                s, _res = newton_orbit(z0, period, par, NEWTON_LOOSE_RTOL, NEWTON_LOOSE_RTOL,
+                                       NEWTON_LOOSE_CLOSE, 12, oz, oM)
+                if s != STATUS_OK:
+                    continue
+                z0 = oz.copy()
+            ok, k, _res = _refine(z0, period, par, st.rtol, st.close_tol, oz, oM)
+            if ok and lv.known_slot(i, oz, k, 0) < 0:
+                lv.trace_both_ways(oz.copy(), k, 0, i, "multi-start")
+
+
+def _late_newton_seeds(lv: _Level, model: ContactModel, pa_over_q: float, starts) -> None:
+    """The stage-1 Newton seeds at every multi-start frequency, from the same box starts."""
+    from contactvib.steady.attractors import start_box
+
+    st = lv.st
+    for i in starts:
+        i = int(i)
+        if lv.r[i] < NEWTON_MIN_RATIO:
+            continue
+        Zb, _ph = start_box(model.excitation(pa_over_q, lv.f[i]), st.multistart_starts, st.seed + i)
+        par = lv.par.copy()
+        par[4] = lv.r[i]
+        _newton_seeds(lv, i, Zb, par, 1)
 
 
 def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
@@ -476,6 +522,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     for n, i in enumerate(starts, 1):
         observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
         report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
+    _late_newton_seeds(lv, model, pa_over_q, starts)
     continue_unstable_parts(lv, model, pa_over_q)  # stable parts beyond a jump (root "continuation")
     basin = np.full(lv.n_rows, np.nan)
     for obs in observations:
