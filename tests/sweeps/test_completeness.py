@@ -88,7 +88,7 @@ def test_period2_newton_seeds_find_the_ultrasubharmonic_isola():
     import warnings
 
     from contactvib.steady.attractors import find_attractors
-    from contactvib.sweeps import sweep
+    from contactvib.sweeps import newton_seeds
 
     m = ContactModel()
     st = SweepSettings(fmin_hz=460.0, fmax_hz=560.0, df_hz=4.0)  # multi-start at 460, 500, 548 Hz
@@ -103,8 +103,8 @@ def test_period2_newton_seeds_find_the_ultrasubharmonic_isola():
     r = lt.rows
     on_isola = (r.k == 2) & (r.n_min == 3)
     assert lt.f_hz[r.i[on_isola]].min() <= 476.0 and lt.f_hz[r.i[on_isola]].max() >= 552.0
-    mp = pytest.MonkeyPatch()
-    mp.setattr(sweep, "_newton_seeds", lambda *a: None)
+    mp = pytest.MonkeyPatch()  # without the period-2 seeds (the period-3–5 ones still run)
+    mp.setattr(newton_seeds, "NEWTON_SEEDS", tuple(e for e in newton_seeds.NEWTON_SEEDS if e[0] != 2))
     try:
         assert not _in_level(trace_level(m, 0.60, st), 500.0, iso[0])  # the test bites
     finally:
@@ -119,7 +119,7 @@ def test_period5_newton_seeds_find_the_bouncing_orbit():
     import warnings
 
     from contactvib.steady.attractors import find_attractors
-    from contactvib.sweeps import sweep
+    from contactvib.sweeps import newton_seeds
 
     m = ContactModel()
     st = SweepSettings(fmin_hz=1600.0, fmax_hz=1720.0, df_hz=4.0)  # multi-start at 1600 Hz only
@@ -133,8 +133,8 @@ def test_period5_newton_seeds_find_the_bouncing_orbit():
         assert _in_level(lt, 1700.0, a), (a.period, a.minima_per_period, a.app_um)
     f5 = lt.f_hz[lt.rows.i[lt.rows.k == 5]]
     assert f5.min() == 1600.0 and f5.max() == 1720.0
-    mp = pytest.MonkeyPatch()
-    mp.setattr(sweep, "NEWTON_SEEDS", tuple(e for e in sweep.NEWTON_SEEDS if e[0] == 2))
+    mp = pytest.MonkeyPatch()  # with the period-2 seeds only
+    mp.setattr(newton_seeds, "NEWTON_SEEDS", tuple(e for e in newton_seeds.NEWTON_SEEDS if e[0] == 2))
     try:
         assert not _in_level(trace_level(m, 0.85, st), 1700.0, p5[0])  # the test bites
     finally:
