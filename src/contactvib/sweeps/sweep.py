@@ -30,6 +30,11 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    by tracing on) whose basins are 0.2–1 % of the box: a 24-start search lands in them by
    chance, a Newton start converges to them from 2–9 % of the shrunk starts. They are not box
    hits, so they do not change the basin fractions.
+   **Period-3, -4, -5 Newton seeds**, after the multi-start at every frequency: the first 8 box
+   starts, as drawn and moved twice as far from the equilibrium in turn, corrected as orbits of
+   period 3, 4, 5 (loosely first, :data:`NEWTON_SEEDS`). This finds bouncing orbits above f_n0
+   (period 5 at 0.85 Q) and large orbits whose strobe points lie outside the box (period 3 at
+   0.80 Q near 400 Hz); running after the multi-start, they trace only what it found nowhere.
 5. All traces share one table of known attractors per frequency; a trace that reaches an
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
@@ -61,6 +66,7 @@ from contactvib.model import (
     check_range,
 )
 from contactvib.model.checks import MEMORY_MAX, check_memory, format_number
+from contactvib.sweeps.newton_seeds import late_newton_seeds, newton_seeds
 
 if TYPE_CHECKING:
     from contactvib._kernels.describe import TraceRows
@@ -70,16 +76,6 @@ __all__ = ["SweepSettings", "LevelTrace", "TraceStop", "frequency_grid", "multis
            "trace_level", "compile_late_kernels_first"]
 
 _MAXA = 48  # attractors per frequency in the shared table
-
-#: Period-2 Newton seeds run only at f_e ≥ this × f_n0: one Newton iteration integrates two
-#: excitation periods, 2 f_n0/f_e natural periods, so below this they cost more than the
-#: multi-start's settling (above it about 0.4 s CPU per level, 3–10 % of ``trace_level``).
-NEWTON_MIN_RATIO = 0.2
-#: Period of the Newton seeds (the ultrasubharmonic isolas; their doublings are traced on).
-NEWTON_PERIOD = 2
-#: The Newton seeds shrink the box starts towards the static equilibrium by these factors, in
-#: turn (the isolas lie within 1/4–1/2 of the box: A_pp 0.6–2.4 µm, the box ±(2 + 10 P_a/Q) y0).
-NEWTON_SHRINK = (0.5, 0.25, 0.125)
 
 #: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
 #: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
@@ -407,7 +403,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
         found.append((j, z, k, kind))
         if lv.known_slot(i, z, k, kind) < 0:
             lv.trace_both_ways(z, k, kind, i, "multi-start")
-    _newton_seeds(lv, i, Zb, par)
+    newton_seeds(lv, i, Zb, par, 0)
     for j, z, k, kind in found:
         if j >= Zb.shape[0]:
             continue
@@ -421,26 +417,6 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
         if gid not in hits:
             obs.append((gid, 0.0))
     return obs
-
-
-def _newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray) -> None:
-    """Period-2 Newton seeds at grid index ``i`` from the box starts ``Zb`` (module doc, step 4):
-    trace every new stable orbit up and down."""
-    from contactvib._kernels.settle import _refine
-    from contactvib.interrupts import check_interrupt
-
-    if lv.r[i] < NEWTON_MIN_RATIO:
-        return
-    st = lv.st
-    oz = np.empty(2)
-    oM = np.empty((2, 2))
-    for j in range(Zb.shape[0]):
-        check_interrupt()
-        shrink = NEWTON_SHRINK[j % len(NEWTON_SHRINK)]
-        z0 = np.array([1.0 + shrink * (Zb[j, 0] - 1.0), shrink * Zb[j, 1]])
-        ok, k, _res = _refine(z0, NEWTON_PERIOD, par, st.rtol, st.close_tol, oz, oM)
-        if ok and lv.known_slot(i, oz, k, 0) < 0:
-            lv.trace_both_ways(oz.copy(), k, 0, i, "multi-start")
 
 
 def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
@@ -476,6 +452,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     for n, i in enumerate(starts, 1):
         observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
         report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
+    late_newton_seeds(lv, model, pa_over_q, starts)
     continue_unstable_parts(lv, model, pa_over_q)  # stable parts beyond a jump (root "continuation")
     basin = np.full(lv.n_rows, np.nan)
     for obs in observations:
