@@ -25,6 +25,23 @@ XY = """([fe, app]) => {
 }"""
 
 
+def click_graph(page, fe: float, app: float, grid_fe: str):
+    """Click the resonance graph at (``fe`` [Hz], ``app`` [µm]): f_e moves to the grid frequency
+    ``grid_fe``, the table is the CLI's search there (to 1e-6), and the attractor whose A_pp is
+    nearest the click (log) is selected."""
+    xy = page.evaluate(XY, [fe, app])
+    assert xy is not None
+    page.mouse.click(*xy)
+    page.wait_for_function(f"() => location.search.includes('fe={grid_fe}')", timeout=30_000)
+    _wait_done(page, grid_fe)
+    assert page.locator(".field-fe input").input_value() == grid_fe
+    cli = _cli_json("--fe", grid_fe)
+    _same(_table(page), cli)
+    apps = [a["app_um"] for a in cli["attractors"]]
+    nearest = min(range(len(apps)), key=lambda i: abs(math.log(apps[i] / app)))
+    assert page.locator("select").first.evaluate("s => s.selectedIndex") == nearest  # the clicked one
+
+
 @pytest.fixture(scope="module")
 def dataset_server(small_dataset):
     with served(str(small_dataset)) as url:
@@ -39,16 +56,5 @@ def test_click_on_the_resonance_graph_moves_fe(dataset_server, browser, tmp_path
     page.wait_for_function("() => Bokeh.index.all_views().some(v => v.model.title && "
                            "v.model.title.text && v.model.title.text.startsWith('Resonance graph'))")
     page.screenshot(path=str(tmp_path / "explore_dataset_360.png"), full_page=True)
-    xy = page.evaluate(XY, [371.3, 0.2])  # between grid points 370 and 372 Hz, near the 1/4
-    assert xy is not None
-    page.mouse.click(*xy)
-    page.wait_for_function("() => location.search.includes('fe=372')", timeout=30_000)
-    _wait_done(page, "372")
-    assert page.locator(".field-fe input").input_value() == "372"
-    rows = _table(page)
-    cli = _cli_json("--fe", "372")
-    _same(rows, cli)
-    apps = [a["app_um"] for a in cli["attractors"]]
-    nearest = min(range(len(apps)), key=lambda i: abs(math.log(apps[i] / 0.2)))
-    assert page.locator("select").first.evaluate("s => s.selectedIndex") == nearest  # the clicked one
+    click_graph(page, 371.3, 0.2, "372")  # between grid points 370 and 372 Hz, near the 1/4
     page.screenshot(path=str(tmp_path / "explore_dataset_372.png"), full_page=True)

@@ -6,13 +6,12 @@ same page with the default grid, 30-2000 Hz, 1 Hz)."""
 
 from __future__ import annotations
 
-import math
 import re
 import time
 
 import pytest
 from test_explore_browser import CHROMIUM, _cli_json, _same, _set_field, _table, _wait_done, browser, served  # noqa: F401
-from test_explore_dataset_browser import XY
+from test_explore_dataset_browser import click_graph
 
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
@@ -76,17 +75,7 @@ def test_background_graph_progress_stop_and_click(graph_server, browser, tmp_pat
     assert not button.is_visible()
     page.screenshot(path=str(tmp_path / "explore_level_graph_360.png"), full_page=True)
 
-    xy = page.evaluate(XY, [371.3, 0.2])  # between grid points 371 and 372 Hz, near the 1/4
-    assert xy is not None
-    page.mouse.click(*xy)
-    page.wait_for_function("() => location.search.includes('fe=371')", timeout=30_000)
-    _wait_done(page, "371")
-    assert page.locator(".field-fe input").input_value() == "371"
-    cli = _cli_json("--fe", "371")
-    _same(_table(page), cli)
-    apps = [a["app_um"] for a in cli["attractors"]]
-    nearest = min(range(len(apps)), key=lambda i: abs(math.log(apps[i] / 0.2)))
-    assert page.locator("select").first.evaluate("s => s.selectedIndex") == nearest
+    click_graph(page, 371.3, 0.2, "371")  # between grid points 371 and 372 Hz, near the 1/4
     page.wait_for_function(GRAPH, timeout=30_000)  # the graph stays for a new f_e
     page.screenshot(path=str(tmp_path / "explore_level_graph_371.png"), full_page=True)
     print("screenshots in", tmp_path)
