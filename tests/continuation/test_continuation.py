@@ -232,7 +232,22 @@ def test_branch_netcdf_roundtrip(tmp_path, primary_1930):
     assert len(g) == 1 and b.ymin_um.min() < 0 < b.ymin_um.max()
 
 
+def test_locate_off_changes_no_branch_point(lower_branch_065):
+    """``locate=False`` (the sweep's post-pass) leaves the special points out and nothing else:
+    the same points, multipliers and stability, bit for bit."""
+    exc, seed = lower_branch_065
+    kw = dict(fmin=990, fmax=1100, rtol=1e-10, tol=1e-9, max_points=80)
+    on = continue_orbit(MODEL, exc, seed.state, 1, direction="up", settings=ContinuationSettings(**kw))
+    off = continue_orbit(MODEL, exc, seed.state, 1, direction="up",
+                         settings=ContinuationSettings(**kw, locate=False))
+    assert {sp.type for sp in on.special} >= {"fold"} and off.special == []
+    for name in ("fe_hz", "state", "floquet_multipliers", "stable", "app_um"):
+        np.testing.assert_array_equal(getattr(on, name), getattr(off, name), err_msg=name)
+    assert [st.reason for st in on.stops] == [st.reason for st in off.stops]
+
+
 @pytest.mark.parametrize("kwargs, symbol", [
+    ({"locate": "no"}, "locate"),
     ({"fmin": -1.0}, "fmin"), ({"fmin": 100.0, "fmax": 50.0}, "fmax"), ({"ds_min": 0.0}, "ds_min"),
     ({"max_points": 0}, "max_points"), ({"rtol": 1e-3}, "rtol"), ({"app_max_um": -5.0}, "app_max_um"),
 ])

@@ -77,6 +77,6 @@ def test_warm_up_compiles_only_what_a_level_uses(tmp_path):
                   ("taylor", "poly_root")}
     for root in (("settle", "settle"), ("trace", "trace"), ("describe", "describe_point"),
                  ("shooting", "newton_orbit"), ("describe", "lyapunov_strobe"),
-                 ("table", "settle_known_many")):
+                 ("table", "_settle_known_threads")):
         assert counts[root] == 1, root
     assert {k: n for k, n in counts.items() if n > 1 and k not in on_purpose} == {}

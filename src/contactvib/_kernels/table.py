@@ -120,34 +120,63 @@ def _capture_points(table, i):
     return cap_pts, cap_id
 
 
-@njit(cache=True, parallel=True)
-def settle_known_many(Z, phases, i, par, cfg, capture_tol, table):
-    """:func:`.settle.settle_core` for many starts (numba threads over the starts), each stopped
-    early once it comes within ``capture_tol`` of a stable periodic attractor known at grid index
-    ``i`` (``SETTLE_CAPTURED``; the table slot is returned as ``k``).
+@njit(cache=True, inline='always')
+def _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, status, kk, zs):
+    """Start ``q`` of :func:`settle_known_many` (the loop body of both of its kernels)."""
+    hist = np.empty((cfg.max_periods + 1, 2))
+    oz = np.empty(2)
+    oM = np.zeros((2, 2))
+    st, k, n, _res = settle_core(Z[q], phases[q], par, cfg.kmax, np.int64(4), cfg.max_periods,
+                                 cfg.detect_tol, cfg.rtol_transient, cfg.rtol, cfg.close_tol,
+                                 cap_pts, cap_id, capture_tol, hist, oz, oM, np.zeros(1, np.int64))
+    status[q] = st
+    kk[q] = k
+    if st == SETTLE_PERIODIC:
+        zs[q, 0] = oz[0]
+        zs[q, 1] = oz[1]
+    else:
+        zs[q, 0] = hist[n, 0]
+        zs[q, 1] = hist[n, 1]
 
-    ``cfg`` is a :class:`.trace.TraceSettings` (kmax, max_periods, detect_tol, rtol_transient,
-    rtol, close_tol are used). Returns status, k (period, or the captured slot), z (refined point
-    or last strobe point).
-    """
+
+@njit(cache=True, parallel=True)
+def _settle_known_threads(Z, phases, i, par, cfg, capture_tol, table):
     cap_pts, cap_id = _capture_points(table, i)
     N = Z.shape[0]
     status = np.empty(N, np.int64)
     kk = np.zeros(N, np.int64)
     zs = np.empty((N, 2))
     for q in prange(N):
-        hist = np.empty((cfg.max_periods + 1, 2))
-        oz = np.empty(2)
-        oM = np.zeros((2, 2))
-        st, k, n, _res = settle_core(Z[q], phases[q], par, cfg.kmax, np.int64(4), cfg.max_periods,
-                                     cfg.detect_tol, cfg.rtol_transient, cfg.rtol, cfg.close_tol,
-                                     cap_pts, cap_id, capture_tol, hist, oz, oM, np.zeros(1, np.int64))
-        status[q] = st
-        kk[q] = k
-        if st == SETTLE_PERIODIC:
-            zs[q, 0] = oz[0]
-            zs[q, 1] = oz[1]
-        else:
-            zs[q, 0] = hist[n, 0]
-            zs[q, 1] = hist[n, 1]
+        _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, status, kk, zs)
     return status, kk, zs
+
+
+@njit(cache=True)
+def _settle_known_serial(Z, phases, i, par, cfg, capture_tol, table):
+    cap_pts, cap_id = _capture_points(table, i)
+    N = Z.shape[0]
+    status = np.empty(N, np.int64)
+    kk = np.zeros(N, np.int64)
+    zs = np.empty((N, 2))
+    for q in range(N):
+        _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, status, kk, zs)
+    return status, kk, zs
+
+
+def settle_known_many(Z, phases, i, par, cfg, capture_tol, table):
+    """:func:`.settle.settle_core` for many starts, each stopped early once it comes within
+    ``capture_tol`` of a stable periodic attractor known at grid index ``i``
+    (``SETTLE_CAPTURED``; the table slot is returned as ``k``).
+
+    ``cfg`` is a :class:`.trace.TraceSettings` (kmax, max_periods, detect_tol, rtol_transient,
+    rtol, close_tol are used). Returns status, k (period, or the captured slot), z (refined point
+    or last strobe point).
+
+    The starts are independent: with more than one numba thread they run on the threads (a
+    ``parallel=True`` kernel), with one (a pool worker) in a plain loop, whose compile is ~4 s
+    shorter on a first run. Both give the same result.
+    """
+    from numba import get_num_threads
+
+    kernel = _settle_known_threads if get_num_threads() > 1 else _settle_known_serial
+    return kernel(Z, phases, i, par, cfg, capture_tol, table)

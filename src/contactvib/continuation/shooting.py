@@ -51,6 +51,7 @@ from contactvib.model import (
     ContactModel,
     Excitation,
     ParameterError,
+    check_choice,
     check_int,
     check_range,
 )
@@ -91,6 +92,10 @@ class ContinuationSettings:
         Largest angle [rad] between successive tangents (scaled) before the step is halved.
     locate_tol : float
         Pseudo-arclength tolerance of the location of special points.
+    locate : bool
+        Locate the special points (folds, doublings, Neimark–Sacker, grazing). False leaves them
+        out and changes no branch point: for callers that need only each point's stability (the
+        sweep's post-pass, :mod:`contactvib.sweeps.unstable_parts`).
     max_failures : int
         Rejected steps per direction before the branch stops (a branch that keeps failing, e.g.
         a high-period orbit inside a chaotic band, would otherwise crawl on with tiny steps).
@@ -111,6 +116,7 @@ class ContinuationSettings:
     max_turn: float = 0.35
     locate_tol: float = 1e-11
     max_failures: int = 200
+    locate: bool = True
 
     def __post_init__(self):
         # each value checked against the checked values before it, and stored as checked (a
@@ -130,6 +136,7 @@ class ContinuationSettings:
         v["max_turn"] = check_range("max_turn", self.max_turn, 0.0, False, "rad")
         v["locate_tol"] = check_range("locate_tol", self.locate_tol, 0.0, False)
         v["max_failures"] = check_int("max_failures", self.max_failures, 1)
+        v["locate"] = bool(check_choice("locate", self.locate, (True, False)))
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
@@ -205,6 +212,7 @@ class OrbitProblem:
         self.steps = StepControl(ds0=settings.ds0, ds_min=settings.ds_min, ds_max=settings.ds_max,
                                  max_turn=settings.max_turn, max_failures=settings.max_failures,
                                  max_points=settings.max_points, locate_tol=settings.locate_tol,
+                                 locate_events=settings.locate,
                                  detect_loop=True, bound_action="fix")
 
     # ------------------------------------------------------------------ engine protocol

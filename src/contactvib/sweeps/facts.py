@@ -72,6 +72,17 @@ def intervals(f: np.ndarray, gap: float) -> list:
     return [(float(s[0]), float(s[-1])) for s in np.split(f, cut + 1)]
 
 
+def _orders(labels, sel) -> np.ndarray:
+    """Resonance order m of each selected label (:func:`.labels.resonance_order`), 0 for none and
+    where not selected; each distinct label is parsed once."""
+    out = np.zeros(len(labels), np.int64)
+    idx = np.flatnonzero(sel)
+    if idx.size:
+        uniq, inv = np.unique(np.asarray(labels)[idx].astype(str), return_inverse=True)
+        out[idx] = np.array([resonance_order(x) or 0 for x in uniq], np.int64)[inv.reshape(-1)]
+    return out
+
+
 def resonance_facts(ds, pa_over_q: float, m: int, f_band=None) -> ResonanceFacts:
     """Facts about the 1/m resonance (main for m = 1) at one P_a level of a resonance dataset.
 
@@ -88,9 +99,7 @@ def resonance_facts(ds, pa_over_q: float, m: int, f_band=None) -> ResonanceFacts
     sel = np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6
     if not sel.any():
         raise ValueError(f"P_a = {pa_over_q:g} Q is not in the dataset")
-    lab = ds["resonance"].values
-    order = np.array([resonance_order(x) if s else None for x, s in zip(lab, sel)], dtype=object)
-    mine = sel & (order == m)
+    mine = sel & (_orders(ds["resonance"].values, sel) == m)
     if f_band is not None:
         fe_all = ds["fe_hz"].values
         mine &= (fe_all >= f_band[0]) & (fe_all <= f_band[1])
@@ -164,11 +173,12 @@ def max_coexistence(ds, pa_over_q: float):
     """(largest number of resonance orders with period-1 orbits at one frequency, those f [Hz])."""
     sel = np.nonzero((np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6)
                      & (ds["period"].values == 1) & (ds["kind"].values == "periodic"))[0]
+    orders = _orders(ds["resonance"].values[sel], np.ones(sel.size, bool))
+    fe = ds["fe_hz"].values[sel]
     by_f: dict = {}
-    for j in sel:
-        m = resonance_order(ds["resonance"].values[j])
-        if m is not None:
-            by_f.setdefault(float(ds["fe_hz"].values[j]), set()).add(m)
+    for f, m in zip(fe, orders):
+        if m:
+            by_f.setdefault(float(f), set()).add(int(m))
     if not by_f:
         return 0, []
     n = max(len(v) for v in by_f.values())

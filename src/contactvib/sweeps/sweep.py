@@ -77,6 +77,12 @@ __all__ = ["SweepSettings", "LevelTrace", "TraceStop", "frequency_grid", "multis
 
 _MAXA = 48  # attractors per frequency in the shared table
 
+#: Largest |x|, |x'| of a small-amplitude seed worth a Newton start [y0, y0 ω_n0]. Near the linear
+#: resonance the series diverges (1e6–1e16 y0 at 1450–1500 Hz, 0.3–0.65 Q); Newton shooting from
+#: there never converges and costs up to a second an attempt. Every stored orbit is far below:
+#: the largest strobe point of paper.nc is x = 1.8e4 (4 mm, in flight near 30 Hz at 0.90 Q).
+SEED_STATE_MAX = 1e6
+
 #: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
 #: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
 TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation")
@@ -351,7 +357,7 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
         z = np.asarray(perturbation_series(model, exc, order=24).state, float)
     except (ValueError, FloatingPointError, ZeroDivisionError):
         return None
-    if not np.all(np.isfinite(z)):
+    if not np.all(np.isfinite(z)) or np.max(np.abs(z)) > SEED_STATE_MAX:
         return None
     oz = np.empty(2)
     oM = np.empty((2, 2))
@@ -464,15 +470,19 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
 
 
 def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> None:
-    """Compile (or load from the cache) the kernels of a level in about the reverse of the order
-    :func:`trace_level` first calls them: the continuation, Lyapunov exponent, description and
-    Newton kernels, then the multi-start's. On a first run (cold cache) a pool's second worker
-    runs this while the first starts a level with the settling and tracing kernels: the two
-    compile different kernels at once and each loads the other's from the cache. Every call has
-    the argument types of the real ones (one compiled specialization each); nothing is kept."""
+    """Compile (or load from the cache) the kernels of a level that :func:`trace_level` does not
+    call first. On a first run (cold cache) a pool's second worker runs this while the first
+    starts a level, which compiles the settling kernels (:func:`.settle.settle` and below) and
+    then the tracer: the two compile different kernels at once and each loads the other's from
+    the cache. So the tracer's callees come first here (the table search, the description, the
+    Newton continuation and bridge of :mod:`._kernels.trace`, the Lyapunov exponent), leaving the
+    first worker only the tracer itself; then the continuation, Newton and multi-start kernels.
+    Every call has the argument types of the real ones (one compiled specialization each);
+    nothing is kept."""
+    from contactvib._kernels import trace as tk
     from contactvib._kernels.describe import NP_LYAPUNOV, describe_point, lyapunov_strobe, new_rows
     from contactvib._kernels.shooting import newton_orbit
-    from contactvib._kernels.table import settle_known_many
+    from contactvib._kernels.table import find_known, settle_known_many
     from contactvib.continuation.shooting import ContinuationError, ContinuationSettings, continue_orbit
 
     st = settings
@@ -480,16 +490,23 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
     exc = model.excitation(0.1, f0)
     par = exc.kernel_parameters()
     z = np.array([1.0, 0.0])
+    lv = _Level(model, 0.1, np.array([f0]), st)
+    k1 = np.int64(1)
+    find_known(lv.table, np.int64(0), z.copy(), k1, np.int64(0), st.same_tol)
+    tk.stays_on_branch(z.copy(), z.copy(), z.copy())
+    describe_point(z.copy(), k1, par, st.rtol, new_rows(1), np.int64(0), np.empty(2))
+    tk.continue_orbit(z.copy(), k1, par, st.rtol, st.close_tol, new_rows(1), np.int64(0),
+                      np.empty(2), np.empty((2, 2)))
+    r = float(par[4])
+    tk.bridge_orbit(z.copy(), r, z.copy(), r, np.bool_(False), r, k1, par, st.rtol, st.close_tol,
+                    np.empty(2), np.empty(2))
+    lyapunov_strobe(z.copy(), par, st.rtol_transient, np.int64(NP_LYAPUNOV))
     try:
         continue_orbit(model, exc, z, 1, "f_e", "down",
                        ContinuationSettings(fmin=0.9 * f0, fmax=f0, max_points=2, max_failures=2,
                                             rtol=st.rtol, tol=st.close_tol))
     except (ContinuationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         pass
-    lyapunov_strobe(z.copy(), par, st.rtol_transient, NP_LYAPUNOV)
-    describe_point(z.copy(), 1, par, st.rtol, new_rows(1), 0, np.empty(2))
     newton_orbit(z.copy(), 1, par, st.rtol, st.rtol, st.close_tol, 8, np.empty(2), np.empty((2, 2)))
-    f = np.array([f0])
-    lv = _Level(model, 0.1, f, st)
     settle_known_many(z.reshape(1, 2).copy(), np.zeros(1), 0, lv.par.copy(), lv.cfg, st.capture_tol,
                       lv.table)

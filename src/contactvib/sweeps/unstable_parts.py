@@ -59,9 +59,10 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     hi = min(float(lv.f[-1]), f0 * WINDOW_RATIO) if direction > 0 else f0
     lo, hi = (lo - 1e-9 * f0, hi + 1e-9 * f0)
     # the sweep's integrator tolerance (not the 1e-12 of `continue`): the branch only locates the
-    # stable parts; each seed is refined at the sweep's tolerances before it is traced
+    # stable parts; each seed is refined at the sweep's tolerances before it is traced. Only the
+    # points' stability is used: the special points are not located (no branch point changes)
     settings = ContinuationSettings(fmin=lo, fmax=hi, max_points=MAX_POINTS, max_failures=20,
-                                    rtol=lv.st.rtol, tol=lv.st.close_tol)
+                                    rtol=lv.st.rtol, tol=lv.st.close_tol, locate=False)
     try:
         return continue_orbit(model, model.excitation(pa_over_q, f0), z, k, "f_e",
                               "up" if direction > 0 else "down", settings)
