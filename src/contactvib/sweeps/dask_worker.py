@@ -8,12 +8,20 @@ import logging
 import os
 import warnings
 
+import dask
 from distributed import Client, LocalCluster
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from contactvib.model import ParameterError
 
-__all__ = ["open_client", "dask_task", "KernelWarmUp"]
+__all__ = ["open_client", "dask_task", "KernelWarmUp", "LOCAL_CLUSTER_CONFIG"]
+
+#: Dask settings of the LocalCluster that ``--dask-workers`` starts (its nannies pass them on to
+#: their workers). No dashboard, so no use for the workers' statistical profiler, which samples
+#: every thread's stack every 10 ms; nor for its system monitor.
+LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False,
+                        "distributed.admin.system-monitor.interval": "5s",
+                        "distributed.admin.system-monitor.gil.enabled": False}
 
 
 class KernelWarmUp(WorkerPlugin):
@@ -75,7 +83,8 @@ def open_client(backend, timeout: float):
         client.register_plugin(KernelWarmUp(None))
         return client, None, 1
     n = backend.n_workers or cores
-    with warnings.catch_warnings():  # its HTTP server takes another port when 8787 is taken: no news
+    with warnings.catch_warnings(), dask.config.set(LOCAL_CLUSTER_CONFIG):
+        # its HTTP server takes another port when 8787 is taken: no news
         warnings.filterwarnings("ignore", message="Port .* is already in use")
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                silence_logs=logging.ERROR)
