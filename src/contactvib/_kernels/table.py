@@ -139,26 +139,26 @@ def _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, st
         zs[q, 1] = hist[n, 1]
 
 
-@njit(cache=True, parallel=True)
-def _settle_known_threads(Z, phases, i, par, cfg, capture_tol, table):
+@njit(cache=True, inline='always')
+def _settle_known_setup(Z, i, table):
+    """The capture points known at ``i`` and the empty outputs (status, k, z) of ``Z``'s starts."""
     cap_pts, cap_id = _capture_points(table, i)
     N = Z.shape[0]
-    status = np.empty(N, np.int64)
-    kk = np.zeros(N, np.int64)
-    zs = np.empty((N, 2))
-    for q in prange(N):
+    return cap_pts, cap_id, np.empty(N, np.int64), np.zeros(N, np.int64), np.empty((N, 2))
+
+
+@njit(cache=True, parallel=True)
+def _settle_known_threads(Z, phases, i, par, cfg, capture_tol, table):
+    cap_pts, cap_id, status, kk, zs = _settle_known_setup(Z, i, table)
+    for q in prange(Z.shape[0]):
         _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, status, kk, zs)
     return status, kk, zs
 
 
 @njit(cache=True)
 def _settle_known_serial(Z, phases, i, par, cfg, capture_tol, table):
-    cap_pts, cap_id = _capture_points(table, i)
-    N = Z.shape[0]
-    status = np.empty(N, np.int64)
-    kk = np.zeros(N, np.int64)
-    zs = np.empty((N, 2))
-    for q in range(N):
+    cap_pts, cap_id, status, kk, zs = _settle_known_setup(Z, i, table)
+    for q in range(Z.shape[0]):
         _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, status, kk, zs)
     return status, kk, zs
 
