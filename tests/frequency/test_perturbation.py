@@ -8,7 +8,7 @@ import pytest
 
 from contactvib import ContactModel, ParameterError
 from contactvib.cli import main
-from contactvib.frequency.perturbation import perturbation_series, steady_counterpart
+from contactvib.frequency.perturbation import perturbation_series, series_state, steady_counterpart
 from contactvib.steady.orbits import describe_orbit, refine_orbit
 from contactvib.steady.simulate import attractor_history
 
@@ -147,3 +147,18 @@ def test_json_contract_and_bad_input(capsys):
             perturbation_series(MODEL, MODEL.excitation(0.5, 300.0), bad)
     with pytest.raises(ParameterError, match="summation"):
         perturbation_series(MODEL, MODEL.excitation(0.5, 300.0), 8, "euler")
+
+
+@pytest.mark.parametrize("pa", [0.05, 0.5, 0.9])
+def test_series_state_is_the_series_state(pa):
+    """``series_state`` (the sweep's Newton starts) gives exactly ``perturbation_series().state``,
+    also where the series has diverged (near 1481 Hz: 1e12 y0 and beyond) and at 50 Hz."""
+    for fe in (50.0, 360.0, 742.0, 1400.0, 1450.0, 1481.0, 1500.0, 1900.0):
+        exc = MODEL.excitation(pa, fe)
+        for order, summation in ((24, "pade"), (7, "plain")):
+            a = perturbation_series(MODEL, exc, order=order, summation=summation).state
+            b = series_state(MODEL, exc, order=order, summation=summation)
+            np.testing.assert_array_equal(a, b, err_msg=f"{pa} Q, {fe} Hz, {summation}")
+    with pytest.raises(ParameterError) as e:
+        series_state(MODEL, MODEL.excitation(pa, 100.0), order=0)
+    assert e.value.symbol == "order"

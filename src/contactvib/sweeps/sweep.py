@@ -351,10 +351,10 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     solution continued to this frequency; used only as a Newton start, valid or not.
     """
     from contactvib._kernels.settle import _refine
-    from contactvib.frequency.perturbation import perturbation_series
+    from contactvib.frequency.perturbation import series_state
 
     try:
-        z = np.asarray(perturbation_series(model, exc, order=24).state, float)
+        z = np.asarray(series_state(model, exc, order=24), float)
     except (ValueError, FloatingPointError, ZeroDivisionError):
         return None
     if not np.all(np.isfinite(z)) or np.max(np.abs(z)) > SEED_STATE_MAX:
