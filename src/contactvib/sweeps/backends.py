@@ -271,9 +271,16 @@ def _run_on_dask(order, tasks, fn, backend: DaskBackend, finished, progress):
     client.subscribe_topic(topic, lambda event: reported.__setitem__(*event[1]))
     futs = {}
     try:
-        for pa in order:  # pure=False: a rerun recomputes (its chunk may have been deleted)
-            key = f"contactvib-level-pa{pa!r}-{os.getpid()}-{time.time_ns()}"
-            futs[client.submit(dask_task, threads, topic, fn, *tasks[pa], pure=False, key=key)] = pa
+        # one graph of all the levels (one map): the scheduler queues them together and starts
+        # them in this order (highest level, the slowest, first) as workers free up. One submit
+        # per level would have it place the first few at once, two per worker, before it saw
+        # how many were coming. Keys unique per run: a rerun recomputes (its chunk may be gone)
+        stamp = f"{os.getpid()}-{time.time_ns()}"
+        n = len(order)
+        columns = [list(c) for c in zip(*(tasks[pa] for pa in order))]
+        mapped = client.map(dask_task, [threads] * n, [topic] * n, [fn] * n, *columns,
+                            key=[f"contactvib-level-pa{pa!r}-{stamp}" for pa in order], pure=False)
+        futs = dict(zip(mapped, order))
         pending = list(futs)
         while pending:  # polled: a deferred SIGINT is honoured within 0.2 s
             for pa, points in list(reported.items()):
