@@ -34,6 +34,17 @@ def new_figure(nrows: int = 1, ncols: int = 1, figsize=(7.0, 4.2), **subplot_kw)
     return fig, fig.subplots(nrows, ncols, squeeze=False, **subplot_kw)
 
 
+def set_margins(fig, left: float, right: float, bottom: float, top: float, wspace: float = 0.2,
+                hspace: float = 0.2):
+    """Fixed subplot margins [inches] from the figure's edges (``wspace``, ``hspace`` as in
+    :meth:`~matplotlib.figure.Figure.subplots_adjust`): for figures of a fixed design, what
+    ``tight_layout`` would find, without its extra pass over every tick label (a quarter of the
+    drawing time of ``contactvib paper``'s figures)."""
+    w, h = fig.get_size_inches()
+    fig.subplots_adjust(left=left / w, right=1.0 - right / w, bottom=bottom / h, top=1.0 - top / h,
+                        wspace=wspace, hspace=hspace)
+
+
 def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
     """y(t) [µm vs ms] with y0 marked and the gap (y < 0) shaded."""
     ax = _ax(ax)

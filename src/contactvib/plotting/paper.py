@@ -11,6 +11,7 @@ from contactvib.plotting.figures import (
     plot_phase_portrait,
     plot_time_history,
     resonance_graph,
+    set_margins,
 )
 
 __all__ = ["level_figures", "draw_level", "TimeRow", "time_figure"]
@@ -25,8 +26,8 @@ def level_figures(ds, pa_over_q: float, perturbation=None, ref: str = ""):
     """
     (graph, g_axes), (extrema, e_axes) = new_figure(figsize=(7.0, 4.2)), new_figure(figsize=(7.0, 4.2))
     draw_level(ds, pa_over_q, g_axes[0, 0], e_axes[0, 0], perturbation=perturbation, ref=ref)
-    for fig in (graph, extrema):
-        fig.tight_layout()
+    for fig in (graph, extrema):  # tight_layout's margins for these axes labels and titles
+        set_margins(fig, left=0.82, right=0.22, bottom=0.58, top=0.34)
     return graph, extrema
 
 
@@ -80,5 +81,6 @@ def time_figure(rows, title: str):
             axes[r, 0].legend(loc="best", fontsize=7, frameon=False)
         axes[r, 0].set_title(row.title, fontsize=8.5, loc="left")
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
+    # tight_layout's margins for the widest tick labels of Figs. 4–9 (y to four digits and a sign)
+    set_margins(fig, left=0.95, right=0.16, bottom=0.59, top=0.62, wspace=0.2, hspace=0.43)
     return fig
