@@ -122,6 +122,36 @@ def test_time_figure_has_one_row_per_attractor(main_resonance):
     assert len(dashed) == 2
 
 
+def _laid_out(fig):
+    """Every axes' tight box (ticks, labels, title, legend) inside the figure and no two of them
+    overlapping: fixed margins (``set_margins``) cut nothing off and crowd nothing."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    page = fig.bbox
+    boxes = [ax.get_tightbbox(renderer) for ax in fig.axes]
+    if fig._suptitle is not None:
+        boxes.append(fig._suptitle.get_window_extent(renderer))
+    for b in boxes:
+        assert page.x0 - 1 <= b.x0 and b.x1 <= page.x1 + 1 and page.y0 - 1 <= b.y0 and b.y1 <= page.y1 + 1, (b, page)
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            overlap_w = min(a.x1, b.x1) - max(a.x0, b.x0)
+            overlap_h = min(a.y1, b.y1) - max(a.y0, b.y0)
+            assert overlap_w <= 1 or overlap_h <= 1, (a, b)
+
+
+def test_paper_figures_keep_everything_inside_their_fixed_margins(level, main_resonance):
+    for fig in level_figures(level, 0.65, ref="c"):
+        _laid_out(fig)
+    att, h = main_resonance
+    title = "main: period 1, 1 minimum, $A_{pp}$ = 11.44 µm; perturbation not applicable (contact is lost)"
+    for n in (1, 3):
+        _laid_out(time_figure([TimeRow(h, title, series=h, series_label="perturbation, N = 80")] * n,
+                              "cf. Fig. 4: $P_a$ = 0.65 Q, $f_e$ = 360 Hz (all attractors stored in the dataset)"))
+
+
 def test_branches_stable_solid_unstable_dashed(model):
     from contactvib import continue_orbit
     from contactvib.continuation.shooting import ContinuationSettings
