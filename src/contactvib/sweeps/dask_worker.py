@@ -19,8 +19,8 @@ __all__ = ["open_client", "dask_task", "KernelWarmUp", "LOCAL_CLUSTER_CONFIG"]
 #: Dask settings of the LocalCluster that ``--dask-workers`` starts (its nannies pass them on to
 #: their workers). No dashboard, so no use for the workers' statistical profiler, which samples
 #: every thread's stack every 10 ms; nor for its system monitor. A worker saturation of 1: the
-#: scheduler hands a worker its next level only when it is free, in the order of the levels'
-#: priorities (highest P_a, the slowest, first). With Dask's default 1.1 each single-threaded
+#: scheduler hands a worker its next level only when it is free, in the order the levels were
+#: mapped (highest P_a, the slowest, first). With Dask's default 1.1 each single-threaded
 #: worker holds two levels from the start, and a slow level can end up queued behind another.
 LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False,
                         "distributed.admin.system-monitor.interval": "5s",
