@@ -31,6 +31,8 @@ recurrence). À. Jorba, M. Zou, *Experimental Mathematics* 14 (2005) 99–117 (T
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -94,6 +96,169 @@ def force_array(x, v, m2, l, c, f, fx, fv):
             f[i] = 0.0
             fx[i] = 0.0
             fv[i] = 0.0
+
+
+# ----------------------------------------------------------------------------------- families
+# The parameter vector of every kernel (built by ``contactvib.model.kernel_parameters``)::
+#
+#     par = [kappa, l, c, p, r, spring, damping, excitation, s1, s2, n_exc, off_exc, <data>]
+#
+# kappa: the nondimensional mass k_lin y0 / W (= m2 for the power law), W = Q + F_pre the static
+# load (the unit of force); l, c: damping exponent and coefficient; p, r: level and frequency
+# ratio. A vector of length 5 is the power law under a harmonic force (the codes below all 0).
+P_SPRING, P_DAMPING, P_EXCITATION = 5, 6, 7
+P_S1, P_S2 = 8, 9  # spring parameters: power (m2, -); exponential (a, b); table (n, offset)
+P_NEXC, P_OEXC = 10, 11  # excitation components (count, offset of their triples)
+HEADER = 12
+
+SPRING_POWER, SPRING_EXPONENTIAL, SPRING_TABLE = 0, 1, 2
+DAMPING_POWER, DAMPING_HUNT_CROSSLEY = 0, 1
+EXCITATION_FORCE, EXCITATION_BASE, EXCITATION_HARMONICS, EXCITATION_SPECTRUM = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def is_paper_family(par):
+    """True for the power spring with power damping (the kernels' original law, ``force``)."""
+    return par.shape[0] <= P_SPRING or (par[P_SPRING] == 0.0 and par[P_DAMPING] == 0.0)
+
+
+@njit(cache=True)
+def _table_interval(x, par):
+    """Index i of the table interval [x_i, x_{i+1}) holding 0 <= x < x_{n-1} (bisection)."""
+    n = int(par[P_S1])
+    o = int(par[P_S2])
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if par[o + mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
+def _table_spring(x, par):
+    """Table law: (f, df/dx) of the cubic Hermite interpolant through the knots (x_i, f_i) with
+    the slopes d_i (PCHIP, computed by the model), linear beyond the last knot, odd below 0."""
+    n = int(par[P_S1])
+    o = int(par[P_S2])
+    sign = 1.0
+    if x < 0.0:
+        x = -x
+        sign = -1.0
+    xn = par[o + n - 1]
+    if x >= xn:
+        d = par[o + 3 * n - 1]
+        return sign * (par[o + 2 * n - 1] + d * (x - xn)), d
+    i = _table_interval(x, par)
+    x0 = par[o + i]
+    h = par[o + i + 1] - x0
+    f0 = par[o + n + i]
+    f1 = par[o + n + i + 1]
+    d0 = par[o + 2 * n + i] * h
+    d1 = par[o + 2 * n + i + 1] * h
+    s = (x - x0) / h
+    s2 = s * s
+    s3 = s2 * s
+    f = (2.0 * s3 - 3.0 * s2 + 1.0) * f0 + (s3 - 2.0 * s2 + s) * d0 + (-2.0 * s3 + 3.0 * s2) * f1 \
+        + (s3 - s2) * d1
+    df = ((6.0 * s2 - 6.0 * s) * f0 + (3.0 * s2 - 4.0 * s + 1.0) * d0 + (-6.0 * s2 + 6.0 * s) * f1
+          + (3.0 * s2 - 2.0 * s) * d1) / h
+    return sign * f, df
+
+
+@njit(cache=True)
+def spring(x, par):
+    """Nondimensional spring force f_s(x) = F_s(x y0)/W and its stiffness df_s/dx.
+
+    power: x^m2; exponential: b (exp(a x) − 1) with a = y0/λ, b = S c_e / W; table: the
+    interpolated curve. Continued smoothly (oddly) below x = 0.
+    """
+    code = par[P_SPRING] if par.shape[0] > P_SPRING else 0.0
+    if code == SPRING_EXPONENTIAL:
+        a = par[P_S1]
+        b = par[P_S2]
+        return b * math.expm1(a * x), a * b * math.exp(a * x)
+    if code == SPRING_TABLE:
+        return _table_spring(x, par)
+    m2 = par[P_S1] if par.shape[0] > P_SPRING else par[0]
+    return pow_ext(x, m2), dpow_ext(x, m2)
+
+
+@njit(cache=True)
+def contact_force(x, v, par):
+    """Contact force f(x, v) = f_s(x) + f_d(x, v) [units of W] of any law family.
+
+    Damping: power ``c x^l v`` (the paper's) or Hunt–Crossley ``c f_s(x) v`` (c = α y0 ω_n0).
+    The paper's family goes through :func:`force` unchanged (bit-identical results).
+    """
+    if is_paper_family(par):
+        return force(x, v, par[0], par[1], par[2])
+    fs, _k = spring(x, par)
+    if par[P_DAMPING] == DAMPING_HUNT_CROSSLEY:
+        return fs + par[2] * fs * v
+    return fs + par[2] * pow_ext(x, par[1]) * v
+
+
+@njit(cache=True)
+def contact_partials(x, v, par):
+    """(∂f/∂x, ∂f/∂v) of :func:`contact_force`."""
+    if is_paper_family(par):
+        return force_partials(x, v, par[0], par[1], par[2])
+    fs, k = spring(x, par)
+    c = par[2]
+    if par[P_DAMPING] == DAMPING_HUNT_CROSSLEY:
+        return k + c * k * v, c * fs
+    return k + c * dpow_ext(x, par[1]) * v, c * pow_ext(x, par[1])
+
+
+@njit(cache=True)
+def contact_force_array(x, v, par, f, fx, fv):
+    """Vectorised :func:`contact_force` and partials with the mode switch (0 at x <= 0)."""
+    for i in range(x.shape[0]):
+        if x[i] > 0.0:
+            f[i] = contact_force(x[i], v[i], par)
+            fx[i], fv[i] = contact_partials(x[i], v[i], par)
+        else:
+            f[i] = 0.0
+            fx[i] = 0.0
+            fv[i] = 0.0
+
+
+@njit(cache=True)
+def forcing_amplitude(par):
+    """Amplitude of the fundamental [units of W]: p (force), p r² (base motion: p = κ U/y0)."""
+    if par.shape[0] > P_EXCITATION and par[P_EXCITATION] == EXCITATION_BASE:
+        return par[3] * par[4] * par[4]
+    return par[3]
+
+
+@njit(cache=True)
+def forcing(t, par):
+    """The right-hand side's constant and excitation, 1 + e(τ) [units of W].
+
+    force: 1 + p cos rτ; base: 1 + p r² cos rτ; harmonics: 1 + p cos rτ + Σ a_j cos(k_j r τ + φ_j);
+    spectrum: 1 + Σ a_j cos(ω_j τ + φ_j) (ω_j nondimensional, the random force's components).
+    """
+    if par.shape[0] <= P_EXCITATION or par[P_EXCITATION] == EXCITATION_FORCE:
+        return 1.0 + par[3] * math.cos(par[4] * t)
+    code = par[P_EXCITATION]
+    r = par[4]
+    if code == EXCITATION_BASE:
+        return 1.0 + par[3] * r * r * math.cos(r * t)
+    n = int(par[P_NEXC])
+    o = int(par[P_OEXC])
+    if code == EXCITATION_HARMONICS:
+        s = 1.0 + par[3] * math.cos(r * t)
+        for j in range(n):
+            s += par[o + 3 * j + 1] * math.cos(par[o + 3 * j] * r * t + par[o + 3 * j + 2])
+        return s
+    s = 1.0
+    for j in range(n):
+        s += par[o + 3 * j + 1] * math.cos(par[o + 3 * j] * t + par[o + 3 * j + 2])
+    return s
 
 
 @njit(cache=True)

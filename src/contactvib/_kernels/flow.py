@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from . import _dop853_coefficients as _co
-from .contact import force, force_partials
+from .contact import contact_force, contact_partials, forcing
 from .status import (  # noqa: F401
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -64,9 +64,9 @@ _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the cont
 def acceleration(contact, t, x, v, par):
     """x'' of the given mode at (τ, x, x') [nondimensional]: [1 + p cos rτ − f(x, x')]/m2 in
     contact, f the contact law (:func:`.contact.force`)."""
-    f = 1.0 + par[3] * math.cos(par[4] * t)
+    f = forcing(t, par)
     if contact:
-        f -= force(x, v, par[0], par[1], par[2])
+        f -= contact_force(x, v, par)
     return f / par[0]
 
 
@@ -76,7 +76,7 @@ def jacobian_row(contact, x, v, par):
     if not contact:
         return 0.0, 0.0
     m2 = par[0]
-    fx, fv = force_partials(x, v, m2, par[1], par[2])
+    fx, fv = contact_partials(x, v, par)
     return -fx / m2, -fv / m2
 
 

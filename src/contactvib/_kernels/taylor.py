@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact import series_contact
+from .contact import EXCITATION_BASE, P_EXCITATION, forcing_amplitude, is_paper_family, series_contact
 from .flow import REC_WIDTH, _crosses, advance, illinois_trial, illinois_update
 from .status import (
     STATUS_MAX_STEPS,
@@ -57,7 +57,10 @@ INV = np.array([0.0] + [1.0 / k for k in range(1, ORDER_MAX + 2)])  # 1/k withou
 
 @njit(cache=True)
 def is_polynomial_law(par):
-    """True when m2 and l are integers (m2 ≤ MAX_EXPONENT, l ≤ MAX_EXPONENT)."""
+    """True for the power law with power damping under a force or base motion at f_e (the
+    right-hand side is a polynomial plus one cosine) when m2 and l are integers ≤ MAX_EXPONENT."""
+    if not is_paper_family(par) or (par.shape[0] > P_EXCITATION and par[P_EXCITATION] > EXCITATION_BASE):
+        return False
     m2 = par[0]
     l = par[1]
     return (m2 == math.floor(m2) and l == math.floor(l) and 1.0 <= m2 <= MAX_EXPONENT
@@ -90,7 +93,7 @@ def series_work(par, N):
     """Work array of :func:`series_prepared`, with the forcing magnitudes p r^k/k! (k < N) that
     do not depend on τ0 computed once: shape (MAX_EXPONENT + 3, N + 1)."""
     W = np.empty((MAX_EXPONENT + 3, N + 1))  # every entry read is written first
-    fk = par[3]  # p r^k / k!
+    fk = forcing_amplitude(par)  # p r^k / k!
     r = par[4]
     for k in range(N):
         W[FORCING_ROW, k] = fk

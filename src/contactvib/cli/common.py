@@ -11,6 +11,8 @@ naming the option of each symbol (``_mapped``); never by comparing numbers here.
 
 from __future__ import annotations
 
+import contextvars
+import functools
 import json
 import math
 from contextlib import contextmanager
@@ -103,27 +105,129 @@ def _int(option: str, text: str, lower: int | None, upper: int | None = None,
     return _checked(option, check_int, symbol or option.lstrip("-"), text, lower, upper)
 
 
+#: The law options of the command being run (``_law_options``): read by ``_model``.
+_LAW = contextvars.ContextVar("contactvib_law", default={})
+#: The excitation options of the command being run (``_excitation_family_options``).
+_EXC = contextvars.ContextVar("contactvib_excitation", default={})
+#: Every name ``--set`` accepts (the paper's and the other families' parameters).
+SET_NAMES = tuple(PAPER_DEFAULTS) + ("c_e", "lam", "alpha")
+_LAW_OPTION_NAMES = {"law": "--law", "c_e": "--set c_e", "lam": "--set lam", "alpha": "--set alpha",
+                     "damping": "--damping", "F_pre": "--preload", "law_file": "--law-file"}
+
+
+def _law_family(overrides: dict) -> dict:
+    """The ContactModel keywords of the law options (--law, --law-file, --damping, --preload),
+    each --set checked to belong to the chosen families."""
+    from contactvib.model.laws import TableLaw
+    from contactvib.model.oscillator import FAMILY_PARAMETERS
+
+    opts = _LAW.get()
+    law = opts.get("law") or "power"
+    damping = opts.get("damping") or "power"
+    kw: dict = {}
+    if law != "power":
+        kw["law"] = law
+    if damping != "power":
+        kw["damping"] = damping
+    law_file = opts.get("law_file")
+    if law_file is not None and law != "table":
+        raise InputError(f"--law-file = {law_file}: a table file belongs to --law table, not to --law {law}")
+    if law == "table":
+        if law_file is None:
+            raise InputError("--law table: needs --law-file FILE.csv (columns deflection_um,load_n)")
+        kw["table"] = _checked("--law-file", TableLaw.from_csv, law_file)
+    if opts.get("preload") is not None:
+        kw["preload"] = _checked("--preload", check_range, "F_pre", opts["preload"], 0.0, True, "N")
+    for name in overrides:
+        for family, names in FAMILY_PARAMETERS.items():
+            chosen = family in (law, f"damping {damping}")
+            if name in names and not chosen:
+                flag = "--damping " + family.split()[1] if family.startswith("damping") else "--law " + family
+                now = f"--damping {damping}" if family.startswith("damping") else f"--law {law}"
+                raise InputError(f"--set {name}: a parameter of {flag}, not of {now}")
+    return kw
+
+
 def _model(settings: tuple[str, ...]) -> ContactModel:
     overrides = {}
     for item in settings:
         if "=" not in item:
-            raise InputError(f"--set {item}: expected NAME=VALUE with NAME one of {', '.join(PAPER_DEFAULTS)}")
+            raise InputError(f"--set {item}: expected NAME=VALUE with NAME one of {', '.join(SET_NAMES)}")
         name, value = (s.strip() for s in item.split("=", 1))
-        if name not in PAPER_DEFAULTS:
+        if name not in SET_NAMES:
             raise InputError(f"--set {name} ({name}) = {value}: unknown parameter; known: "
-                             f"{', '.join(PAPER_DEFAULTS)}")
+                             f"{', '.join(SET_NAMES)}")
         if name in overrides:
             raise InputError(f"--set {name} given twice")
         overrides[name] = _number(f"--set {name}", name, value)
+    family = _law_family(overrides)
     for name, value in overrides.items():
         try:
-            ContactModel(**{name: value})
+            ContactModel(**{**family, name: value})
         except ParameterError as e:
             if e.symbol == name:  # the parameter's own range; combinations are checked below
                 raise _error(f"--set {name}", e) from None
     # a combination out of range (the damping ratio) names every --set the user gave
     given = " ".join(f"--set {k}={_show(v)}" for k, v in overrides.items()) or "the paper's parameters"
-    return _checked(given, ContactModel.from_overrides, overrides)
+    try:
+        return ContactModel(**family, **overrides)
+    except ParameterError as e:
+        if e.symbol in _LAW_OPTION_NAMES:
+            raise _error(_LAW_OPTION_NAMES[e.symbol], e) from None
+        raise _error(given, e) from None
+
+
+def _scoped(var: contextvars.ContextVar, names: tuple[str, ...], f):
+    """``f`` with the keyword arguments ``names`` taken out and kept in ``var`` while it runs."""
+    @functools.wraps(f)
+    def wrapper(*args, **kwargs):
+        token = var.set({k: kwargs.pop(k, None) for k in names})
+        try:
+            return f(*args, **kwargs)
+        finally:
+            var.reset(token)
+    return wrapper
+
+
+def _law_options(f):
+    """--law, --law-file, --damping, --preload: the contact-law family of ``_model``."""
+    from contactvib.model.laws import DAMPING_NAMES, LAW_NAMES
+
+    f = _scoped(_LAW, ("law", "law_file", "damping", "preload"), f)
+    f = click.option("--preload", default=None, metavar="N",
+                     help="Constant normal force F_pre [N] pressing the slider down (y0 and f_n0 follow from Q + F_pre).")(f)
+    f = click.option("--damping", default="power", show_default=True, type=click.Choice(DAMPING_NAMES),
+                     help="Contact damping: power S h_n y^l ydot (--set h_n, l) or hunt-crossley alpha F_s(y) ydot "
+                          "(--set alpha [s/m]).")(f)
+    f = click.option("--law-file", default=None, metavar="FILE.csv",
+                     help="Load-deflection table of --law table: columns deflection_um,load_n from (0, 0).")(f)
+    f = click.option("--law", default="power", show_default=True, type=click.Choice(LAW_NAMES),
+                     help="Contact spring: power S c_n y^m2 (--set c_n, m2), exponential S c_e (exp(y/lam) - 1) "
+                          "(--set c_e [N/m^2], lam [m]) or table (--law-file).")(f)
+    return f
+
+
+def _excitation_family_options(f):
+    """--base-um, --base-g, --harmonic: base motion or a multi-harmonic force for ``_excitation``."""
+    f = _scoped(_EXC, ("base_um", "base_g", "harmonic"), f)
+    f = click.option("--harmonic", multiple=True, metavar="K:AMP:PHASE",
+                     help="A further harmonic of the force: K f_e, amplitude AMP [Q], phase PHASE [deg] (repeatable).")(f)
+    f = click.option("--base-g", default=None, metavar="A",
+                     help="Base (slideway) motion of acceleration amplitude A [g = 9.80665 m/s^2] instead of a force.")(f)
+    f = click.option("--base-um", default=None, metavar="U",
+                     help="Base (slideway) motion u = U cos(2 pi f_e t), U [um], instead of a force.")(f)
+    return f
+
+
+def _harmonics(items) -> tuple:
+    out = []
+    for item in items:
+        parts = item.split(":")
+        if len(parts) != 3:
+            raise InputError(f"--harmonic {item}: expected K:AMP:PHASE (e.g. 2:0.1:90)")
+        out.append((_number("--harmonic", "k", parts[0]), _number("--harmonic", "P_k/Q", parts[1]),
+                    _number("--harmonic", "phase", parts[2])))
+    return tuple(out)
 
 
 #: Options of the operating point, by the library's symbol.
@@ -131,12 +235,28 @@ _EXCITATION_OPTIONS = {"f_e": "--fe", "P_a/Q": "--pa", "P_a": "--pa-newton"}
 
 
 def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: str) -> Excitation:
-    """The excitation of --pa or --pa-newton and --fe, checked by :class:`Excitation`."""
+    """The excitation of --pa or --pa-newton (or --base-um / --base-g), --harmonic and --fe,
+    checked by :class:`Excitation`."""
     if pa is not None and pa_newton is not None:
         raise InputError("--pa and --pa-newton: give one of them, not both")
+    fam = _EXC.get()
+    base = [(o, fam.get(k)) for o, k in (("--base-um", "base_um"), ("--base-g", "base_g")) if fam.get(k) is not None]
+    names = {**_EXCITATION_OPTIONS, "U": "--base-um", "A": "--base-g", "k": "--harmonic", "P_k/Q": "--harmonic",
+             "phase": "--harmonic", "harmonics": "--harmonic"}
+    if base:
+        given = [o for o, v in (("--pa", pa), ("--pa-newton", pa_newton)) if v is not None] + [o for o, _ in base]
+        if len(given) > 1:
+            raise InputError(f"{' and '.join(given)}: give one excitation (a force or a base motion), not both")
+        if fam.get("harmonic"):
+            raise InputError("--harmonic: harmonics belong to a force excitation, not to a base motion")
+        (option, value), = base
+        u = _number(option, "U" if option == "--base-um" else "A", value)
+        kw = {"u_um": u} if option == "--base-um" else {"a_g": u}
+        return _mapped(names, Excitation.base, model, fe, **kw)
+    harmonics = _harmonics(fam.get("harmonic") or ())
     if pa_newton is not None:
-        return _mapped(_EXCITATION_OPTIONS, Excitation.from_newtons, model, pa_newton, fe)
-    return _mapped(_EXCITATION_OPTIONS, Excitation, model, "0.65" if pa is None else pa, fe)
+        return _mapped(names, Excitation.from_newtons, model, pa_newton, fe, harmonics=harmonics)
+    return _mapped(names, Excitation, model, "0.65" if pa is None else pa, fe, harmonics=harmonics)
 
 
 def _frequency_range(fmin: str, fmax: str) -> tuple[float, float]:
@@ -227,9 +347,10 @@ def _echo_json(payload) -> None:
 
 
 def _operating_point_options(f):
+    f = _excitation_family_options(_law_options(f))
     f = click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
-                     help="Override a model parameter by its paper symbol: "
-                          + ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" for k in PAPER_DEFAULTS))(f)
+                     help="Override a model parameter by its symbol: "
+                          + ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" for k in SET_NAMES))(f)
     f = click.option("--fe", default="360", show_default=True, metavar="HZ",
                      help="Excitation frequency f_e [Hz], > 0.")(f)
     f = click.option("--pa-newton", default=None, metavar="N",

@@ -12,6 +12,7 @@ from pathlib import Path
 import click
 
 from contactvib.cli.common import (
+    _law_options,
     InputError,
     LevelsCommand,
     _checked,
@@ -70,6 +71,7 @@ def _pa_range(pa_min: str, pa_max: str) -> tuple[float, float]:
 
 
 def _continuation_options(f):
+    f = _law_options(f)
     """The options every continuation command takes; the command receives them as keyword
     arguments (``**cont``)."""
     f = click.option("--rtol", default="1e-12", show_default=True,
@@ -262,6 +264,7 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
 
 
 @click.command()
+@_law_options
 @click.option("--order", default="2", show_default=True,
               help=f"m of the 1/m resonance (1..{EVOLUTION_ORDER_MAX}).")
 @click.option("--pa-min", default="0.3", show_default=True, metavar="Q", help="Lowest P_a [Q].")

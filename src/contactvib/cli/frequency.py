@@ -7,6 +7,7 @@ import json
 import click
 
 from contactvib.cli.common import (
+    _law_options,
     _checked,
     _echo_json,
     _excitation,
@@ -103,6 +104,7 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 
 
 @click.command()
+@_law_options
 @click.option("--pa", default="0.65", show_default=True, metavar="Q",
               help="Excitation amplitude P_a as a multiple of Q = M g.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",

@@ -12,6 +12,7 @@ from pathlib import Path
 import click
 
 from contactvib.cli.common import (
+    _law_options,
     InputError,
     LevelsCommand,
     RunInterrupted,
@@ -56,6 +57,7 @@ def _writing_into(out: Path):
 
 
 def _sweep_options(f):
+    f = _law_options(f)
     """The options of a sweep; the command receives them as keyword arguments (``**sweep``)."""
     for opt in reversed([
         click.option("--fmin", default="30", show_default=True, metavar="HZ", help="Lowest f_e [Hz]."),

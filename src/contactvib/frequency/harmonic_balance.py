@@ -150,6 +150,7 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
     HBError
         If Newton does not converge.
     """
+    model.require_paper_family("harmonic balance", excitation)
     H, n_time = _check_harmonics(harmonics, n_time)
     tol, max_iter = check_range("tol", tol, 0.0, False), check_int("max_iter", max_iter, 1)
     aft = _AFT(H, n_time)
@@ -255,6 +256,7 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     least one step and at most 12 Jacobians, step ×1.5 after ≤ 4 Jacobians, halved after a
     failure, capped so that f_e moves at most ``df_max``.
     """
+    model.require_paper_family("harmonic balance")
     pa_over_q = check_range("P_a/Q", pa_over_q, 0.0, True)
     fmin = check_range("fmin", fmin, 0.0, False, "Hz")
     fmax = check_range("fmax", fmax, 0.0, False, "Hz")

@@ -361,6 +361,7 @@ def series_state(model: ContactModel, excitation: Excitation, order: int = 40,
     """The nondimensional orbit point (x, x') at phase 0 of :func:`perturbation_series` (the same
     numbers as its ``.state``) without its error estimate, term sizes and extrema: a third of
     the work, for a Newton start (the sweep's small-amplitude seeds)."""
+    model.require_paper_family("the perturbation series", excitation)
     N = _check_order(order, summation)
     c = _sum(_series_terms(model.m2, model.l, model.zeta, excitation.r, N), excitation.pa_over_q, N,
              summation)
@@ -392,6 +393,7 @@ def perturbation_series(model: ContactModel, excitation: Excitation, order: int 
     -------
     PerturbationResult
     """
+    model.require_paper_family("the perturbation series", excitation)
     N = _check_order(order, summation)
     eps = excitation.pa_over_q
     r = excitation.r
@@ -444,6 +446,7 @@ def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, order: int 
     Returns ``(fe_hz, app_um, valid)`` arrays [Hz, µm, bool]; ``valid`` as
     :attr:`PerturbationResult.valid` (contact kept and converged to 1e-3 of A_pp at ``order``).
     """
+    model.require_paper_family("the perturbation series")
     fe = np.asarray(fe_hz, float)
     out = [perturbation_series(model, model.excitation(pa_over_q, float(f)), order=order) for f in fe]
     return fe, np.array([r.app_um for r in out]), np.array([r.valid for r in out], bool)

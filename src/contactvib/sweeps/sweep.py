@@ -353,6 +353,8 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     from contactvib._kernels.settle import _refine
     from contactvib.frequency.perturbation import series_state
 
+    if not model.is_paper_family or exc.kind != "force":
+        return None  # the series is written for the power law (other laws: the other seeds)
     try:
         z = np.asarray(series_state(model, exc, order=24), float)
     except (ValueError, FloatingPointError, ZeroDivisionError):

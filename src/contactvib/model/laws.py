@@ -1,0 +1,274 @@
+"""Contact-law families (SI): the spring part F_s(y) and the damping part of the contact force.
+
+Every family keeps the paper's convention: ``y > 0`` is the contact deflection, the force acts
+only while ``y > 0``, nothing acts in flight. The static point ``y0`` solves
+``F_s(y0) = W = Q + F_pre`` (weight plus preload), the linear stiffness is ``k = F_s'(y0)``.
+
+Spring families
+---------------
+* :class:`PowerSpring` — ``F_s = S c_n y^m2`` (Kostek 2013, Eq. 2.3; the default).
+* :class:`ExponentialLaw` — ``F_s = S c_e (exp(y/λ) − 1)``: rough surfaces with exponentially
+  distributed asperity heights; ``k = (W + S c_e)/λ``.
+* :class:`TableLaw` — a measured or computed static load–deflection curve, interpolated by PCHIP
+  (Fritsch–Carlson monotone cubic Hermite): monotone and shape-preserving, so the interpolated
+  stiffness is never negative and has no overshoot between rows, and C¹, so the stiffness that
+  the Jacobian and the Floquet multipliers use is continuous. Beyond the last row the curve is
+  continued linearly with the last stiffness; results whose motion goes there are refused
+  (:meth:`TableLaw.check_deflection`).
+
+Damping families (the coefficient in contact, ``F_d = c_d(y) ẏ``)
+-----------------------------------------------------------------
+* ``"power"`` — ``S h_n y^l ẏ`` (the paper's);
+* ``"hunt-crossley"`` — ``α F_s(y) ẏ`` (Hunt & Crossley 1975), ``alpha`` [s/m].
+
+For developers: a spring family is one class here with ``name``, ``parameters()``,
+``static_deflection(W)``, ``stiffness(y)``, ``force(y)`` (SI, vectorised) and
+``kernel_spring(y0, W)`` (the nondimensional code and data of :mod:`contactvib._kernels.contact`,
+where its compiled force goes: one branch of ``spring``).
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from contactvib.model.checks import ParameterError, check_range
+
+__all__ = ["PowerSpring", "ExponentialLaw", "TableLaw", "LAW_NAMES", "DAMPING_NAMES", "TABLE_ROWS_MIN",
+           "EXPONENTIAL_DEFAULTS", "HUNT_CROSSLEY_DEFAULT"]
+
+#: Spring families by CLI name (``--law``) and damping families (``--damping``).
+LAW_NAMES = ("power", "exponential", "table")
+DAMPING_NAMES = ("power", "hunt-crossley")
+#: Fewest rows of a load–deflection table (the origin and at least three measured points).
+TABLE_ROWS_MIN = 4
+#: Default exponential law: chosen so that with the paper's M, g, S its static deflection and
+#: linear natural frequency are those of the paper's power law to 1 % (y0 0.2254 µm, f_n0 1485 Hz).
+EXPONENTIAL_DEFAULTS = {"c_e": 584.0, "lam": 0.1413e-6}
+#: Default Hunt–Crossley coefficient [s/m]: the paper's linear damping ratio ζ ≈ 0.018 with the
+#: paper's power spring (α = S h_n y0 / Q).
+HUNT_CROSSLEY_DEFAULT = 34.4
+
+# Codes of the compiled families (contactvib._kernels.contact: SPRING_*).
+_SPRING_POWER, _SPRING_EXPONENTIAL, _SPRING_TABLE = 0.0, 1.0, 2.0
+
+
+@dataclass(frozen=True)
+class PowerSpring:
+    """``F_s = S c_n y^m2`` [N] (y in m): the paper's spring (Eq. 2.3)."""
+
+    c_n: float
+    m2: float
+    name: str = field(default="power", init=False)
+
+    def parameters(self) -> dict:
+        return {"c_n": self.c_n, "m2": self.m2}
+
+    def static_deflection(self, W: float, S: float) -> float:
+        """y0 [m] with F_s(y0) = W [N] on the nominal area S [m²]."""
+        return (W / (S * self.c_n)) ** (1.0 / self.m2)
+
+    def force(self, y, S: float):
+        y = np.asarray(y, dtype=float)
+        return np.where(y > 0.0, S * self.c_n * np.abs(y) ** self.m2, 0.0)
+
+    def stiffness(self, y, S: float):
+        y = np.asarray(y, dtype=float)
+        return np.where(y > 0.0, self.m2 * S * self.c_n * np.abs(y) ** (self.m2 - 1.0), 0.0)
+
+    def kernel_spring(self, y0: float, W: float, S: float):
+        return _SPRING_POWER, self.m2, 0.0, np.empty(0)
+
+
+@dataclass(frozen=True)
+class ExponentialLaw:
+    """``F_s = S c_e (exp(y/λ) − 1)`` [N]: exponentially distributed asperity heights.
+
+    Parameters
+    ----------
+    c_e : float
+        Pressure coefficient [N/m²], > 0.
+    lam : float
+        Decay length λ [m], > 0 (of the order of the asperity heights' standard deviation).
+    """
+
+    c_e: float = EXPONENTIAL_DEFAULTS["c_e"]
+    lam: float = EXPONENTIAL_DEFAULTS["lam"]
+    name: str = field(default="exponential", init=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "c_e", check_range("c_e", self.c_e, 0.0, False, "N/m^2"))
+        object.__setattr__(self, "lam", check_range("lam", self.lam, 0.0, False, "m"))
+
+    def parameters(self) -> dict:
+        return {"c_e": self.c_e, "lam": self.lam}
+
+    def static_deflection(self, W: float, S: float) -> float:
+        return self.lam * math.log1p(W / (S * self.c_e))
+
+    def force(self, y, S: float):
+        y = np.asarray(y, dtype=float)
+        return np.where(y > 0.0, S * self.c_e * np.expm1(np.maximum(y, 0.0) / self.lam), 0.0)
+
+    def stiffness(self, y, S: float):
+        y = np.asarray(y, dtype=float)
+        return np.where(y > 0.0, S * self.c_e / self.lam * np.exp(np.maximum(y, 0.0) / self.lam), 0.0)
+
+    def kernel_spring(self, y0: float, W: float, S: float):
+        return _SPRING_EXPONENTIAL, y0 / self.lam, S * self.c_e / W, np.empty(0)
+
+
+def _table_error(source: str, why: str) -> ParameterError:
+    return ParameterError("law_file", source, why)
+
+
+@dataclass(frozen=True, eq=False)
+class TableLaw:
+    """A static load–deflection curve F_s(y) from rows (deflection [m], load [N]).
+
+    The first row is (0, 0); deflections and loads increase strictly; at least
+    :data:`TABLE_ROWS_MIN` rows. Interpolated by PCHIP (monotone, C¹); linear beyond the last
+    row with the last stiffness (refused by :meth:`check_deflection` in results).
+    """
+
+    deflection_m: np.ndarray
+    load_n: np.ndarray
+    source: str = "table"
+    name: str = field(default="table", init=False)
+
+    def __post_init__(self):
+        d = np.asarray(self.deflection_m, dtype=float).ravel()
+        F = np.asarray(self.load_n, dtype=float).ravel()
+        src = self.source
+        if d.shape != F.shape:
+            raise _table_error(src, "deflection and load columns must have the same length")
+        if d.size < TABLE_ROWS_MIN:
+            raise _table_error(src, f"has {d.size} rows: needs at least {TABLE_ROWS_MIN} (the origin and 3 more)")
+        if not (np.all(np.isfinite(d)) and np.all(np.isfinite(F))):
+            bad = int(np.flatnonzero(~(np.isfinite(d) & np.isfinite(F)))[0])
+            raise _table_error(src, f"row {bad + 1} is not a finite number (NaN or inf)")
+        if d[0] != 0.0 or F[0] != 0.0:
+            raise _table_error(src, f"must start at (0, 0) (first contact); starts at ({d[0]:g}, {F[0]:g})")
+        for what, col in (("deflection", d), ("load", F)):
+            steps = np.diff(col)
+            if np.any(steps <= 0.0):
+                bad = int(np.flatnonzero(steps <= 0.0)[0])
+                raise _table_error(src, f"{what} must increase strictly; rows {bad + 1} and {bad + 2} "
+                                        f"do not ({col[bad]:g}, {col[bad + 1]:g})")
+        object.__setattr__(self, "deflection_m", d)
+        object.__setattr__(self, "load_n", F)
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_csv(cls, path) -> TableLaw:
+        """Read ``deflection_um,load_n`` (header row, then numbers) from a CSV file."""
+        p = Path(path)
+        src = str(path)
+        try:
+            text = p.read_text()
+        except OSError as e:
+            raise _table_error(src, f"cannot be read ({e.strerror or type(e).__name__})") from None
+        rows = list(csv.reader(line for line in text.splitlines() if line.strip()))
+        if not rows:
+            raise _table_error(src, "is empty: expected the columns deflection_um,load_n")
+        header = [h.strip() for h in rows[0]]
+        for col in ("deflection_um", "load_n"):
+            if col not in header:
+                raise _table_error(src, f"has no column {col} (columns: {', '.join(header)}); "
+                                        "expected deflection_um,load_n")
+        i_d, i_f = header.index("deflection_um"), header.index("load_n")
+        d, F = [], []
+        for n, row in enumerate(rows[1:], start=2):
+            try:
+                d.append(float(row[i_d]))
+                F.append(float(row[i_f]))
+            except (ValueError, IndexError):
+                raise _table_error(src, f"line {n} is not two numbers: {','.join(row)}") from None
+        return cls(np.array(d) * 1e-6, np.array(F), source=src)
+
+    @classmethod
+    def from_function(cls, load, y_max: float, n: int = 400, source: str = "function") -> TableLaw:
+        """Tabulate a user's spring law ``load(y) -> F`` [N] (y in m, vectorised) on ``n`` rows
+        from 0 to ``y_max`` [m]: the way to bring a law of one's own into every solver."""
+        d = np.linspace(0.0, float(y_max), int(n))
+        return cls(d, np.asarray(load(d), dtype=float), source=source)
+
+    # ------------------------------------------------------------------ the law
+    @property
+    def sha256(self) -> str:
+        """Content hash of the table (deflections and loads as float64)."""
+        h = hashlib.sha256(self.deflection_m.tobytes())
+        h.update(self.load_n.tobytes())
+        return h.hexdigest()
+
+    def __eq__(self, other):
+        return isinstance(other, TableLaw) and self.sha256 == other.sha256
+
+    def __hash__(self):
+        return hash(self.sha256)
+
+    def to_dict(self) -> dict:
+        """The table as JSON-able lists (deflection in µm), its source and content hash."""
+        return {"deflection_um": (self.deflection_m * 1e6).tolist(), "load_n": self.load_n.tolist(),
+                "source": self.source, "sha256": self.sha256}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> TableLaw:
+        return cls(np.asarray(d["deflection_um"], float) * 1e-6, np.asarray(d["load_n"], float),
+                   source=d.get("source", "table"))
+
+    def _pchip(self):
+        from scipy.interpolate import PchipInterpolator
+
+        return PchipInterpolator(self.deflection_m, self.load_n, extrapolate=False)
+
+    def parameters(self) -> dict:
+        return {"table": self.to_dict()}
+
+    @property
+    def y_max(self) -> float:
+        """Largest tabulated deflection [m]."""
+        return float(self.deflection_m[-1])
+
+    def static_deflection(self, W: float, S: float = 0.0) -> float:
+        if not W < self.load_n[-1]:
+            raise ParameterError("law_file", self.source,
+                                 f"its largest load {self.load_n[-1]:g} N does not reach the static load "
+                                 f"W = Q + F_pre = {W:g} N: the table must extend beyond the static point")
+        from scipy.optimize import brentq
+
+        p = self._pchip()
+        return float(brentq(lambda y: float(p(y)) - W, 0.0, self.y_max, xtol=1e-15 * self.y_max, rtol=4e-16))
+
+    def force(self, y, S: float = 0.0):
+        y = np.asarray(y, dtype=float)
+        y0, F0, d0 = self.y_max, self.load_n[-1], self._slopes()[-1]
+        inside = self._pchip()(np.clip(y, 0.0, y0))
+        return np.where(y <= 0.0, 0.0, np.where(y > y0, F0 + d0 * (y - y0), inside))
+
+    def stiffness(self, y, S: float = 0.0):
+        y = np.asarray(y, dtype=float)
+        inside = self._pchip().derivative()(np.clip(y, 0.0, self.y_max))
+        return np.where(y <= 0.0, 0.0, np.where(y > self.y_max, self._slopes()[-1], inside))
+
+    def _slopes(self) -> np.ndarray:
+        return self._pchip().derivative()(self.deflection_m)
+
+    def kernel_spring(self, y0: float, W: float, S: float = 0.0):
+        x = self.deflection_m / y0
+        f = self.load_n / W
+        d = self._slopes() * (y0 / W)
+        return _SPRING_TABLE, float(x.size), 0.0, np.concatenate([x, f, d])
+
+    def check_deflection(self, y_max_m: float, what: str = "the motion") -> None:
+        """Refuse a result whose deflection leaves the table (ParameterError naming the file)."""
+        if y_max_m > self.y_max:
+            raise ParameterError("law_file", self.source,
+                                 f"{what} reaches a deflection of {y_max_m * 1e6:.4g} um, beyond the table's "
+                                 f"last row at {self.y_max * 1e6:.4g} um: extend the table (the curve "
+                                 f"beyond it would be an extrapolation)")
