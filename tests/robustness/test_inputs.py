@@ -78,6 +78,15 @@ OPTIONS = {
                 "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
 
+#: The contact-law options of every command that builds a model, and the excitation families'
+#: options of the commands at one operating point.
+LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload": "value"}
+EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
+for _name in ("attractors", "simulate", "basins", "perturbation"):
+    OPTIONS[_name].update(LAW, **EXCITATION)
+for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm"):
+    OPTIONS[_name].update(LAW)
+
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
 #: --pa-max are a range with --parameter pa).
 NEEDS = {("simulate", "--periods"): ["--from-state", "0.1", "0"],

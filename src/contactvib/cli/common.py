@@ -106,9 +106,9 @@ def _int(option: str, text: str, lower: int | None, upper: int | None = None,
 
 
 #: The law options of the command being run (``_law_options``): read by ``_model``.
-_LAW = contextvars.ContextVar("contactvib_law", default={})
+_LAW: contextvars.ContextVar = contextvars.ContextVar("contactvib_law", default=None)
 #: The excitation options of the command being run (``_excitation_family_options``).
-_EXC = contextvars.ContextVar("contactvib_excitation", default={})
+_EXC: contextvars.ContextVar = contextvars.ContextVar("contactvib_excitation", default=None)
 #: Every name ``--set`` accepts (the paper's and the other families' parameters).
 SET_NAMES = tuple(PAPER_DEFAULTS) + ("c_e", "lam", "alpha")
 _LAW_OPTION_NAMES = {"law": "--law", "c_e": "--set c_e", "lam": "--set lam", "alpha": "--set alpha",
@@ -121,7 +121,7 @@ def _law_family(overrides: dict) -> dict:
     from contactvib.model.laws import TableLaw
     from contactvib.model.oscillator import FAMILY_PARAMETERS
 
-    opts = _LAW.get()
+    opts = _LAW.get() or {}
     law = opts.get("law") or "power"
     damping = opts.get("damping") or "power"
     kw: dict = {}
@@ -195,7 +195,7 @@ def _law_options(f):
 
     f = _scoped(_LAW, ("law", "law_file", "damping", "preload"), f)
     f = click.option("--preload", default=None, metavar="N",
-                     help="Constant normal force F_pre [N] pressing the slider down (y0 and f_n0 follow from Q + F_pre).")(f)
+                     help="Constant normal force F_pre [N] pressing the slider down (y0, f_n0 follow from Q + F_pre).")(f)
     f = click.option("--damping", default="power", show_default=True, type=click.Choice(DAMPING_NAMES),
                      help="Contact damping: power S h_n y^l ydot (--set h_n, l) or hunt-crossley alpha F_s(y) ydot "
                           "(--set alpha [s/m]).")(f)
@@ -211,9 +211,9 @@ def _excitation_family_options(f):
     """--base-um, --base-g, --harmonic: base motion or a multi-harmonic force for ``_excitation``."""
     f = _scoped(_EXC, ("base_um", "base_g", "harmonic"), f)
     f = click.option("--harmonic", multiple=True, metavar="K:AMP:PHASE",
-                     help="A further harmonic of the force: K f_e, amplitude AMP [Q], phase PHASE [deg] (repeatable).")(f)
+                     help="A further harmonic of the force: K f_e, amplitude AMP [Q], phase [deg] (repeatable).")(f)
     f = click.option("--base-g", default=None, metavar="A",
-                     help="Base (slideway) motion of acceleration amplitude A [g = 9.80665 m/s^2] instead of a force.")(f)
+                     help="Base (slideway) motion of acceleration amplitude A [g = 9.80665 m/s^2], not a force.")(f)
     f = click.option("--base-um", default=None, metavar="U",
                      help="Base (slideway) motion u = U cos(2 pi f_e t), U [um], instead of a force.")(f)
     return f
@@ -239,7 +239,7 @@ def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: 
     checked by :class:`Excitation`."""
     if pa is not None and pa_newton is not None:
         raise InputError("--pa and --pa-newton: give one of them, not both")
-    fam = _EXC.get()
+    fam = _EXC.get() or {}
     base = [(o, fam.get(k)) for o, k in (("--base-um", "base_um"), ("--base-g", "base_g")) if fam.get(k) is not None]
     names = {**_EXCITATION_OPTIONS, "U": "--base-um", "A": "--base-g", "k": "--harmonic", "P_k/Q": "--harmonic",
              "phase": "--harmonic", "harmonics": "--harmonic"}

@@ -12,7 +12,6 @@ from pathlib import Path
 import click
 
 from contactvib.cli.common import (
-    _law_options,
     InputError,
     LevelsCommand,
     _checked,
@@ -20,6 +19,7 @@ from contactvib.cli.common import (
     _feasible_frequencies,
     _frequency_range,
     _int,
+    _law_options,
     _levels,
     _mapped,
     _model,

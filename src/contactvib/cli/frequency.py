@@ -7,13 +7,13 @@ import json
 import click
 
 from contactvib.cli.common import (
-    _law_options,
     _checked,
     _echo_json,
     _excitation,
     _feasible_frequencies,
     _frequency_range,
     _int,
+    _law_options,
     _model,
     _operating_point_options,
     _output_folder,

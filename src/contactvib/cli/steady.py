@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import contextvars
+
 import click
 
 from contactvib.cli.common import (
+    InputError,
     _ctrl_c,
     _echo_json,
     _excitation,
@@ -15,8 +18,10 @@ from contactvib.cli.common import (
     _number,
     _operating_point_options,
     _output_folder,
+    _scoped,
     _search_options,
 )
+from contactvib.model import ContactModel
 
 #: Options of the attractor search, by find_attractors' parameter names.
 _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
@@ -43,6 +48,17 @@ def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
         return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, **kw)
 
 
+def _excitation_text(exc) -> str:
+    """``P_a = 0.65 Q (1.343 N)``, with the harmonics, or the base motion and its inertial force."""
+    if exc.kind == "base":
+        sym, val, unit = exc.level
+        return f"base motion {sym} = {val:g} {unit} (inertial force {exc.pa_over_q:.4g} Q)"
+    text = f"P_a = {exc.pa_over_q:g} Q ({exc.P_a:.4g} N)"
+    for k, a, ph in exc.harmonics:
+        text += f" + {a:g} Q at {k} f_e ({ph:g} deg)"
+    return text
+
+
 def _none_settled(result) -> None:
     """Exit 1 with one line when no start reached an attractor (all unsettled or failed)."""
     if len(result):
@@ -67,9 +83,11 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
         _echo_json(result.to_json())
         _none_settled(result)
         return
-    click.echo(f"P_a = {exc.pa_over_q:g} Q ({exc.P_a:.4g} N), f_e = {exc.f_e:g} Hz, "
+    click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
                f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
                f"{result.n_box} box starts + {result.n_seeds} seeds")
+    if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
+        click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
             f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}")
     click.echo(head)
@@ -86,6 +104,84 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
     _none_settled(result)
 
 
+#: The random-force options of ``simulate`` (kept out of its signature by ``_random_options``).
+_RANDOM: contextvars.ContextVar = contextvars.ContextVar("contactvib_random", default=None)
+#: Options of ``simulate`` that belong to the attractors' excitation, trajectory or search: refused
+#: with --random-psd (by click parameter name).
+_NOT_RANDOM = {"pa": "--pa", "pa_newton": "--pa-newton", "base_um": "--base-um", "base_g": "--base-g",
+               "harmonic": "--harmonic", "fe": "--fe", "from_state": "--from-state", "periods": "--periods",
+               "starts": "--starts", "kmax": "--kmax", "max_periods": "--max-periods", "no_seeds": "--no-seeds"}
+#: The library's symbols of the random force, by option.
+_RANDOM_NAMES = {"S_F": "--random-psd", "f_lo": "--band", "f_hi": "--band", "seed": "--seed",
+                 "duration": "--duration", "dt_sample": "--duration", "discard": "--duration"}
+
+
+def _random_options(f):
+    """--random-psd, --band, --duration: a random force instead of the attractors."""
+    f = _scoped(_RANDOM, ("random_psd", "band", "duration"), f)
+    f = click.option("--duration", default=None, metavar="S",
+                     help="Duration [s] of the response to --random-psd, after its start transient (default 1).")(f)
+    f = click.option("--band", nargs=2, default=None, metavar="FLO FHI",
+                     help="Band [Hz] of the random force of --random-psd, 0 < FLO < FHI.")(f)
+    f = click.option("--random-psd", default=None, metavar="SF",
+                     help="Random band-limited Gaussian force of flat one-sided PSD SF [N^2/Hz] over --band "
+                          "instead of the attractors: writes OUT/random.nc and OUT/random_response.png.")(f)
+    return f
+
+
+def _random_force(seed):
+    """The RandomForce and duration [s] of --random-psd, --band, --duration and --seed, or None
+    without --random-psd (then --band and --duration are refused); the options that belong to
+    the attractors are refused with it."""
+    opts = _RANDOM.get() or {}
+    if opts.get("random_psd") is None:
+        for name in ("band", "duration"):
+            if opts.get(name) is not None:
+                raise InputError(f"--{name}: belongs to a random force; give --random-psd SF [N^2/Hz] with it")
+        return None
+    ctx = click.get_current_context()
+    for name, option in _NOT_RANDOM.items():
+        if ctx.get_parameter_source(name) not in (None, click.core.ParameterSource.DEFAULT):
+            raise InputError(f"--random-psd and {option}: {option} belongs to the attractors' harmonic excitation "
+                             f"or search, not to a random force (give its band with --band FLO FHI)")
+    if opts.get("band") is None:
+        raise InputError("--random-psd: needs its band --band FLO FHI [Hz]")
+    from contactvib.steady.random_response import RandomForce
+
+    sf = _number("--random-psd", "S_F", opts["random_psd"])
+    lo, hi = (_number("--band", s, t) for s, t in zip(("f_lo", "f_hi"), opts["band"]))
+    seed = _int("--seed", seed, 0, symbol="seed")
+    duration = 1.0 if opts.get("duration") is None else _number("--duration", "duration", opts["duration"])
+    return _mapped(_RANDOM_NAMES, RandomForce, sf, lo, hi, seed=seed), duration
+
+
+def _simulate_random(model, force, duration, out) -> None:
+    """random_response of ``model`` to ``force``: OUT/random.nc, OUT/random_response.png and the
+    statistics on stdout."""
+    from contactvib.steady.random_response import check_random, random_response
+
+    _mapped(_RANDOM_NAMES, check_random, model, force, duration, None, None, 1e-9, 20)
+    out = _output_folder(out)
+    with _ctrl_c():
+        resp = random_response(model, force, duration)
+    from contactvib.plotting.figures import save_figure
+    from contactvib.plotting.random import random_figure
+
+    nc = out / "random.nc"
+    resp.to_dataset().to_netcdf(nc)
+    png = save_figure(random_figure(resp), out / "random_response.png")
+    click.echo(f"random force: S_F = {force.S_F:.4g} N^2/Hz over [{force.f_lo:g}, {force.f_hi:g}] Hz, RMS "
+               f"{force.rms_n:.4g} N = {force.rms_n / model.Q:.3g} Q, {force.n} components, seed {force.seed}; "
+               f"{duration:g} s after {resp.discard_s:.3g} s discarded")
+    click.echo(f"response: RMS {resp.rms_um:.4g} um about the mean y = {resp.mean_um:.4g} um "
+               f"(y0 = {resp.y0_um:.4g} um, f_n0 = {resp.f_n0_hz:.1f} Hz)")
+    click.echo(f"contact loss probability: {resp.contact_loss_probability:.4f} (fraction of time with y <= 0)")
+    click.echo(f"mean contact force: {resp.mean_contact_force_n:.5g} +- {resp.mean_contact_force_err_n:.2g} N "
+               f"vs W = Q + F_pre = {resp.static_load_n:.5g} N ({resp.mean_force_deviation:+.2f} standard errors)")
+    click.echo(str(nc))
+    click.echo(str(png))
+
+
 @click.command()
 @_operating_point_options
 @_search_options
@@ -95,10 +191,16 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
               help="Simulate one trajectory from this state instead of the attractors.")
 @click.option("--periods", default="20", show_default=True,
               help="Periods to simulate with --from-state.")
+@_random_options
 def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, out,
              from_state, periods):
-    """Time histories and phase portraits (one figure per attractor, as Figs. 4–9)."""
+    """Time histories and phase portraits (one figure per attractor, as Figs. 4–9); with
+    --random-psd the response to a random band-limited Gaussian force."""
     model = _model(settings)
+    random = _random_force(seed)
+    if random is not None:
+        _simulate_random(model, *random, out)
+        return
     exc = _excitation(model, pa, pa_newton, fe)
     if from_state is not None:
         y = _number("--from-state", "y", from_state[0])

@@ -20,7 +20,7 @@ with ``p = P_a / Q``, ``r = f_e / f_n0`` and ``c = 2 m2 ζ``, ``ζ`` the linear 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -69,6 +69,8 @@ PARAMETER_UNITS = {
 #: The model parameters a ``--set`` may name, by family (``M``, ``g``, ``S`` belong to every law).
 FAMILY_PARAMETERS = {"power": ("c_n", "m2"), "exponential": ("c_e", "lam"), "table": (),
                      "damping power": ("h_n", "l"), "damping hunt-crossley": ("alpha",)}
+#: Largest preload F_pre as a multiple of Q (guideways are preloaded by a few Q).
+PRELOAD_MAX_Q = 1e3
 #: Standard gravity [m/s²]: the unit of a base acceleration given in g (``--base-g``).
 G_STANDARD = 9.80665
 #: Largest number of extra harmonics of a multi-harmonic force.
@@ -149,6 +151,10 @@ class ContactModel:
             if upper is not None:
                 check_range(name, getattr(self, name), None, unit=PARAMETER_UNITS[name], upper=upper)
             object.__setattr__(self, name, float(getattr(self, name)))
+        q = self.M * self.g
+        if math.isfinite(q):
+            check_range("F_pre", self.preload, None, upper=PRELOAD_MAX_Q * q,
+                        unit=f"N (at most {PRELOAD_MAX_Q:g} Q = {PRELOAD_MAX_Q * q:.4g} N)")
         self._check_scales()
         if not self.zeta <= ZETA_MAX:
             # ζ is proportional to h_n: name the largest h_n allowed with this l
@@ -205,8 +211,7 @@ class ContactModel:
         elif self.alpha is not None:
             raise ParameterError("alpha", self.alpha, "is a parameter of the Hunt-Crossley damping, not of the "
                                                       "power damping (--damping hunt-crossley)")
-        p = check_range("F_pre", self.preload, 0.0, True, "N")
-        object.__setattr__(self, "preload", p)
+        object.__setattr__(self, "preload", check_range("F_pre", self.preload, 0.0, True, "N"))
 
     def _check_scales(self) -> None:
         """The derived scales Q, y0, f_n0 and ζ must be finite (no overflow of the parameters'
@@ -472,6 +477,11 @@ class Excitation:
                 A = check_range("A", self.base_g, 0.0, True, "g")
                 object.__setattr__(self, "base_g", A)
                 pa = self.model.M * A * G_STANDARD / self.model.Q
+            if not pa <= PA_MAX:
+                sym, val, unit = self.level
+                raise ParameterError(sym, val, f"gives an inertial force M U (2 pi f_e)^2 = {pa:.4g} Q at "
+                                               f"{f_e:g} Hz: must be <= {PA_MAX:g} Q, i.e. {sym} <= "
+                                               f"{val * PA_MAX / pa:.4g} {unit}")
             object.__setattr__(self, "pa_over_q", pa)
         p = check_range("P_a/Q", self.pa_over_q, 0.0, True, PA_NOTE)
         object.__setattr__(self, "pa_over_q", check_range("P_a/Q", p, None, unit=PA_NOTE, upper=PA_MAX))

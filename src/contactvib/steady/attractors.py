@@ -304,7 +304,11 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         for g in groups
     ]
     attractors.sort(key=lambda a: -a.app_um)
+    if attractors:
+        model.check_motion(max(a.ymax_um for a in attractors), "an attractor")
     return AttractorSet(
+        model=model.parameters(),
+        excitation=excitation.describe(),
         attractors=attractors,
         fn0_hz=model.f_n0,
         y0_um=model.units.y_um,

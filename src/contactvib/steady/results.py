@@ -166,6 +166,9 @@ class AttractorSet:
     unsettled_fraction : float
         Share of the box starts among them [1]; the basin fractions add up to 1 minus this
         (and the failed box starts).
+    model, excitation : dict
+        What produced the result: the model's parameters (``ContactModel.parameters``, with the
+        law, its parameters and a table's content hash) and ``Excitation.describe()``.
     """
 
     attractors: list
@@ -179,6 +182,8 @@ class AttractorSet:
     settings: dict
     n_unsettled: int = 0
     unsettled_fraction: float = 0.0
+    model: dict | None = None
+    excitation: dict | None = None
 
     def __len__(self):
         return len(self.attractors)
@@ -205,6 +210,8 @@ class AttractorSet:
             "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
                       "f": "Hz", "P_a": "Q = M g"},
             "attractors": [a.to_dict() for a in self.attractors],
+            **({"model": self.model} if self.model is not None else {}),
+            **({"excitation": self.excitation} if self.excitation is not None else {}),
         }
 
     def to_json(self, **kwargs) -> str:

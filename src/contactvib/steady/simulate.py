@@ -83,7 +83,9 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     row_bytes = rows * REC_WIDTH * 8
     check_memory("n_periods", n_periods, n_periods * row_bytes, int(MEMORY_MAX // row_bytes))
     z = np.array(model.units.state(y_um, ydot_mm_s))
-    return _history(model, excitation, z, n_periods, samples_per_period, rtol)
+    hist = _history(model, excitation, z, n_periods, samples_per_period, rtol)
+    model.check_motion(float(np.max(hist.y_um)), "the trajectory")
+    return hist
 
 
 def attractor_history(model: ContactModel, excitation: Excitation, attractor: Attractor,

@@ -213,6 +213,7 @@ def level_dataset(model: ContactModel, level, settings: dict):
             "title": "contactvib resonance dataset (Kostek 2013 contact oscillator)",
             "format": FORMAT,
             "model": json.dumps(model.parameters()),
+            "law": model.describe_law(),
             "fn0_hz": model.f_n0,
             "y0_um": model.units.y_um,
             "settings": json.dumps(settings),
