@@ -12,7 +12,7 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attract
 :func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`.
 """
 
-from contactvib.model import PAPER_DEFAULTS, ContactModel, Excitation, ParameterError
+from contactvib.model import PAPER_DEFAULTS, ContactModel, Excitation, ExponentialLaw, ParameterError, TableLaw
 
 __version__ = "0.1.0"
 
@@ -69,7 +69,7 @@ _LAZY = {
     "open_levels": ("contactvib.sweeps.film", "open_levels"),
 }
 
-__all__ = ["ContactModel", "Excitation", "ParameterError", "PAPER_DEFAULTS", "__version__",
+__all__ = ["ContactModel", "Excitation", "ExponentialLaw", "TableLaw", "ParameterError", "PAPER_DEFAULTS", "__version__",
            *_LAZY]
 
 

@@ -85,6 +85,25 @@ REDUCED: dict[str, list[str]] = {
     "contactvib simulate --pa 0.9 --fe 50 --from-state 0.3 0 --periods 10 --out traj/":
         ["simulate", "--pa", "0.9", "--fe", "50", "--from-state", "0.3", "0", "--periods", "10",
          "--out", "traj/"],
+    "contactvib attractors --pa 0.3 --fe 1200 --law exponential --set c_e=584 --set lam=1.413e-7":
+        ["attractors", "--pa", "0.3", "--fe", "1200", "--law", "exponential", "--set", "c_e=584", "--set",
+         "lam=1.413e-7", "--starts", "8", "--no-seeds"],
+    "contactvib attractors --pa 0.65 --fe 360 --law table --law-file examples/power_law_table.csv":
+        ["attractors", "--pa", "0.65", "--fe", "360", "--law", "table", "--law-file",
+         str(README.parent / "examples" / "power_law_table.csv"), "--starts", "8", "--no-seeds"],
+    "contactvib attractors --pa 0.65 --fe 700 --damping hunt-crossley --set alpha=34.4":
+        ["attractors", "--pa", "0.65", "--fe", "700", "--damping", "hunt-crossley", "--set", "alpha=34.4",
+         "--starts", "8"],
+    "contactvib attractors --pa 0.65 --fe 700 --preload 2":
+        ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
+    "contactvib attractors --fe 1200 --base-um 0.05": ["attractors", "--fe", "1200", "--base-um", "0.05", "--starts", "8"],
+    "contactvib attractors --fe 360 --base-g 1.5 --starts 64":
+        ["attractors", "--fe", "360", "--base-g", "1.5", "--starts", "8", "--no-seeds"],
+    "contactvib attractors --pa 0.3 --fe 700 --harmonic 2:0.2:90":
+        ["attractors", "--pa", "0.3", "--fe", "700", "--harmonic", "2:0.2:90", "--starts", "8", "--no-seeds"],
+    "contactvib resonance --pa 0.3 --law exponential --fmin 300 --fmax 2000 --out res_exp/":
+        ["resonance", "--pa", "0.3", "--law", "exponential", "--fmin", "1190", "--fmax", "1210", "--df", "10",
+         "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress", "--out", "res_exp/"],
     "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
         ["attractors", "--pa", "0.5", "--fe", "700", "--set", "m2=1.5", "--set", "c_n=1e14",
          "--starts", "16"],
@@ -280,9 +299,15 @@ def _check_query(stdout: str, pa: float = 0.65, fe: float = 360.0) -> None:
         assert QUERY_KEYS <= set(a), sorted(QUERY_KEYS - set(a))
 
 
-def _check_attractors_table(stdout: str, pa: float, fe: float) -> None:
+def _check_attractors_table(stdout: str, pa: float | None, fe: float, law: str | None = None) -> None:
+    """The table's header (P_a, or the base motion when ``pa`` is None), the model line of a law
+    other than the paper's (naming ``law``), the column heads and a first row."""
     lines = stdout.splitlines()
-    assert lines[0].startswith(f"P_a = {pa:g} Q (") and f"f_e = {fe:g} Hz" in lines[0]
+    first = f"P_a = {pa:g} Q (" if pa is not None else "base motion "
+    assert lines[0].startswith(first) and f"f_e = {fe:g} Hz" in lines[0]
+    if law is not None:
+        assert lines[1].startswith("model: ") and law in lines[1]
+        lines = lines[1:]
     assert lines[1].split()[:3] == ["#", "period", "minima"]
     assert len(lines) >= 3 and lines[2].split()[0] == "0"
 
@@ -405,7 +430,12 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     out = _run(args, workdir, capsys)
     cmd = args[0]
     folder = workdir / m.group(1) if m else None
-    if cmd == "resonance":
+    if cmd == "resonance" and "--law" in args:  # another law: its name and parameters in the dataset
+        with xr.open_dataset(folder / "resonance.nc") as d:
+            assert "exponential" in d.attrs["law"] and json.loads(d.attrs["model"])["law"] == "exponential"
+            assert d.sizes["point"] >= 1
+        assert_figure_file(folder / "resonance_pa0.30.png")
+    elif cmd == "resonance":
         _check_resonance(folder, out)
     elif cmd == "atlas":
         _check_atlas(folder, out)
@@ -425,8 +455,10 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     elif cmd == "attractors" and "--json" in args:
         _attractors_json(json.loads(out), 0.65, 360.0)
     elif cmd == "attractors":
-        pa, fe = float(args[args.index("--pa") + 1]), float(args[args.index("--fe") + 1])
-        _check_attractors_table(out, pa, fe)
+        pa = float(args[args.index("--pa") + 1]) if "--pa" in args else None
+        fe = float(args[args.index("--fe") + 1])
+        law = "law" if any(o in args for o in ("--law", "--damping", "--preload", "--set")) else None
+        _check_attractors_table(out, pa, fe, law)
     elif cmd == "basins" and "--json" in args:
         d = json.loads(out)
         assert d["pa_over_q"] == pytest.approx(0.65) and d["fe_hz"] == pytest.approx(360.0)

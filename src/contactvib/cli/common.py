@@ -195,7 +195,7 @@ def _law_options(f):
 
     f = _scoped(_LAW, ("law", "law_file", "damping", "preload"), f)
     f = click.option("--preload", default=None, metavar="N",
-                     help="Constant normal force F_pre [N] pressing the slider down (y0, f_n0 follow from Q + F_pre).")(f)
+                     help="Constant normal force F_pre [N] pressing the slider down (y0, f_n0 from Q + F_pre).")(f)
     f = click.option("--damping", default="power", show_default=True, type=click.Choice(DAMPING_NAMES),
                      help="Contact damping: power S h_n y^l ydot (--set h_n, l) or hunt-crossley alpha F_s(y) ydot "
                           "(--set alpha [s/m]).")(f)

@@ -112,8 +112,8 @@ _NOT_RANDOM = {"pa": "--pa", "pa_newton": "--pa-newton", "base_um": "--base-um",
                "harmonic": "--harmonic", "fe": "--fe", "from_state": "--from-state", "periods": "--periods",
                "starts": "--starts", "kmax": "--kmax", "max_periods": "--max-periods", "no_seeds": "--no-seeds"}
 #: The library's symbols of the random force, by option.
-_RANDOM_NAMES = {"S_F": "--random-psd", "f_lo": "--band", "f_hi": "--band", "seed": "--seed",
-                 "duration": "--duration", "dt_sample": "--duration", "discard": "--duration"}
+_RANDOM_NAMES = {"S_F": "--random-psd", "f_lo": "--band FLO", "f_hi": "--band FHI", "seed": "--seed",
+                 "duration": "--duration"}
 
 
 def _random_options(f):
@@ -142,14 +142,15 @@ def _random_force(seed):
     ctx = click.get_current_context()
     for name, option in _NOT_RANDOM.items():
         if ctx.get_parameter_source(name) not in (None, click.core.ParameterSource.DEFAULT):
-            raise InputError(f"--random-psd and {option}: {option} belongs to the attractors' harmonic excitation "
-                             f"or search, not to a random force (give its band with --band FLO FHI)")
+            raise InputError(f"--random-psd and {option}: give one of them ({option} belongs to the attractors "
+                             f"or trajectory of a harmonic excitation; a random force takes --band FLO FHI, "
+                             f"--duration and --seed)")
     if opts.get("band") is None:
         raise InputError("--random-psd: needs its band --band FLO FHI [Hz]")
     from contactvib.steady.random_response import RandomForce
 
     sf = _number("--random-psd", "S_F", opts["random_psd"])
-    lo, hi = (_number("--band", s, t) for s, t in zip(("f_lo", "f_hi"), opts["band"]))
+    lo, hi = (_number(f"--band {o}", s, t) for o, s, t in zip(("FLO", "FHI"), ("f_lo", "f_hi"), opts["band"]))
     seed = _int("--seed", seed, 0, symbol="seed")
     duration = 1.0 if opts.get("duration") is None else _number("--duration", "duration", opts["duration"])
     return _mapped(_RANDOM_NAMES, RandomForce, sf, lo, hi, seed=seed), duration

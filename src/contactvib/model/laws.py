@@ -243,7 +243,7 @@ class TableLaw:
         from scipy.optimize import brentq
 
         p = self._pchip()
-        return float(brentq(lambda y: float(p(y)) - W, 0.0, self.y_max, xtol=1e-15 * self.y_max, rtol=4e-16))
+        return float(brentq(lambda y: float(p(y)) - W, 0.0, self.y_max, xtol=1e-15 * self.y_max, rtol=1e-15))
 
     def force(self, y, S: float = 0.0):
         y = np.asarray(y, dtype=float)

@@ -51,8 +51,9 @@ F_HI_MAX_RATIO = 20.0
 JITTER_FRACTION = 0.1
 #: Default samples per cycle of the fastest of f_hi and f_n0.
 SAMPLES_PER_CYCLE = 32
-#: Largest work of one random response: integration steps × spectral components.
-WORK_MAX = 2e10
+#: Largest work of one random response: integration steps × spectral components (about a quarter
+#: of an hour).
+WORK_MAX = 1e10
 #: Chunk of integration [τ] between two samplings of the step records (bounds the memory).
 _CHUNK_TAU = 1000.0
 #: Bytes per sample of the result (its arrays and the sampling's).
@@ -284,8 +285,8 @@ def check_random(model: ContactModel, force: RandomForce, duration_s, dt_sample_
     steps = STEPS_PER_NATURAL_PERIOD * (duration_s + discard_s) * max(fn, 2.0 * force.f_hi)
     if steps * force.n > WORK_MAX:
         raise ParameterError("duration", duration_s, f"with discard = {discard_s:.4g} s needs about "
-                             f"{steps:.2g} integration steps x {force.n} components; at most "
-                             f"{WORK_MAX:.0e} can be done in reasonable time: shorten the duration or use "
+                             f"{steps:.2g} integration steps x {force.n} components = {steps * force.n:.2g}; at "
+                             f"most {WORK_MAX:.0e} can be done in reasonable time: shorten the duration or use "
                              f"fewer components (n)")
     return duration_s, dt_sample_s, discard_s, rtol, n_batches
 
