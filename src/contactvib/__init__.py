@@ -69,7 +69,8 @@ _LAZY = {
     "open_levels": ("contactvib.sweeps.film", "open_levels"),
 }
 
-__all__ = ["ContactModel", "Excitation", "ExponentialLaw", "TableLaw", "ParameterError", "PAPER_DEFAULTS", "__version__",
+__all__ = ["ContactModel", "Excitation", "ExponentialLaw", "TableLaw",
+           "ParameterError", "PAPER_DEFAULTS", "__version__",
            *_LAZY]
 
 

@@ -96,7 +96,8 @@ REDUCED: dict[str, list[str]] = {
          "--starts", "8"],
     "contactvib attractors --pa 0.65 --fe 700 --preload 2":
         ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
-    "contactvib attractors --fe 1200 --base-um 0.05": ["attractors", "--fe", "1200", "--base-um", "0.05", "--starts", "8"],
+    "contactvib attractors --fe 1200 --base-um 0.05":
+        ["attractors", "--fe", "1200", "--base-um", "0.05", "--starts", "8"],
     "contactvib attractors --fe 360 --base-g 1.5 --starts 64":
         ["attractors", "--fe", "360", "--base-g", "1.5", "--starts", "8", "--no-seeds"],
     "contactvib attractors --pa 0.3 --fe 700 --harmonic 2:0.2:90":

@@ -28,7 +28,8 @@ from contactvib.model.laws import ExponentialLaw, TableLaw
 from contactvib.model.oscillator import PAPER_DEFAULTS, PARAMETER_UNITS, ZETA_MAX, ContactModel, Excitation
 from contactvib.model.units import Units
 
-__all__ = ["ContactModel", "Excitation", "ParameterError", "PowerLaw", "ExponentialLaw", "TableLaw", "PAPER_DEFAULTS", "PARAMETER_UNITS",
+__all__ = ["ContactModel", "Excitation", "ParameterError", "PowerLaw", "ExponentialLaw",
+           "TableLaw", "PAPER_DEFAULTS", "PARAMETER_UNITS",
            "ZETA_MAX", "Units", "check_finite", "check_range", "check_int", "check_choice",
            "check_frequency_range", "check_pa_level", "PA_NOTE", "SHOOTING_RTOL_RANGE",
            "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX",
