@@ -105,6 +105,8 @@ REDUCED: dict[str, list[str]] = {
     "contactvib resonance --pa 0.3 --law exponential --fmin 300 --fmax 2000 --out res_exp/":
         ["resonance", "--pa", "0.3", "--law", "exponential", "--fmin", "1190", "--fmax", "1210", "--df", "10",
          "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress", "--out", "res_exp/"],
+    "contactvib simulate --random-psd 1e-4 --band 200 2000 --duration 1 --out random/":
+        ["simulate", "--random-psd", "1e-4", "--band", "200", "2000", "--duration", "0.05", "--out", "random/"],
     "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
         ["attractors", "--pa", "0.5", "--fe", "700", "--set", "m2=1.5", "--set", "c_n=1e14",
          "--starts", "16"],
@@ -453,6 +455,10 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         assert imageio_ffmpeg.count_frames_and_secs(str(folder))[0] == 8
         meta = next(imageio_ffmpeg.read_frames(str(folder)))
         assert meta["size"] == (320, 160) and meta["fps"] == pytest.approx(2.0) and "8 frames" in out
+    elif cmd == "simulate" and "--random-psd" in args:
+        assert_figure_file(folder / "random_response.png")
+        with xr.open_dataset(folder / "random.nc") as d:
+            assert d.sizes[next(iter(d["y_um"].dims))] > 100
     elif cmd == "attractors" and "--json" in args:
         _attractors_json(json.loads(out), 0.65, 360.0)
     elif cmd == "attractors":

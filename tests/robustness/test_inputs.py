@@ -84,6 +84,7 @@ LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload
 EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
 for _name in ("attractors", "simulate", "basins", "perturbation"):
     OPTIONS[_name].update(LAW, **EXCITATION)
+OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm"):
     OPTIONS[_name].update(LAW)
 

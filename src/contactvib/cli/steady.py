@@ -125,7 +125,8 @@ def _random_options(f):
                      help="Band [Hz] of the random force of --random-psd, 0 < FLO < FHI.")(f)
     f = click.option("--random-psd", default=None, metavar="SF",
                      help="Random band-limited Gaussian force of flat one-sided PSD SF [N^2/Hz] over --band "
-                          "instead of the attractors: writes OUT/random.nc and OUT/random_response.png.")(f)
+                          "instead of the attractors (random phases from --seed): writes OUT/random.nc and "
+                          "OUT/random_response.png.")(f)
     return f
 
 
@@ -161,7 +162,7 @@ def _simulate_random(model, force, duration, out) -> None:
     statistics on stdout."""
     from contactvib.steady.random_response import check_random, random_response
 
-    _mapped(_RANDOM_NAMES, check_random, model, force, duration, None, None, 1e-9, 20)
+    _mapped(_RANDOM_NAMES, check_random, model, force, duration)
     out = _output_folder(out)
     with _ctrl_c():
         resp = random_response(model, force, duration)

@@ -249,7 +249,8 @@ class RandomResponse:
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def check_random(model: ContactModel, force: RandomForce, duration_s, dt_sample_s, discard_s, rtol, n_batches):
+def check_random(model: ContactModel, force: RandomForce, duration_s, dt_sample_s=None, discard_s=None,
+                 rtol=1e-9, n_batches=20):
     """The checked ``(duration_s, dt_sample_s, discard_s, rtol, n_batches)`` of :func:`random_response`
     (ParameterError naming the parameter: ``f_hi``, ``S_F``, ``duration``, ``dt_sample``, ``discard``,
     ``rtol``, ``n_batches``), before anything is computed."""
