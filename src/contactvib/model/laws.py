@@ -213,13 +213,13 @@ class TableLaw:
         return hash(self.sha256)
 
     def to_dict(self) -> dict:
-        """The table as JSON-able lists (deflection in µm), its source and content hash."""
-        return {"deflection_um": (self.deflection_m * 1e6).tolist(), "load_n": self.load_n.tolist(),
+        """The table as JSON-able lists (deflection in m: exact round trip), source and content hash."""
+        return {"deflection_m": self.deflection_m.tolist(), "load_n": self.load_n.tolist(),
                 "source": self.source, "sha256": self.sha256}
 
     @classmethod
     def from_dict(cls, d: dict) -> TableLaw:
-        return cls(np.asarray(d["deflection_um"], float) * 1e-6, np.asarray(d["load_n"], float),
+        return cls(np.asarray(d["deflection_m"], float), np.asarray(d["load_n"], float),
                    source=d.get("source", "table"))
 
     def _pchip(self):

@@ -223,6 +223,8 @@ class ContactModel:
                 ("zeta", "S h_n y0^l / (2 sqrt(m2 M g M / y0))", "1", lambda: self.zeta)):
             try:
                 v = scale()
+            except ParameterError:  # a law's own refusal (a table that does not reach W) says why
+                raise
             except (OverflowError, ZeroDivisionError, ValueError):
                 v = math.inf
             ok = math.isfinite(v) and (lo <= v <= hi if symbol != "zeta" else v >= 0.0)
