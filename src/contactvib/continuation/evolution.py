@@ -219,6 +219,9 @@ def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: flo
     if kind not in _H:
         raise ParameterError("kind", kind, "must be 'fold' or 'period-doubling'")
     par0 = model.excitation(pa_over_q, fe_hz).kernel_parameters()
+    if par0[3] != pa_over_q:
+        raise ParameterError("F_pre", model.preload, "the evolution in (f_e, P_a) is written for P_a in units of "
+                                                     "Q without a preload")
     prob = Codim1Problem(model, par0, kind, rtol, tuple(pa_range), tuple(f_range))
     cs = CorrectorSettings(tol=prob.tol, max_iter=9, cons_tol=1e-9, max_step=0.5)
     sc = StepControl(ds0=ds0, ds_min=1e-6, ds_max=ds_max, growth=((1 << 30, 1.5),),

@@ -197,6 +197,9 @@ class OrbitProblem:
         self.ip = _IP[parameter]
         self.s = settings
         self.par = excitation.kernel_parameters().copy()
+        if self.ip == 3 and self.par[3] != excitation.pa_over_q:
+            raise ParameterError("parameter", parameter, "continuation in P_a is written for a force in units of "
+                                 "Q (no preload, no base motion); continue in f_e instead")
         self.y_um = model.units.y_um
         self.fn0 = model.f_n0
         if parameter == "f_e":
