@@ -219,7 +219,8 @@ class TableLaw:
 
     @classmethod
     def from_dict(cls, d: dict) -> TableLaw:
-        return cls(np.asarray(d["deflection_m"], float), np.asarray(d["load_n"], float),
+        d_m = d["deflection_m"] if "deflection_m" in d else np.asarray(d["deflection_um"], float) * 1e-6
+        return cls(np.asarray(d_m, float), np.asarray(d["load_n"], float),
                    source=d.get("source", "table"))
 
     def _pchip(self):
