@@ -105,6 +105,12 @@ REDUCED: dict[str, list[str]] = {
     "contactvib resonance --pa 0.3 --law exponential --fmin 300 --fmax 2000 --out res_exp/":
         ["resonance", "--pa", "0.3", "--law", "exponential", "--fmin", "1190", "--fmax", "1210", "--df", "10",
          "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress", "--out", "res_exp/"],
+    "contactvib resonance --excitation base-um --pa 0.05 --fmin 600 --fmax 2000 --out res_base/":
+        ["resonance", "--excitation", "base-um", "--pa", "0.05", "--fmin", "1100", "--fmax", "1300", "--df", "20",
+         "--multistart-per-octave", "0", "--workers", "1", "--no-progress", "--out", "res_base/"],
+    "contactvib continue --excitation base-um --pa 0.05 --from-fe 1200 --fmin 900 --fmax 1600 --out br_base/":
+        ["continue", "--excitation", "base-um", "--pa", "0.05", "--from-fe", "1200", "--fmin", "1100",
+         "--fmax", "1300", "--max-points", "20", "--out", "br_base/"],
     "contactvib simulate --random-psd 1e-4 --band 200 2000 --duration 1 --out random/":
         ["simulate", "--random-psd", "1e-4", "--band", "200", "2000", "--duration", "0.05", "--out", "random/"],
     "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
@@ -438,6 +444,12 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
             assert "exponential" in d.attrs["law"] and json.loads(d.attrs["model"])["law"] == "exponential"
             assert d.sizes["point"] >= 1
         assert_figure_file(folder / "resonance_pa0.30.png")
+    elif cmd == "resonance" and "--excitation" in args:  # levels of base displacement U [um]
+        with xr.open_dataset(folder / "resonance.nc") as d:
+            assert d.attrs["excitation"] == "base-um" and d["pa_over_q"].attrs["units"] == "um"
+            assert d.sizes["point"] >= 1
+        assert_figure_file(folder / "resonance_U0.05um.png")
+        assert "attractor points" in out
     elif cmd == "resonance":
         _check_resonance(folder, out)
     elif cmd == "atlas":
@@ -489,6 +501,11 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         for f in folder.glob("branch_*.nc"):
             with xr.open_dataset(f) as b:
                 assert float(b["pa_over_q"].min()) >= 0.6 - 1e-9 and float(b["pa_over_q"].max()) <= 0.7 + 1e-9
+    elif cmd == "continue" and "--excitation" in args:
+        _branches(folder, "U0.05_fe1200")
+        for f in folder.glob("branch_*.nc"):
+            with xr.open_dataset(f) as b:
+                assert b["pa_over_q"].attrs["units"] == "um" and float(b["pa_over_q"].max()) == 0.05
     elif cmd == "continue":
         _branches(folder, "pa0.65_fe1200")
     elif cmd == "bifurcations":

@@ -9,7 +9,7 @@ from __future__ import annotations
 import click
 
 from contactvib.cli.common import InputError, LevelsCommand, _checked, _int, _levels, _mapped, _output_folder
-from contactvib.cli.sweeps import _sweep_inputs, _sweep_options, _writing_into
+from contactvib.cli.sweeps import _sweep_inputs, _sweep_levels, _sweep_options, _writing_into
 from contactvib.model import WORKERS_MAX, ParameterError
 
 __all__: list = []
@@ -19,9 +19,21 @@ _RANGE_DEFAULTS = {"pa_min": "0.05", "pa_max": "1.0", "npa": "96"}
 _RANGE_OPTIONS = {"pa_min": "--pa-min", "pa_max": "--pa-max", "npa": "--npa"}
 
 
-def _atlas_levels(pa, pa_min, pa_max, npa) -> list[float]:
-    """The levels: the explicit ``--pa`` list, or ``--npa`` levels from ``--pa-min`` to ``--pa-max``."""
+def _atlas_levels(pa, pa_min, pa_max, npa, model=None, st=None) -> list[float]:
+    """The levels: the explicit ``--pa`` list, or ``--npa`` levels from ``--pa-min`` to ``--pa-max``
+    (P_a [Q]; U [µm] or A [g] with ``--excitation base-um``/``base-g``, each checked up to f_max)."""
     from contactvib.sweeps.atlas import atlas_levels
+    from contactvib.sweeps.resonance import check_sweep_level
+
+    if st is not None and st.excitation != "force":
+        if pa:
+            return _sweep_levels(pa, model, st)
+        kw = {**_RANGE_DEFAULTS, **{k: v for k, v in (("pa_min", pa_min), ("pa_max", pa_max),
+                                                       ("npa", npa)) if v is not None}}
+        levels = _mapped(_RANGE_OPTIONS, atlas_levels, kw["pa_min"], kw["pa_max"], kw["npa"], st.excitation)
+        for v in levels:
+            _checked("--pa-max" if v == levels[-1] else "--pa-min", check_sweep_level, model, v, st)
+        return levels
 
     given = {k: v for k, v in (("pa_min", pa_min), ("pa_max", pa_max), ("npa", npa)) if v is not None}
     if pa:
@@ -70,8 +82,8 @@ def _backend(workers, dask_workers, scheduler):
                    "compressed file per level).")
 def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, **sweep):
     """The evolution atlas: resonance's sweep at many P_a levels, locally or on Dask, resumable."""
-    levels = _atlas_levels(pa, pa_min, pa_max, npa)
     model, st, n_workers = _sweep_inputs(sweep)
+    levels = _atlas_levels(pa, pa_min, pa_max, npa, model, st)
     backend = _backend(n_workers, dask_workers, scheduler)
     from contactvib.sweeps.atlas import atlas_dataset
 

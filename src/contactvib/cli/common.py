@@ -21,6 +21,7 @@ import click
 
 from contactvib.model import (
     KMAX_SEARCH_MAX,
+    LEVEL_KINDS,
     PAPER_DEFAULTS,
     PARAMETER_UNITS,
     ContactModel,
@@ -323,9 +324,24 @@ class LevelsCommand(click.Command):
         return rest
 
 
-def _levels(levels: tuple[str, ...]) -> list[float]:
-    """The P_a levels [Q] of a LevelsCommand's ``--pa``, each > 0."""
-    return [_pa_level(t) for t in levels]
+def _levels(levels: tuple[str, ...], kind: str = "force") -> list[float]:
+    """The levels of a LevelsCommand's ``--pa``, each > 0: P_a [Q], or U [µm] / A [g] for
+    ``--excitation base-um`` / ``base-g`` (:func:`level_kind_option`)."""
+    if kind == "force":
+        return [_pa_level(t) for t in levels]
+    sym, unit, _name = LEVEL_KINDS[kind]
+    return [_positive("--pa", sym, t, unit) for t in levels]
+
+
+def level_kind_option(f):
+    """``--excitation force|base-um|base-g``: what the levels of a sweep or a continuation in f_e
+    hold (the command receives ``level_kind``)."""
+    return click.option(
+        "--excitation", "level_kind", type=click.Choice(list(LEVEL_KINDS)), default="force",
+        show_default=True,
+        help="What each level (--pa) holds: the force amplitude P_a [Q], or base (slideway) motion of "
+             "displacement amplitude U [µm] (base-um: the inertial force grows with f_e²) or "
+             "acceleration amplitude A [g] (base-g).")(f)
 
 
 def _finite_or_none(obj):

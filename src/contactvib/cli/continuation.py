@@ -27,8 +27,10 @@ from contactvib.cli.common import (
     _output_folder,
     _pa_level,
     _positive,
+    level_kind_option,
 )
-from contactvib.model import EVOLUTION_ORDER_MAX, SHOOTING_RTOL_RANGE, Excitation, check_range
+from contactvib.continuation.diagram import LEVEL_TAGS
+from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, SHOOTING_RTOL_RANGE, check_range, level_text
 from contactvib.model.checks import PA_MAX, PA_NOTE
 
 __all__ = []
@@ -51,7 +53,7 @@ def _settings(cont: dict, pa_range=(0.0, 2.0)):
                  upper=SHOOTING_RTOL_RANGE[1])
     return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin=lo, fmax=hi,
                    pa_min=pa_range[0], pa_max=pa_range[1], max_points=n, app_max_um=a, rtol=r,
-                   tol=max(100 * r, 1e-11))
+                   tol=max(100 * r, 1e-11), excitation=cont.get("level_kind", "force"))
 
 
 def _in_range(option: str, symbol: str, text_or_value, lo: float, hi: float, names: tuple[str, str],
@@ -74,6 +76,7 @@ def _continuation_options(f):
     f = _law_options(f)
     """The options every continuation command takes; the command receives them as keyword
     arguments (``**cont``)."""
+    f = level_kind_option(f)
     f = click.option("--rtol", default="1e-12", show_default=True,
                      help=f"Integrator tolerance of the shooting ({SHOOTING_RTOL_RANGE[0]:g}.."
                           f"{SHOOTING_RTOL_RANGE[1]:g}).")(f)
@@ -95,8 +98,16 @@ def _continuation_options(f):
     return f
 
 
-def _open_dataset(path, levels):
-    """The resonance dataset for the overlay, checked before any computation (or None)."""
+def level_title_text(level: float, kind: str) -> str:
+    """A level as a figure title writes it (mathtext symbol): "$P_a$ = 0.65 Q", "$U$ = 0.05 µm"."""
+    text = level_text(level, kind, 6)
+    sym, rest = text.split(" = ", 1)
+    return f"${sym}$ = {rest}" + ("" if kind == "force" else " (base motion)")
+
+
+def _open_dataset(path, levels, kind: str = "force"):
+    """The resonance dataset for the overlay, checked before any computation (or None): its
+    levels must be of the same kind (``--excitation``) and include ``levels``."""
     if path is None:
         return None
     import xarray as xr
@@ -111,10 +122,14 @@ def _open_dataset(path, levels):
         raise InputError(f"--dataset = {path}: not a contactvib resonance dataset")
     import numpy as np
 
+    stored_kind = str(ds.attrs.get("excitation", "force"))
+    if stored_kind != kind:
+        raise InputError(f"--dataset = {path}: its levels are {LEVEL_KINDS[stored_kind][0]} "
+                         f"(--excitation {stored_kind}), not {LEVEL_KINDS[kind][0]} (--excitation {kind})")
     stored = np.unique(ds["pa_over_q"].values)
     for p in levels:
         if np.min(np.abs(stored - p)) > 1e-6:
-            raise InputError(f"--pa (P_a/Q) = {p:g}: not in --dataset; stored levels: "
+            raise InputError(f"--pa ({LEVEL_KINDS[kind][0]}) = {p:g}: not in --dataset; stored levels: "
                              + ", ".join(f"{v:g}" for v in stored))
     return ds
 
@@ -179,11 +194,15 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point."""
     model = _model(cont["settings"])
     dataset = cont["dataset"]
-    p = _pa_level(pa)
+    kind = cont["level_kind"]
     by_pa = parameter == "pa"
+    if by_pa and kind != "force":
+        raise InputError(f"--parameter pa: continuation in P_a needs a force level, not --excitation {kind}; "
+                         "continue in f_e instead")
+    p = _levels((pa,), kind)[0]
     if by_pa and dataset is not None:
         raise InputError("--dataset draws over a resonance graph in f_e: not with --parameter pa")
-    ds = _open_dataset(dataset, [p])
+    ds = _open_dataset(dataset, [p], kind)
     fe = _positive("--from-fe", "f_e", from_fe, "Hz")
     lo, hi = (_pa_range(pa_min, pa_max) if by_pa
               else (_pa_level(pa_min, "--pa-min"), _pa_level(pa_max, "--pa-max")))
@@ -194,21 +213,21 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
         _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
     _feasible_frequencies(model, s.fmin, s.fmax)
-    _checked("--from-fe", Excitation, model, p, fe)
+    exc = _checked("--from-fe" if kind == "force" else "--pa", s.excitation_at, model, p, fe)
     _output_folder(out)
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.steady.attractors import find_attractors
 
-    found = find_attractors(model, model.excitation(p, fe))
+    found = find_attractors(model, exc)
     if n is not None and n >= len(found):
         raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
                          f"of the {len(found)} attractors found at {fe:g} Hz")
     msgs = []
     bset = continue_attractors(model, p, fe, n, s, switch=not cont["no_switch"], attractors=found,
                                log=msgs.append, parameter="P_a" if by_pa else "f_e")
-    tag = f"pa{p:g}_fe{fe:g}" + ("_in_pa" if by_pa else "")
+    tag = f"{LEVEL_TAGS[kind]}{p:g}_fe{fe:g}" + ("_in_pa" if by_pa else "")
     title = (f"$f_e$ = {fe:g} Hz, branches in $P_a$ from the attractors at {p:g} Q" if by_pa
-             else f"$P_a$ = {p:g} Q, branches from the attractors at {fe:g} Hz")
+             else f"{level_title_text(p, kind)}, branches from the attractors at {fe:g} Hz")
     paths, fig = _write(bset, Path(out), tag, title, ds, p,
                         parameter="P_a" if by_pa else "f_e")
     if as_json:
@@ -232,8 +251,9 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
 def bifurcations(pa, seed_fe, out, as_json, **cont):
     """All branches, seeded from every attractor at several frequencies, for each P_a."""
     model = _model(cont["settings"])
-    levels = _levels(pa)
-    ds = _open_dataset(cont["dataset"], levels)
+    kind = cont["level_kind"]
+    levels = _levels(pa, kind)
+    ds = _open_dataset(cont["dataset"], levels, kind)
     s = _settings(cont)
     from contactvib.continuation.diagram import DEFAULT_SEED_FE
 
@@ -252,10 +272,10 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
     allb = BranchSet([])
     for p in levels:
         bset = bifurcation_diagram(model, p, seeds, s, switch=not cont["no_switch"])
-        _write(bset, Path(out), f"pa{p:g}", f"$P_a$ = {p:g} Q: all branches", ds, p)
+        _write(bset, Path(out), f"{LEVEL_TAGS[kind]}{p:g}", f"{level_title_text(p, kind)}: all branches", ds, p)
         allb.branches.extend(bset.branches)
         if not as_json:
-            click.echo(f"P_a = {p:g} Q: {len(bset)} branches, {len(bset.special_points)} special points")
+            click.echo(f"{level_text(p, kind, 6)}: {len(bset)} branches, {len(bset.special_points)} special points")
     (Path(out) / "bifurcations.json").write_text(allb.to_json(indent=1))
     if as_json:
         _echo_json(allb.to_json())

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from contactvib.cli.common import InputError, _ctrl_c, _error, _output_folder
-from contactvib.model import ParameterError
+from contactvib.model import ParameterError, level_text
 
 _FILM_OPTIONS = {"fps": "--fps", "width": "--size", "height": "--size"}
 
@@ -62,7 +62,9 @@ def animate(dataset, out, fps, gif, size):
 
     with _ctrl_c():
         res = film.animate(source, path, fps=fps_, size=(width, height), gif=gif)
+    kind = str(source.ds.attrs.get("excitation", "force"))
+    sym, unit = level_text(1.0, kind).split(" = 1 ")
     click.echo(f"{len(res.levels)} frames ({res.size[0]}x{res.size[1]} px, {res.fps:g} frames/s, "
-               f"P_a = {res.levels[0]:g}..{res.levels[-1]:g} Q) -> {res.path}")
+               f"{sym} = {res.levels[0]:g}..{res.levels[-1]:g} {unit}) -> {res.path}")
     for pa in res.levels:
-        click.echo(f"  P_a = {pa:g} Q: " + ", ".join(f"1/{m} {s}" for m, s in res.stages[pa].items()))
+        click.echo(f"  {level_text(pa, kind)}: " + ", ".join(f"1/{m} {s}" for m, s in res.stages[pa].items()))

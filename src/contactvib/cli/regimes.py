@@ -88,6 +88,9 @@ def map_(dataset, orders, curves_dir, out):
     with ds:
         levels = sorted(set(ds["pa_over_q"].values.tolist()))
         model = _model_of(ds, path) if ms else None
+        if ms and ds.attrs.get("excitation", "force") != "force":
+            raise InputError(f"--orders: the curves are continued in P_a; DATASET = {path} holds base-motion "
+                             f"levels ({ds.attrs['level_symbol']} [{ds.attrs['level_unit']}])")
         if ms and len(levels) < 2:
             raise InputError(f"--orders: the curves need a range of P_a; DATASET = {path} has one level")
         outp = _output_folder(out)

@@ -88,8 +88,10 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
                f"{result.n_box} box starts + {result.n_seeds} seeds")
     if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
         click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+    base = any(a.slider_app_um is not None for a in result)
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
-            f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}")
+            f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}"
+            + (f" {'slider s_pp [um]':>16}" if base else ""))
     click.echo(head)
     for i, a in enumerate(result):
         per = {"chaotic": "chaos", "quasi-periodic": "q-per"}.get(a.kind, "-") if a.period is None \
@@ -97,7 +99,8 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
         mins = "-" if a.minima_per_period is None else str(a.minima_per_period)
         mu = "-" if a.floquet_abs_max is None else f"{a.floquet_abs_max:.4f}"
         click.echo(f"{i:>2} {per:>6} {mins:>6} {a.app_um:>11.5g} {a.ymin_um:>11.5g} {a.ymax_um:>10.5g} "
-                   f"{a.contact_loss_fraction:>10.3f} {mu:>8} {a.basin_fraction:>7.2%}")
+                   f"{a.contact_loss_fraction:>10.3f} {mu:>8} {a.basin_fraction:>7.2%}"
+                   + (f" {a.slider_app_um:>16.5g}" if base else ""))
     if result.n_unsettled:
         click.echo(f"   unsettled within {result.settings['max_periods']} periods: "
                    f"{result.n_unsettled} starts ({result.unsettled_fraction:.2%} of the box)")
@@ -219,11 +222,13 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     from contactvib.steady.simulate import simulate as run
 
     out = _output_folder(out)
-    tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
+    sym, val, _unit = exc.level
+    tag = f"{ {'P_a/Q': 'pa', 'U': 'U', 'A': 'A'}[sym]}{val:g}_fe{exc.f_e:g}"
     if from_state is not None:
         h = _mapped({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
-        fig = history_figure(h, f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz, from "
-                                f"y = {y:g} µm, ẏ = {yd:g} mm/s")
+        sym, rest = h.level.split(" = ", 1)
+        fig = history_figure(h, f"${sym}$ = {rest}{' (base motion)' if h.base_um is not None else ''}, "
+                                f"$f_e$ = {exc.f_e:g} Hz, from y = {y:g} µm, ẏ = {yd:g} mm/s")
         path = save_figure(fig, out / f"trajectory_{tag}.png")
         click.echo(str(path))
         return

@@ -27,8 +27,9 @@ from contactvib.cli.common import (
     _number,
     _output_folder,
     _positive,
+    level_kind_option,
 )
-from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX
+from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX, level_text
 
 __all__: list = []
 
@@ -78,6 +79,7 @@ def _sweep_options(f):
         click.option("--no-progress", is_flag=True, help="No progress bar."),
         click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
                      help="Override a model parameter by its paper symbol (M, g, S, c_n, m2, h_n, l)."),
+        level_kind_option,
     ]):
         f = opt(f)
     return f
@@ -96,13 +98,32 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
     per_octave = multistart_per_octave
     from contactvib.sweeps.sweep import SweepSettings
 
+    level_kind = _other.get("level_kind", "force")
+
     lo, hi = _frequency_range(fmin, fmax)
     kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=_positive("--df", "df", df, "Hz"),
               multistart_per_octave=_number("--multistart-per-octave", "multistart_per_octave",
                                             per_octave),
               multistart_starts=_int("--starts", starts, 0), seed=_int("--seed", seed, 0),
-              kmax=_int("--kmax", kmax, 1, KMAX_SWEEP_MAX))
+              kmax=_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind)
     return _mapped(_SWEEP_OPTIONS, SweepSettings, **kw)
+
+
+def _sweep_levels(pa: tuple, model, st) -> list[float]:
+    """The levels of ``--pa``: P_a [Q] each > 0, or for ``--excitation base-um``/``base-g`` U [µm]
+    or A [g] each > 0 whose inertial force stays within the allowed P_a up to ``--fmax``."""
+    from contactvib.sweeps.resonance import check_sweep_level
+
+    levels = _levels(pa, st.excitation)
+    if st.excitation != "force":
+        for v in levels:
+            _checked("--pa", check_sweep_level, model, v, st)
+    return levels
+
+
+def _level_file_tag(level: float, kind: str) -> str:
+    """The level in a file name: ``pa0.65``, ``U0.05um``, ``A0.3g``."""
+    return {"force": f"pa{level:.2f}", "base-um": f"U{level:g}um", "base-g": f"A{level:g}g"}[kind]
 
 
 def _sweep_inputs(sweep: dict):
@@ -131,8 +152,8 @@ def _workers(text):
                    "diagram per level.")
 def resonance(pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
-    levels = _levels(pa)
     model, st, n_workers = _sweep_inputs(sweep)
+    levels = _sweep_levels(pa, model, st)
     from contactvib.interrupts import check_interrupt
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
@@ -142,8 +163,8 @@ def resonance(pa, out, **sweep):
         ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
                                progress=not sweep["no_progress"])
         for p in sorted(set(levels)):
-            write_level_figures(ds, p, out / f"resonance_pa{p:.2f}.png", out / f"extrema_pa{p:.2f}.png",
-                                model)
+            tag = _level_file_tag(p, st.excitation)
+            write_level_figures(ds, p, out / f"resonance_{tag}.png", out / f"extrema_{tag}.png", model)
             check_interrupt()
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
@@ -198,7 +219,10 @@ def query(dataset, pa, fe, as_json):
     if as_json:
         _echo_json(res)
         return
-    click.echo(f"P_a = {res['pa_over_q']:g} Q, f_e = {res['fe_hz']:g} Hz (requested {p:g} Q, {f:g} Hz)")
+    kind = res.get("excitation", "force")
+    unit = {"force": "Q", "base-um": "um", "base-g": "g"}[kind]
+    click.echo(f"{level_text(res['pa_over_q'], kind, 6)}, f_e = {res['fe_hz']:g} Hz "
+               f"(requested {p:g} {unit}, {f:g} Hz)")
     click.echo(f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
                f"{'gap [frac]':>10} {'basin':>7}  branch label (found by)")
     for i, a in enumerate(res["attractors"]):
@@ -215,6 +239,9 @@ def query(dataset, pa, fe, as_json):
 @_sweep_options
 def paper(out, **sweep):
     """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
+    if sweep.get("level_kind", "force") != "force":
+        raise InputError(f"--excitation {sweep['level_kind']}: the paper's levels are force amplitudes "
+                         "P_a [Q]; sweep base motion with `contactvib resonance` or `atlas`")
     model, st, n_workers = _sweep_inputs(sweep)
     folder = _output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper

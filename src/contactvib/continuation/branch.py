@@ -157,7 +157,7 @@ class Branch:
         ds = xr.Dataset(
             {
                 "fe_hz": ("point", self.fe_hz, {"units": "Hz", "long_name": "excitation frequency f_e"}),
-                "pa_over_q": ("point", self.pa_over_q, {"units": "Q", "long_name": "excitation amplitude P_a/Q"}),
+                "pa_over_q": ("point", self.pa_over_q, _level_attrs(self.settings)),
                 "app_um": ("point", self.app_um, {"units": "um", "long_name": "peak-to-peak amplitude A_pp"}),
                 "ymin_um": ("point", self.ymin_um, {"units": "um", "long_name": "minimum of y (y < 0: gap)"}),
                 "ymax_um": ("point", self.ymax_um, {"units": "um", "long_name": "maximum of y"}),
@@ -229,6 +229,18 @@ class Branch:
 
 
 #: variable names of branch files written before the one naming scheme (read, never written)
+def _level_attrs(settings: dict) -> dict:
+    """Units of a branch's ``pa_over_q``: P_a/Q, or the level U [µm] / A [g] of a base-motion
+    continuation in f_e (``settings["excitation"]``)."""
+    kind = settings.get("excitation", "force")
+    if kind == "force":
+        return {"units": "Q", "long_name": "excitation amplitude P_a/Q"}
+    from contactvib.model import LEVEL_KINDS
+
+    _sym, unit, name = LEVEL_KINDS[kind]
+    return {"units": unit, "long_name": f"{name} (the level of this base-motion branch)"}
+
+
 _OLD_NAMES = {"fe_hz": "fe", "pa_over_q": "pa", "app_um": "app", "ymin_um": "ymin",
               "ymax_um": "ymax", "floquet_re": "mu_re", "floquet_im": "mu_im", "state_x": "x",
               "state_xdot": "xdot", "minima_per_period": "minima"}

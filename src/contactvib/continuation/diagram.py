@@ -105,7 +105,7 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
         for st in b.stops:  # a period-k branch merging onto an unknown period-k/2 branch
             if st.merge_state is None:
                 continue
-            exc = model.excitation(st.pa_over_q, st.fe_hz)
+            exc = settings.excitation_at(model, st.pa_over_q, st.fe_hz)
             k = b.period // 2
             try:
                 z, _M, _r = refine_orbit(exc, st.merge_state, k, max_iter=30)
@@ -123,6 +123,10 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
             log(f"{bid}: period {k} branch found where {b.branch} merges ({_where(st, parameter)})")
             branches.append(nb)
             queue.append(nb)
+
+
+#: Branch-name prefix of a level, by the settings' ``excitation``.
+LEVEL_TAGS = {"force": "pa", "base-um": "U", "base-g": "A"}
 
 
 def _where(point, parameter: str) -> str:
@@ -161,9 +165,12 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
     from contactvib.steady.attractors import find_attractors
 
     settings = settings or ContinuationSettings()
-    exc = model.excitation(pa_over_q, fe_hz)
     if parameter not in ("f_e", "P_a"):
         raise ParameterError("parameter", parameter, "must be 'f_e' or 'P_a'")
+    if parameter == "P_a" and settings.excitation != "force":
+        raise ParameterError("parameter", parameter, f"continuation in P_a needs a force level, not "
+                                                     f"{settings.excitation}; continue in f_e instead")
+    exc = settings.excitation_at(model, pa_over_q, fe_hz)
     if parameter == "f_e" and not (settings.fmin <= exc.f_e <= settings.fmax):
         raise ParameterError("f_e", fe_hz, f"seed must lie in [fmin, fmax] = [{settings.fmin:g}, "
                                            f"{settings.fmax:g}] Hz")
@@ -183,7 +190,7 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
     log = log or (lambda msg: None)
     known = known if known is not None else []
     if prefix is None:
-        prefix = f"pa{exc.pa_over_q:g}" if parameter == "f_e" else f"fe{exc.f_e:g}"
+        prefix = f"{LEVEL_TAGS[settings.excitation]}{float(pa_over_q):g}" if parameter == "f_e" else f"fe{exc.f_e:g}"
     new = []
     for i in idx:
         a = found[i]
@@ -221,5 +228,5 @@ def bifurcation_diagram(model: ContactModel, pa_over_q: float,
         if not (settings.fmin <= f <= settings.fmax):
             continue
         continue_attractors(model, pa_over_q, f, None, settings, switch, kmax_switch, known,
-                            prefix=f"pa{pa_over_q:g}", log=log)
+                            prefix=f"{LEVEL_TAGS[settings.excitation]}{pa_over_q:g}", log=log)
     return BranchSet(known)

@@ -53,7 +53,9 @@ from contactvib.model import (
     ParameterError,
     check_choice,
     check_int,
+    check_level_kind,
     check_range,
+    excitation_at,
 )
 
 __all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "ContinuationError",
@@ -99,6 +101,10 @@ class ContinuationSettings:
     max_failures : int
         Rejected steps per direction before the branch stops (a branch that keeps failing, e.g.
         a high-period orbit inside a chaotic band, would otherwise crawl on with tiny steps).
+    excitation : str
+        What the level of a continuation in f_e holds (:data:`contactvib.model.LEVEL_KINDS`):
+        "force" (P_a/Q), "base-um" (base displacement U [µm], the inertial force growing with
+        f_e²) or "base-g" (base acceleration A [g]); the branch's ``pa_over_q`` then holds U or A.
     """
 
     fmin: float = 30.0
@@ -117,6 +123,11 @@ class ContinuationSettings:
     locate_tol: float = 1e-11
     max_failures: int = 200
     locate: bool = True
+    excitation: str = "force"
+
+    def excitation_at(self, model: ContactModel, level: float, f_e: float) -> Excitation:
+        """The excitation at ``level`` and f_e [Hz] (:func:`contactvib.model.excitation_at`)."""
+        return excitation_at(model, level, f_e, self.excitation)
 
     def __post_init__(self):
         # each value checked against the checked values before it, and stored as checked (a
@@ -137,6 +148,7 @@ class ContinuationSettings:
         v["locate_tol"] = check_range("locate_tol", self.locate_tol, 0.0, False)
         v["max_failures"] = check_int("max_failures", self.max_failures, 1)
         v["locate"] = bool(check_choice("locate", self.locate, (True, False)))
+        v["excitation"] = check_level_kind(self.excitation)
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
@@ -200,6 +212,7 @@ class OrbitProblem:
         if self.ip == 3 and self.par[3] != excitation.pa_over_q:
             raise ParameterError("parameter", parameter, "continuation in P_a is written for a force in units of "
                                  "Q (no preload, no base motion); continue in f_e instead")
+        self.level = excitation.level[1]  # recorded with each point of a branch in f_e
         self.y_um = model.units.y_um
         self.fn0 = model.f_n0
         if parameter == "f_e":
@@ -246,7 +259,8 @@ class OrbitProblem:
         xmin, xmax, flight, n_min, st = orbit_range(u[:2].copy(), self.k, par, self.s.rtol)
         if st != STATUS_OK:
             return None
-        return OrbitRecord(par[4] * self.fn0, par[3], np.linalg.eigvals(M), xmin, xmax, flight,
+        return OrbitRecord(par[4] * self.fn0, par[3] if self.ip == 3 else self.level, np.linalg.eigvals(M),
+                           xmin, xmax, flight,
                            n_min)
 
     def tests(self, pt: Point) -> dict:
@@ -453,7 +467,7 @@ def switch_period_doubling(model: ContactModel, special: SpecialPoint,
     if special.type != "period-doubling":
         raise ParameterError("special", special.type, "must be a period-doubling point")
     settings = settings or ContinuationSettings()
-    exc = model.excitation(special.pa_over_q, special.fe_hz)
+    exc = settings.excitation_at(model, special.pa_over_q, special.fe_hz)
     k2 = 2 * int(special.period)
     bid = branch_id or f"{special.branch}.pd{special.fe_hz:.0f}"
     prob = OrbitProblem(model, exc, k2, parameter, settings, merge_check=True)

@@ -14,12 +14,20 @@ from contactvib.model.checks import PA_MAX, PA_NOTE, R_RANGE, ParameterError, ch
 if TYPE_CHECKING:  # the model module imports this one
     from contactvib.model.oscillator import ContactModel
 
-__all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX"]
+__all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX", "LEVEL_KINDS", "excitation_at", "level_text"]
 
 #: Standard gravity [m/s²]: the unit of a base acceleration given in g (``--base-g``).
 G_STANDARD = 9.80665
 #: Largest number of extra harmonics of a multi-harmonic force.
 HARMONIC_TERMS_MAX = 64
+#: What the level of a sweep holds, by excitation kind: (symbol, unit, long name). A sweep keeps
+#: its level constant over f_e: the force amplitude P_a/Q, the base displacement U [µm] (the
+#: inertial force M U (2π f_e)² grows with f_e²) or the base acceleration A [g].
+LEVEL_KINDS = {
+    "force": ("P_a/Q", "Q", "excitation amplitude P_a/(M g)"),
+    "base-um": ("U", "um", "base displacement amplitude U"),
+    "base-g": ("A", "g", "base acceleration amplitude A"),
+}
 
 
 @dataclass(frozen=True)
@@ -134,6 +142,17 @@ class Excitation:
         return d
 
     @property
+    def base_amplitude_um(self) -> float | None:
+        """Amplitude of the base displacement u(t) = U cos(2π f_e t) along y [µm]: U, or A g_n/ω²
+        for a base acceleration A; None for a force. The slider's absolute displacement along y
+        (from where it rests on the resting base) is s = y + u."""
+        if self.base_um is not None:
+            return self.base_um
+        if self.base_g is not None:
+            return self.base_g * G_STANDARD / (2.0 * math.pi * self.f_e) ** 2 * 1e6
+        return None
+
+    @property
     def P_a(self) -> float:
         """Force amplitude at f_e [N] (for base motion the inertial force's)."""
         return self.pa_over_q * self.model.Q
@@ -197,3 +216,29 @@ def _check_harmonics(harmonics) -> tuple:
         ph = check_range("phase", ph, -360.0, True, "deg", upper=360.0)
         out.append((int(kf), a, ph))
     return tuple(out)
+
+
+def check_level_kind(kind) -> str:
+    """``kind`` if it is one of :data:`LEVEL_KINDS`, else a ParameterError naming the choices."""
+    if kind not in LEVEL_KINDS:
+        raise ParameterError("excitation", kind, "must be one of " + ", ".join(LEVEL_KINDS))
+    return kind
+
+
+def excitation_at(model: ContactModel, level: float, f_e: float, kind: str = "force") -> Excitation:
+    """The excitation at f_e [Hz] of a sweep held at ``level``: P_a/Q (``kind`` "force"), U [µm]
+    ("base-um") or A [g] ("base-g"); see :data:`LEVEL_KINDS`."""
+    kind = check_level_kind(kind)
+    if kind == "force":
+        return Excitation(model, level, f_e)
+    if kind == "base-um":
+        return Excitation.base(model, f_e, u_um=level)
+    return Excitation.base(model, f_e, a_g=level)
+
+
+def level_text(level: float, kind: str = "force", digits: int = 4) -> str:
+    """The level as a figure or table writes it: ``P_a = 0.65 Q``, ``U = 2 µm``, ``A = 0.5 g``."""
+    sym, unit, _name = LEVEL_KINDS[check_level_kind(kind)]
+    sym = "P_a" if sym == "P_a/Q" else sym
+    unit = "µm" if unit == "um" else unit
+    return f"{sym} = {level:.{digits}g} {unit}"

@@ -48,7 +48,11 @@ def set_margins(fig, left: float, right: float, bottom: float, top: float, wspac
 def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
     """y(t) [µm vs ms] with y0 marked and the gap (y < 0) shaded."""
     ax = _ax(ax)
-    ax.plot(history.t_ms, history.y_um, color="k", lw=1.0, label=label)
+    ax.plot(history.t_ms, history.y_um, color="k", lw=1.0,
+            label=label or ("contact deflection y (relative)" if history.base_um is not None else None))
+    if history.base_um is not None:  # base motion: the slider's absolute motion and the base's
+        ax.plot(history.t_ms, history.slider_um, color="tab:blue", lw=0.9, label="slider, absolute: s = y + u")
+        ax.plot(history.t_ms, history.base_um, color="tab:green", lw=0.7, ls=":", label="base u(t)")
     ax.axhline(history.y0_um, color="0.4", ls="--", lw=0.8, label="equilibrium $y_0$")
     ax.axhline(0.0, color="0.6", lw=0.6)
     gap = ~history.in_contact
@@ -57,7 +61,7 @@ def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
         ax.fill_between(history.t_ms, lo, 0.0, where=gap, color="tab:red", alpha=0.15,
                         step="mid", label="loss of contact")
     ax.set_xlabel("t [ms]")
-    ax.set_ylabel("y [µm]")
+    ax.set_ylabel("y [µm]" if history.base_um is None else "y, s, u [µm]")
     ax.legend(loc="best", fontsize=7, frameon=False)
     return ax
 
@@ -89,8 +93,12 @@ def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | No
     k = "non-periodic" if attractor.period is None else f"period {attractor.period}"
     n = attractor.minima_per_period
     mins = "" if n is None else f", {n} {'minimum' if n == 1 else 'minima'} per period"
-    head = title or (f"$P_a$ = {history.pa_over_q:g} Q, $f_e$ = {history.fe_hz:g} Hz: {k}{mins}, "
-                     f"$A_{{pp}}$ = {attractor.app_um:.4g} µm")
+    level = history.level or f"P_a = {history.pa_over_q:g} Q"
+    sym, rest = level.split(" = ", 1)
+    slider = ("" if attractor.slider_app_um is None
+              else f" (slider, absolute: {attractor.slider_app_um:.4g} µm; base motion)")
+    head = title or (f"${sym}$ = {rest}, $f_e$ = {history.fe_hz:g} Hz: {k}{mins}, "
+                     f"$A_{{pp}}$ = {attractor.app_um:.4g} µm{slider}")
     return history_figure(history, head)
 
 
@@ -100,6 +108,27 @@ def _order_color(m):
     from contactvib.sweeps.labels import order_colour
 
     return order_colour(m)
+
+
+def level_title(ds, level: float) -> str:
+    """A dataset level as a title writes it: "$P_a$ = 0.65 Q", or "$U$ = 0.05 µm" / "$A$ = 0.3 g"
+    for a base-motion sweep (the dataset attribute ``excitation``); a model other than the paper's
+    power law adds its law on a second line."""
+    import json
+
+    from contactvib.model import LEVEL_KINDS
+
+    kind = str(ds.attrs.get("excitation", "force"))
+    sym, unit, _name = LEVEL_KINDS.get(kind, LEVEL_KINDS["force"])
+    sym = "P_a" if sym == "P_a/Q" else sym
+    text = f"${sym}$ = {level:g} {'µm' if unit == 'um' else unit}"
+    if kind != "force":
+        text += " (base motion)"
+    try:
+        own_law = "law" in json.loads(ds.attrs.get("model", "{}")) or "preload" in json.loads(ds.attrs["model"])
+    except (ValueError, TypeError, KeyError):
+        own_law = False
+    return text + (f"\n{ds.attrs.get('law', '')}" if own_law else "")
 
 
 def _level(ds, pa_over_q):
@@ -180,7 +209,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     ax.plot([], [], ".", color="tab:red", ms=3, label="non-periodic")
     ax.set_xlabel("$f_e$ [Hz]")
     ax.set_ylabel("$A_{pp}$ [µm]")
-    ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
+    ax.set_title(level_title(ds, pa_over_q), fontsize=9)
     ax.legend(loc="upper right", fontsize=7, frameon=False)
     return ax
 
@@ -215,7 +244,7 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     ax.set_yscale("symlog", linthresh=linthresh_um)
     ax.set_xlabel("$f_e$ [Hz]")
     ax.set_ylabel("local extrema of y [µm]")
-    ax.set_title(f"$P_a$ = {pa_over_q:g} Q", fontsize=9)
+    ax.set_title(level_title(ds, pa_over_q), fontsize=9)
     ax.legend(loc="upper right", fontsize=7, frameon=False, markerscale=1)
     return ax
 

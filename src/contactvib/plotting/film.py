@@ -35,7 +35,8 @@ class FrameText:
     ``index``/``count``: the frame's number (from 0) and the number of frames; ``pa_range``: the
     film's lowest and highest P_a [Q] (the counter's scale); ``stages``: ``{m: stage}`` of the 1/m
     resonances at this level; ``statement``: the paper's statement about this level (id and text,
-    ``""`` for a level the paper does not draw); ``levels``: all P_a levels [Q] (ticks of the counter).
+    ``""`` for a level the paper does not draw); ``levels``: all P_a levels [Q] (ticks of the counter);
+    ``level_kind``: what the levels hold (:data:`contactvib.model.LEVEL_KINDS`; "base-um": U [µm]).
     """
 
     index: int
@@ -44,6 +45,7 @@ class FrameText:
     stages: dict = field(default_factory=dict)
     statement: str = ""
     levels: tuple = ()
+    level_kind: str = "force"
 
 
 def film_frame(ds, pa_over_q: float, limits: dict, text: FrameText, size=(1600, 800)) -> np.ndarray:
@@ -77,7 +79,9 @@ def film_frame(ds, pa_over_q: float, limits: dict, text: FrameText, size=(1600, 
 def _counter(fig, pa_over_q: float, text: FrameText) -> None:
     """The P_a counter: the value, the frame number and a bar over the film's P_a range."""
     lo, hi = (float(x) for x in text.pa_range)
-    fig.text(0.06, 0.955, f"$P_a$ = {pa_over_q:.3f} Q", fontsize=18, weight="bold", va="center")
+    sym, unit = {"force": ("P_a", "Q"), "base-um": ("U", "µm"), "base-g": ("A", "g")}[text.level_kind]
+    fig.text(0.06, 0.955, f"${sym}$ = {pa_over_q:.3g} {unit}" if sym != "P_a" else f"$P_a$ = {pa_over_q:.3f} Q",
+             fontsize=18, weight="bold", va="center")
     fig.text(0.24, 0.955, f"level {text.index + 1} of {text.count}", fontsize=11, va="center", color="0.3")
     bar = fig.add_axes((0.40, 0.94, 0.585, 0.03))
     frac = 1.0 if hi <= lo else (pa_over_q - lo) / (hi - lo)
@@ -90,7 +94,7 @@ def _counter(fig, pa_over_q: float, text: FrameText) -> None:
     bar.set_xticks(ticks, [f"{p:g}" if len(levels) <= 12 or p in (lo, hi) else "" for p in levels],
                    fontsize=8)
     bar.tick_params(axis="x", length=3, pad=1)
-    bar.set_xlabel("$P_a$ [Q]", fontsize=8, labelpad=1)
+    bar.set_xlabel(f"${sym}$ [{unit}]" + (" (base motion)" if sym != "P_a" else ""), fontsize=8, labelpad=1)
 
 
 def _captions(fig, text: FrameText) -> None:

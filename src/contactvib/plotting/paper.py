@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from contactvib.plotting.figures import (
     extrema_diagram,
+    level_title,
     new_figure,
     plot_phase_portrait,
     plot_time_history,
@@ -48,7 +49,7 @@ def draw_level(ds, pa_over_q: float, ax_graph, ax_extrema, perturbation=None, re
         draw(ds, pa_over_q, ax=ax, **kw)
         ax.set_xlim(*((0, float(ds["fe_hz"].max()) * 1.02) if limits is None else limits["fe_hz"]))
         cf = f" (cf. Fig. {fig_no}{ref})" if ref else ""
-        ax.set_title(f"{what}, $P_a$ = {pa_over_q:g} Q{cf}", fontsize=10)
+        ax.set_title(f"{what}, {level_title(ds, pa_over_q)}{cf}", fontsize=10)
     if limits is not None:
         ax_graph.set_ylim(*limits["app_um"])
         ax_extrema.set_ylim(*limits["y_um"])

@@ -112,10 +112,20 @@ def plot_regime_map(maps, name: str, curves=(), ax=None, log_f: bool = True):
     ax.set_xlim(fx[0], fx[-1])
     ax.set_ylim(py[0], py[-1])
     ax.set_xlabel("excitation frequency $f_e$ [Hz]")
-    ax.set_ylabel("excitation amplitude $P_a$ [Q]")
+    ax.set_ylabel(_level_axis(maps))
     ax.set_title(title)
     ax.set_yticks(pa if pa.size <= 12 else ax.get_yticks())
     return ax
+
+
+def _level_axis(maps) -> str:
+    """The y label of the levels: P_a [Q], or the base motion's U [µm] / A [g]."""
+    kind = maps.attrs.get("excitation", "force")
+    if kind == "base-um":
+        return "base displacement amplitude $U$ [µm]"
+    if kind == "base-g":
+        return "base acceleration amplitude $A$ [g]"
+    return "excitation amplitude $P_a$ [Q]"
 
 
 def regime_figure(maps, name: str, curves=(), title: str | None = None):
@@ -124,6 +134,7 @@ def regime_figure(maps, name: str, curves=(), title: str | None = None):
     fig.set_layout_engine("constrained")  # the colour bar and the legend below take their room
     ax = plot_regime_map(maps, name, curves, axes[0, 0])
     nl, nf = maps.sizes["pa_over_q"], maps.sizes["fe_hz"]
-    ax.set_title(title or f"{PANEL_TITLES[name][0]}: {nl} levels of $P_a$ × {nf} frequencies "
+    sym = maps.attrs.get("level_symbol", "P_a").replace("P_a/Q", "P_a")
+    ax.set_title(title or f"{PANEL_TITLES[name][0]}: {nl} levels of ${sym}$ × {nf} frequencies "
                           f"(step {maps.attrs.get('df_hz', float('nan')):g} Hz)", fontsize=11)
     return fig

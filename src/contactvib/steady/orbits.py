@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from contactvib._kernels.orbit import measure_orbit, record_steps
+from contactvib._kernels.orbit import measure_orbit, record_steps, sample_records
 from contactvib._kernels.shooting import newton_orbit, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib.model import ContactModel, Excitation
@@ -97,6 +97,9 @@ def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE,
     return rec, z_end, t_flight
 
 
+#: Samples per excitation period of the slider's absolute motion s = y + u under base motion (its
+#: A_pp from samples: relative error below (π/n)²/2 ≈ 3e-7).
+SLIDER_SAMPLES = 4000
 #: Peak-to-peak amplitude [y0] at or below which an orbit is an equilibrium (its "extrema" are
 #: round-off): it has no minima. The paper's smallest A_pp is about 0.1 µm, ~0.4 y0.
 EQUILIBRIUM_APP = 1e-9
@@ -119,6 +122,13 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     xmin, xmax, flight, n_min, t_ext, x_ext, is_min = measure_orbit(rec, t_flight, n, excitation.r)
     if xmax - xmin <= EQUILIBRIUM_APP:  # an equilibrium (the rest state at P_a = 0): no extrema
         n_min, t_ext, x_ext, is_min = 0, np.empty(0), np.empty(0), np.empty(0, bool)
+    slider_app = None
+    U = excitation.base_amplitude_um
+    if U is not None:  # the slider's absolute motion s = y + u, sampled densely over the span
+        tau = np.linspace(0.0, n * excitation.tau_period, n * SLIDER_SAMPLES + 1)
+        xs, _v, _c = sample_records(rec, tau)
+        s = xs * u.y_um + U * np.cos(excitation.r * tau)
+        slider_app = float(s.max() - s.min())
     if period is not None:
         strobe = strobe_points(excitation, z, period)
         multipliers = np.linalg.eigvals(monodromy) if monodromy is not None else np.empty(0, complex)
@@ -149,4 +159,5 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         hits=int(hits),
         state=np.asarray(z, float).copy(),
         lyapunov_per_period=float(lyapunov) if period is None else math.nan,
+        slider_app_um=slider_app,
     )

@@ -35,7 +35,11 @@ class TimeHistory:
     fe_hz : float
         Excitation frequency [Hz].
     pa_over_q : float
-        Excitation amplitude [Q].
+        Excitation amplitude [Q] (under base motion, its inertial force's).
+    base_um : ndarray or None
+        Base displacement u(t) [µm] along y under base motion (None under a force).
+    level : str
+        The excitation level as titles write it ("P_a = 0.65 Q", "U = 0.05 µm").
     """
 
     t_ms: np.ndarray
@@ -45,6 +49,13 @@ class TimeHistory:
     y0_um: float
     fe_hz: float
     pa_over_q: float
+    base_um: np.ndarray | None = None
+    level: str = ""
+
+    @property
+    def slider_um(self) -> np.ndarray:
+        """The slider's absolute displacement s = y + u along y [µm] (= y under a force)."""
+        return self.y_um if self.base_um is None else self.y_um + self.base_um
 
 
 @dataclass(frozen=True)
@@ -84,6 +95,10 @@ class Attractor:
     lyapunov_per_period : float
         Largest Lyapunov exponent of the stroboscopic map [1/excitation period] of a
         non-periodic attractor (NaN for periodic orbits).
+    slider_app_um : float or None
+        Under base motion u(t): peak-to-peak amplitude [µm] of the slider's absolute displacement
+        s = y + u over the orbit (what an accelerometer on the slider integrates to); None under
+        a force, where s = y.
     """
 
     period: int | None
@@ -105,6 +120,7 @@ class Attractor:
     hits: int
     state: np.ndarray = field(repr=False)
     lyapunov_per_period: float = math.nan
+    slider_app_um: float | None = None
 
     @property
     def floquet_abs_max(self) -> float | None:
@@ -140,6 +156,8 @@ class Attractor:
                 for t, y, m in zip(self.extrema_t_ms, self.extrema_y_um, self.extrema_is_min)
             ],
         }
+        if self.slider_app_um is not None:
+            d["slider_app_um"] = float(self.slider_app_um)
         return d
 
 

@@ -29,6 +29,8 @@ def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
     tau = np.linspace(0.0, n_periods * T, n_periods * samples_per_period + 1)
     x, v, c = sample_records(rec, tau)
     u = model.units
+    U = excitation.base_amplitude_um
+    sym, val, unit = excitation.level
     return TimeHistory(
         t_ms=tau * u.t_ms,
         y_um=x * u.y_um,
@@ -37,6 +39,8 @@ def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
         y0_um=u.y_um,
         fe_hz=excitation.f_e,
         pa_over_q=excitation.pa_over_q,
+        base_um=None if U is None else U * np.cos(excitation.r * tau),
+        level=f"{'P_a' if sym == 'P_a/Q' else sym} = {val:g} {'µm' if unit == 'um' else unit}",
     )
 
 

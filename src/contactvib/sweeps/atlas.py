@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contactvib.model import ParameterError, check_int, check_pa_level
+from contactvib.model import LEVEL_KINDS, ParameterError, check_int, check_level_kind, check_pa_level, check_range
 
 __all__ = ["atlas_levels", "atlas_dataset", "ATLAS_NAME", "NPA_MAX"]
 
@@ -24,13 +24,19 @@ ATLAS_NAME = "atlas"
 NPA_MAX = 10_000
 
 
-def atlas_levels(pa_min, pa_max, npa) -> list[float]:
+def atlas_levels(pa_min, pa_max, npa, excitation: str = "force") -> list[float]:
     """``npa`` levels P_a/Q evenly spaced from ``pa_min`` to ``pa_max`` (both included, rounded
     to 1e-9 so that a level's chunk name does not depend on rounding noise); ParameterError
-    ``npa``, ``pa_min`` or ``pa_max`` otherwise."""
+    ``npa``, ``pa_min`` or ``pa_max`` otherwise. For base motion (``excitation`` "base-um" or
+    "base-g") the levels are U [µm] or A [g], each > 0 (their force is checked by the sweep)."""
     n = check_int("npa", npa, 1, NPA_MAX)
-    lo = check_pa_level(pa_min, "pa_min")
-    hi = check_pa_level(pa_max, "pa_max")
+    if excitation == "force":
+        lo = check_pa_level(pa_min, "pa_min")
+        hi = check_pa_level(pa_max, "pa_max")
+    else:
+        unit = LEVEL_KINDS[check_level_kind(excitation)][1]
+        lo = check_range("pa_min", pa_min, 0.0, False, unit)
+        hi = check_range("pa_max", pa_max, 0.0, False, unit)
     if lo > hi:
         raise ParameterError("pa_min", pa_min, f"must be <= pa_max = {hi:g}", ("pa_max",))
     if n == 1 and lo != hi:

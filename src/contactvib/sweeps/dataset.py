@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from contactvib._kernels.status import STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL, status_message
-from contactvib.model import ContactModel
+from contactvib.model import LEVEL_KINDS, ContactModel, excitation_at
 from contactvib.sweeps.labels import attractor_type, level_labels
 
 __all__ = ["level_dataset", "merge_levels", "attractors_at", "write_atomic", "check_consistency",
@@ -207,9 +207,21 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um,
                          {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
     }
-    return xr.Dataset(
+    attrs = {}
+    kind_of_level = settings.get("excitation", "force")
+    if kind_of_level != "force":  # a base-motion sweep: the level is U [um] or A [g]
+        sym, unit, long_name = LEVEL_KINDS[kind_of_level]
+        point_vars["pa_over_q"] = ("point", np.full(n, pa), {
+            "units": unit, "long_name": f"{long_name} (the sweep's level)",
+            "comment": f"this dataset's level is {sym} [{unit}], not P_a/Q (see the attribute 'excitation'); "
+                       "the variable keeps its name so that every reader of a level finds it"})
+        point_vars["force_pa_over_q"] = ("point", np.array(
+            [excitation_at(model, pa, float(v), kind_of_level).pa_over_q for v in fe]),
+            {"units": "Q", "long_name": "equivalent force amplitude M U (2 pi f_e)^2/(M g) or M A/(M g)"})
+        attrs = {"excitation": kind_of_level, "level_symbol": sym, "level_unit": unit}
+    ds = xr.Dataset(
         {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},
-        attrs={
+        attrs={**attrs,
             "title": "contactvib resonance dataset (Kostek 2013 contact oscillator)",
             "format": FORMAT,
             "model": json.dumps(model.parameters()),
@@ -220,6 +232,10 @@ def level_dataset(model: ContactModel, level, settings: dict):
             "conventions": "y > 0 contact deflection, y < 0 gap; ragged extrema/strobe via *_start/*_count",
         },
     )
+    if attrs:
+        for name in ("branch_pa_over_q", "trace_pa_over_q"):
+            ds[name].attrs["units"] = attrs["level_unit"]
+    return ds
 
 
 def merge_levels(datasets: list):
@@ -411,4 +427,8 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
         "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
                   "f": "Hz", "P_a": "Q = M g"},
         "attractors": atts,
+        **({"excitation": ds.attrs["excitation"], "level_symbol": ds.attrs["level_symbol"],
+            "level_unit": ds.attrs["level_unit"],
+            "force_pa_over_q": float(ds["force_pa_over_q"].values[idx[0]]) if idx.size else None}
+           if "excitation" in ds.attrs else {}),
     }

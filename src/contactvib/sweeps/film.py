@@ -131,6 +131,8 @@ def film_limits(ds) -> dict:
 def _statement(pa: float, statements: dict) -> str:
     from contactvib.sweeps.paper_index import S3_LEVELS
 
+    if not statements:  # not the paper's kind of level
+        return ""
     ids = [sid for sid, pas in S3_LEVELS.items() if any(abs(pa - p) <= 1e-6 for p in pas)]
     return " ".join(f"Kostek 2013, {sid}: {statements.get(sid, '')}" for sid in ids)
 
@@ -157,12 +159,14 @@ def _frames(source: LevelSource, size):
     from contactvib.sweeps.paper_index import paper_statements
 
     limits = film_limits(source.ds)
-    statements = paper_statements()
+    kind = str(source.ds.attrs.get("excitation", "force"))
+    statements = paper_statements() if kind == "force" else {}  # the paper's levels are forces
     lo, hi = source.levels[0], source.levels[-1]
     for i, pa in enumerate(source.levels):
         ds = source.level(pa)
         stages = level_stages(ds, pa)
-        text = FrameText(i, len(source.levels), (lo, hi), stages, _statement(pa, statements), source.levels)
+        text = FrameText(i, len(source.levels), (lo, hi), stages, _statement(pa, statements), source.levels,
+                         kind)
         frame = film_frame(ds, pa, limits, text, size)
         check_interrupt()
         yield pa, stages, frame

@@ -85,7 +85,7 @@ def late_newton_seeds(lv: _Level, model: ContactModel, pa_over_q: float, starts)
         i = int(i)
         if lv.r[i] < NEWTON_MIN_RATIO:
             continue
-        Zb, _ph = start_box(model.excitation(pa_over_q, lv.f[i]), st.multistart_starts, st.seed + i)
+        Zb, _ph = start_box(st.excitation_at(model, pa_over_q, lv.f[i]), st.multistart_starts, st.seed + i)
         par = lv.par.copy()
         par[4] = lv.r[i]
         newton_seeds(lv, i, Zb, par, 1)

@@ -84,7 +84,8 @@ def write_level_figures(ds, pa: float, graph_path, extrema_path, model: ContactM
     from contactvib.plotting.paper import level_figures
 
     curve = None
-    if model is not None and model.is_paper_family:  # the series exists for the paper's law only
+    if (model is not None and model.is_paper_family  # the series exists for the paper's law only
+            and ds.attrs.get("excitation", "force") == "force"):  # and a force level
         f = np.arange(float(ds["fe_hz"].min()), float(ds["fe_hz"].max()) + 1e-9, PERTURBATION_STEP_HZ)
         curve = perturbation_curve(model, pa, f)
     graph, extrema = level_figures(ds, pa, perturbation=curve, ref=ref)

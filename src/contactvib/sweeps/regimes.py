@@ -131,11 +131,15 @@ def regime_maps(ds):
             "contact_loss_share": share.reshape(shape), "chaotic": chaotic.reshape(shape),
             "max_period": max_period.reshape(shape)}
     dims = ("pa_over_q", "fe_hz")
-    coords = {"pa_over_q": ("pa_over_q", levels, {"units": "Q", "long_name": "excitation amplitude P_a/(M g)"}),
+    level_attrs = {k: v for k, v in ds["pa_over_q"].attrs.items() if k in ("units", "long_name")}
+    coords = {"pa_over_q": ("pa_over_q", levels, level_attrs or {"units": "Q",
+                                                                 "long_name": "excitation amplitude P_a/(M g)"}),
               "fe_hz": ("fe_hz", grid, {"units": "Hz", "long_name": "excitation frequency f_e"})}
     out = xr.Dataset({k: (dims, v, dict(_ATTRS[k])) for k, v in data.items()}, coords=coords)
     out.attrs.update({"title": "contactvib regime maps over (f_e, P_a)", "df_hz": df,
                       "fn0_hz": float(ds.attrs.get("fn0_hz", np.nan)), "model": ds.attrs.get("model", "")})
+    if "excitation" in ds.attrs:  # a base-motion dataset: the levels are U [um] or A [g]
+        out.attrs.update({k: ds.attrs[k] for k in ("excitation", "level_symbol", "level_unit")})
     return out
 
 

@@ -28,11 +28,21 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from contactvib.interrupts import Interrupted, check_interrupt, deferred_sigint, end_with_parent
-from contactvib.model import WORKERS_MAX, ContactModel, ParameterError, check_int, check_pa_level
+from contactvib.model import (
+    LEVEL_KINDS,
+    WORKERS_MAX,
+    ContactModel,
+    ParameterError,
+    check_int,
+    check_pa_level,
+    check_range,
+    level_text,
+)
 from contactvib.steady.transients import check_damped
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid
 
-__all__ = ["resonance_dataset", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked", "Interrupted"]
+__all__ = ["resonance_dataset", "check_sweep_level", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked",
+           "Interrupted"]
 
 #: Chunk attribute holding the exact level P_a/Q the chunk was computed for.
 _LEVEL_ATTR = "chunk_pa_over_q"
@@ -202,6 +212,17 @@ def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -
     return True
 
 
+def check_sweep_level(model: ContactModel, level, settings: SweepSettings) -> float:
+    """A sweep level, > 0, whose excitation is allowed over the whole grid: P_a/Q, or for base
+    motion U [µm] / A [g] whose inertial force stays within the allowed P_a at f_max."""
+    if settings.excitation == "force":
+        return check_pa_level(level)
+    sym, unit, _name = LEVEL_KINDS[settings.excitation]
+    value = check_range(sym, level, 0.0, False, unit)
+    settings.excitation_at(model, value, settings.fmax_hz)  # raises, naming U or A, if too strong
+    return value
+
+
 def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, out=None,
                       name: str = "resonance", resume: bool = False, workers: int | None = None,
                       progress: bool = True, on_level=None, level_results: dict | None = None,
@@ -256,7 +277,7 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         backend = LocalPool(workers)
     levels = []
     for v in pa_levels:
-        v = check_pa_level(v)
+        v = check_sweep_level(model, v, settings)
         if any(abs(v - w) < 1e-9 for w in levels):
             continue
         levels.append(v)
@@ -350,7 +371,7 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
         advance(pa, n_points, final=True)
         points.pop(pa, None)
         n_finished = n_levels - len(points)
-        bar.set_postfix_str(f"{n_finished}/{n_levels} levels, P_a = {pa:g} Q done, "
+        bar.set_postfix_str(f"{n_finished}/{n_levels} levels, {level_text(pa, sd.get('excitation', 'force'))} done, "
                             f"{bar.n}/{bar.total} f_e points")
 
     # absolute: a worker of a running cluster need not share this process's working directory

@@ -63,7 +63,9 @@ from contactvib.model import (
     ParameterError,
     check_frequency_range,
     check_int,
+    check_level_kind,
     check_range,
+    excitation_at,
 )
 from contactvib.model.checks import MEMORY_MAX, check_memory, format_number
 from contactvib.sweeps.newton_seeds import late_newton_seeds, newton_seeds
@@ -111,6 +113,10 @@ class SweepSettings:
         Integrator tolerance of the shooting and the orbit descriptions.
     close_tol : float
         Relative closure for accepting an orbit.
+    excitation : str
+        What the level holds (:data:`contactvib.model.LEVEL_KINDS`): "force" (P_a/Q, the
+        paper's), "base-um" (base displacement U [µm]: the inertial force grows with f_e²) or
+        "base-g" (base acceleration A [g]).
     """
 
     fmin_hz: float = 30.0
@@ -127,6 +133,7 @@ class SweepSettings:
     rtol_transient: float = 1e-8
     same_tol: float = 1e-6
     capture_tol: float = 1e-3
+    excitation: str = "force"
 
     def __post_init__(self):
         # stored as checked (a number given as text is a float, a count an int)
@@ -150,11 +157,21 @@ class SweepSettings:
         check_memory("multistart_starts", self.multistart_starts, 4096.0 * v["multistart_starts"],
                      MEMORY_MAX // 4096)
         v["seed"] = check_int("seed", self.seed, 0)
+        v["excitation"] = check_level_kind(self.excitation)
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        """The settings as keyword arguments (``excitation`` only when it is not the force, so
+        that a force sweep's record is the one it always was)."""
+        d = asdict(self)
+        if d["excitation"] == "force":
+            del d["excitation"]
+        return d
+
+    def excitation_at(self, model: ContactModel, level: float, f_e: float):
+        """The sweep's excitation at ``level`` and f_e [Hz] (:func:`contactvib.model.excitation_at`)."""
+        return excitation_at(model, level, f_e, self.excitation)
 
 
 def frequency_grid(settings: SweepSettings) -> np.ndarray:
@@ -250,7 +267,7 @@ class _Level:
         self.st = st
         self.f = f
         self.r = f / model.f_n0
-        self.par = model.excitation(pa_over_q, f[0]).kernel_parameters()
+        self.par = st.excitation_at(model, pa_over_q, f[0]).kernel_parameters()
         self.cfg = tk.trace_settings(st.rtol, st.close_tol, st.kmax, st.max_periods, st.detect_tol,
                                      st.rtol_transient, st.same_tol)
         self.table = new_table(f.size, _MAXA, 16)
@@ -378,7 +395,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
 
     check_interrupt()
     st = lv.st
-    exc = model.excitation(pa_over_q, lv.f[i])
+    exc = st.excitation_at(model, pa_over_q, lv.f[i])
     Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
     Zs, phs = ballistic_seeds(exc)
     Z = np.vstack([Zb, Zs])
@@ -402,7 +419,7 @@ def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) ->
             z, k, kind = zz[j], int(kk[j]), 0
         elif status[j] == SETTLE_NONPERIODIC:  # an attractor only by the search's verdict
             res = settle_nonperiodic_start(model, pa_over_q, float(lv.f[i]), zz[j], st.rtol_transient,
-                                           lambda z0: _settle_from(lv, i, z0))
+                                           lambda z0: _settle_from(lv, i, z0), st.excitation)
             if res is None:
                 continue
             z, k, kind = res
@@ -468,7 +485,8 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
             basin[gid] = frac
     from contactvib.sweeps.verdict import drop_unsettled
 
-    return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods)
+    return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods,
+                          st.excitation)
 
 
 def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> None:

@@ -64,7 +64,7 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     settings = ContinuationSettings(fmin=lo, fmax=hi, max_points=MAX_POINTS, max_failures=20,
                                     rtol=lv.st.rtol, tol=lv.st.close_tol, locate=False)
     try:
-        return continue_orbit(model, model.excitation(pa_over_q, f0), z, k, "f_e",
+        return continue_orbit(model, lv.st.excitation_at(model, pa_over_q, f0), z, k, "f_e",
                               "up" if direction > 0 else "down", settings)
     except (ContinuationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         return None

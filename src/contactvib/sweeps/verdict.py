@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib.model import ContactModel
+from contactvib.model import ContactModel, excitation_at
 from contactvib.steady.orbits import OrbitError, strobe_points
 from contactvib.steady.transients import WINDOW, cloud_verdict
 
@@ -24,13 +24,14 @@ __all__ = ["settled_nonperiodic", "drop_unsettled"]
 
 
 def settled_nonperiodic(model: ContactModel, pa_over_q: float, f_hz: float, z, lyapunov: float,
-                        rtol: float, settle_periods: int) -> bool:
+                        rtol: float, settle_periods: int, excitation: str = "force") -> bool:
     """Whether the non-periodic point ``z`` (nondimensional, phase 0) at (P_a/Q, f_e) with largest
     Lyapunov exponent ``lyapunov`` [1/period] is on a non-periodic attractor:
     :func:`~contactvib.steady.transients.cloud_verdict` on the next ``2 · WINDOW`` strobe points
     (integrated at tolerance ``rtol``); a cloud that fails only the cloud test is settled
-    ``settle_periods`` longer and judged once more (λ < −LYAPUNOV_ZERO is final)."""
-    exc = model.excitation(pa_over_q, f_hz)
+    ``settle_periods`` longer and judged once more (λ < −LYAPUNOV_ZERO is final). The level is
+    of the kind ``excitation`` (:data:`contactvib.model.LEVEL_KINDS`)."""
+    exc = excitation_at(model, pa_over_q, f_hz, excitation)
     try:
         tail = strobe_points(exc, z, 2 * WINDOW, rtol)
         ok, why = cloud_verdict(tail, float(lyapunov))
@@ -42,7 +43,7 @@ def settled_nonperiodic(model: ContactModel, pa_over_q: float, f_hz: float, z, l
     return cloud_verdict(tail, float(lyapunov))[0]
 
 
-def drop_unsettled(lt, model: ContactModel, rtol: float, settle_periods: int):
+def drop_unsettled(lt, model: ContactModel, rtol: float, settle_periods: int, excitation: str = "force"):
     """The :class:`~contactvib.sweeps.sweep.LevelTrace` ``lt`` without its non-periodic rows that
     :func:`settled_nonperiodic` rejects (rows, found_by, basin and links renumbered)."""
     from contactvib._kernels.table import KIND_NONPERIODIC
@@ -51,7 +52,7 @@ def drop_unsettled(lt, model: ContactModel, rtol: float, settle_periods: int):
     keep = np.ones(lt.n_rows, bool)
     for j in np.flatnonzero(rows.kind == KIND_NONPERIODIC):
         keep[j] = settled_nonperiodic(model, lt.pa_over_q, float(lt.f_hz[rows.i[j]]), rows.z[j],
-                                      rows.lyap[j], rtol, settle_periods)
+                                      rows.lyap[j], rtol, settle_periods, excitation)
     if keep.all():
         return lt
     new_id = np.cumsum(keep) - 1
@@ -64,7 +65,7 @@ def drop_unsettled(lt, model: ContactModel, rtol: float, settle_periods: int):
 
 
 def settle_nonperiodic_start(model: ContactModel, pa_over_q: float, f_hz: float, z, rtol: float,
-                             resettle):
+                             resettle, excitation: str = "force"):
     """The outcome of a multi-start start that ended non-periodic at ``z``: ``(z, 0, 1)`` when it
     is on a non-periodic attractor (:func:`settled_nonperiodic`, λ computed here); else the
     start is settled once more from there by ``resettle(z)`` (→ ``(z, k, kind)`` or None) and a
@@ -72,14 +73,14 @@ def settle_nonperiodic_start(model: ContactModel, pa_over_q: float, f_hz: float,
     has not settled (the start reached no attractor)."""
     from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 
-    exc = model.excitation(pa_over_q, f_hz)
+    exc = excitation_at(model, pa_over_q, f_hz, excitation)
 
     def lyap(p):
         return float(lyapunov_strobe(np.asarray(p, float).copy(), exc.kernel_parameters(), rtol, NP_LYAPUNOV))
 
-    if settled_nonperiodic(model, pa_over_q, f_hz, z, lyap(z), rtol, 0):
+    if settled_nonperiodic(model, pa_over_q, f_hz, z, lyap(z), rtol, 0, excitation):
         return np.asarray(z, float), 0, 1
     res = resettle(z)
     if res is None or res[2] == 0:
         return res
-    return res if settled_nonperiodic(model, pa_over_q, f_hz, res[0], lyap(res[0]), rtol, 0) else None
+    return res if settled_nonperiodic(model, pa_over_q, f_hz, res[0], lyap(res[0]), rtol, 0, excitation) else None
