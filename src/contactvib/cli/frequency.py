@@ -14,12 +14,14 @@ from contactvib.cli.common import (
     _frequency_range,
     _int,
     _law_options,
+    _levels,
     _model,
     _operating_point_options,
     _output_folder,
     _positive,
+    level_kind_option,
 )
-from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range
+from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range, excitation_at, level_text
 from contactvib.model.checks import PA_MAX
 
 _CONV_ORDERS_MAX = 80
@@ -119,33 +121,46 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 @click.option("--out", default="hbm", show_default=True, type=click.Path(file_okay=False),
               help="Output folder for the branch figure and branch.json.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
-def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json):
+@level_kind_option
+def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kind):
     """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
     model = _model(settings)
-    pa_q = _checked("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
-    pa_q = _checked("--pa", check_range, "P_a/Q", pa_q, None, unit=PA_NOTE, upper=PA_MAX)
+    if level_kind == "force":
+        pa_q = _checked("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
+        pa_q = _checked("--pa", check_range, "P_a/Q", pa_q, None, unit=PA_NOTE, upper=PA_MAX)
+    else:
+        pa_q = _levels((pa,), level_kind)[0]
     H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
     f1, f2 = _frequency_range(fmin, fmax)
     _feasible_frequencies(model, f1, f2)
+    if level_kind != "force":  # the inertial force at the top of the range must be allowed
+        _checked("--pa", excitation_at, model, pa_q, f2, level_kind)
     etol = _positive("--energy-tol", "energy_tol", energy_tol)
     outp = _output_folder(out)
     from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 
     hs = HBSettings(energy_tol=etol)
-    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, hs)),
-                ("from fmax", hb_continuation(model, pa_q, f1, f2, H, hs,
-                                              from_fmax=True))]
-    series = _series_points(model, pa_q, f1, f2)
+    kw = {"level_kind": level_kind}
+    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, hs, **kw)),
+                ("from fmax", hb_continuation(model, pa_q, f1, f2, H, hs, from_fmax=True, **kw))]
+    # the perturbation series seeds the small-amplitude parts: the paper's law under a force
+    series = _series_points(model, pa_q, f1, f2) if model.is_paper_family and level_kind == "force" else ([], [])
     branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
     payload = {"pa_over_q": pa_q, "harmonics": H, "fmin_hz": f1, "fmax_hz": f2,
+               **({} if level_kind == "force" else {"excitation": level_kind}),
+               "model": model.parameters(),
                "branches": [dict(b.to_dict(), start=name) for name, b in branches]}
     (outp / "branch.json").write_text(json.dumps(payload))
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.frequency import hbm_figure
 
+    sym, rest = level_text(pa_q, level_kind, 6).split(" = ")
+    base = "" if level_kind == "force" else " (base motion)"
+    law = "" if model.is_paper_family else f"\n{model.describe_law()}"
     fig = hbm_figure([(f"HB (H = {H}) {name}", b) for name, b in branches], series, model.f_n0,
-                     (f1, f2), f"Harmonic balance, $P_a$ = {pa_q:g} Q (dots: loss of contact)")
-    path = save_figure(fig, outp / f"hbm_branch_pa{pa_q:g}_H{H}.png")
+                     (f1, f2), f"Harmonic balance, ${sym}$ = {rest}{base} (dots: loss of contact){law}")
+    tag = {"force": "pa", "base-um": "U", "base-g": "A"}[level_kind]
+    path = save_figure(fig, outp / f"hbm_branch_{tag}{pa_q:g}_H{H}.png")
     if as_json:
         _echo_json(payload)
         return

@@ -46,15 +46,76 @@ from contactvib._kernels.shooting import is_stable
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
 from contactvib.frequency.aft import AFT as _AFT
 from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, _eval, _extrema, _top_fraction
-from contactvib.model import HARMONICS_MAX, ContactModel, Excitation, ParameterError, check_int, check_range
+from contactvib.model import (
+    HARMONICS_MAX,
+    LEVEL_KINDS,
+    ContactModel,
+    Excitation,
+    ParameterError,
+    check_int,
+    check_level_kind,
+    check_range,
+    excitation_at,
+)
 from contactvib.model.contact_law import PowerLaw
 
 __all__ = ["HBSettings", "HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
            "HBProblem"]
 
 
+def _hb_par(model: ContactModel, exc: Excitation):
+    """The residual's parameters: ``(m2, l, c, p)`` for the paper's law under one harmonic force
+    (its original path), else the kernels' full parameter vector
+    (:meth:`Excitation.kernel_parameters`: any law, base motion, a multi-harmonic force)."""
+    if model.is_paper_family and exc.kind == "force":
+        return (model.m2, model.l, model.damping_coefficient, exc.pa_over_q)
+    return exc.kernel_parameters()
+
+
+def _excitation_coefficients(kpar, r, H):
+    """Fourier coefficients [a0, a1, b1, …] of the right-hand side 1 + e(θ) [units of W] of the
+    full parameter vector, and their derivative in r (base motion: p r² cos θ)."""
+    from contactvib._kernels import contact as kc
+
+    E, dE = np.zeros(2 * H + 1), np.zeros(2 * H + 1)
+    E[0] = 1.0
+    p = kpar[3]
+    if kpar[kc.P_EXCITATION] == kc.EXCITATION_BASE:
+        E[1], dE[1] = p * r * r, 2.0 * p * r
+    else:
+        E[1] = p
+    o = int(kpar[kc.P_OEXC])
+    for j in range(int(kpar[kc.P_NEXC])):  # a cos(kθ + φ) = a cos φ cos kθ − a sin φ sin kθ
+        k, a, ph = int(kpar[o + 3 * j]), kpar[o + 3 * j + 1], kpar[o + 3 * j + 2]
+        E[2 * k - 1] += a * math.cos(ph)
+        E[2 * k] -= a * math.sin(ph)
+    return E, dE
+
+
+def _residual_general(X, r, kpar, aft: _AFT, jac: bool = True):
+    """:func:`_residual` for any law and excitation (:mod:`contactvib._kernels.contact`):
+    κ r² x_θθ + f(x, r x_θ) − 1 − e(θ), κ = k y0/W, forces in units of W = Q + F_pre."""
+    from contactvib._kernels.contact import contact_force_array
+
+    x, xt = aft.synth(X)
+    v = r * xt
+    f, fx, fv = np.empty_like(x), np.empty_like(x), np.empty_like(x)
+    contact_force_array(x, v, kpar, f, fx, fv)
+    kap = kpar[0]
+    E, dE = _excitation_coefficients(kpar, r, aft.H)
+    R = kap * r * r * aft.d2 * X + aft.project(f) - E
+    if not jac:
+        return R, None, None
+    J = aft.product_matrix(fx) + r * aft.times_derivative(aft.product_matrix(fv))
+    J[np.diag_indices_from(J)] += kap * r * r * aft.d2
+    dr = 2.0 * kap * r * aft.d2 * X + aft.project(fv * xt) - dE
+    return R, J, dr
+
+
 def _residual(X, r, par, aft: _AFT, jac: bool = True):
     """HB residual (2H+1,), its Jacobian in X and its derivative in r."""
+    if isinstance(par, np.ndarray):
+        return _residual_general(X, r, par, aft, jac)
     m2, l, c, p = par
     x, xt = aft.synth(X)
     f, fx, fv = PowerLaw(m2, l).force(x, r * xt, c)  # the contact law, 0 in flight
@@ -101,7 +162,11 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
 
         r = fe / model.f_n0
         z = np.array([_eval(X, 0.0)[0], r * _eval(X, 0.0, 1)[0]])
-        kpar = np.array([par[0], par[1], par[2], par[3], r])
+        if isinstance(par, np.ndarray):
+            kpar = par.copy()
+            kpar[4] = r
+        else:
+            kpar = np.array([par[0], par[1], par[2], par[3], r])
         out_z, out_M = np.empty(2), np.empty((2, 2))
         st = strobe_map(z, 1, kpar, 1e-12, 1e-12, out_z, out_M)
         if st == STATUS_OK:
@@ -114,14 +179,26 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
                       coefficients=X.copy())
 
 
-def _initial_guess(model: ContactModel, exc: Excitation, H: int) -> np.ndarray:
-    """Linear response about x = 1 (order 1 of the perturbation series)."""
+def _initial_guess(model: ContactModel, exc: Excitation, H: int, par=None) -> np.ndarray:
+    """Linear response about x = 1 (order 1 of the perturbation series): κ (1 − r² + 2iζr) A = F
+    with F the fundamental's amplitude [units of W] (the paper's law: κ = m2, F = P_a/Q)."""
     X = np.zeros(2 * H + 1)
     X[0] = 1.0
     r = exc.r
-    A = (exc.pa_over_q / model.m2) / (1.0 - r * r + 2j * model.zeta * r)
+    if isinstance(par, np.ndarray):
+        E, _dE = _excitation_coefficients(par, r, H)
+        A = (E[1] / par[0]) / (1.0 - r * r + 2j * model.zeta * r)
+    else:
+        A = (exc.pa_over_q / model.m2) / (1.0 - r * r + 2j * model.zeta * r)
     X[1], X[2] = A.real, -A.imag  # A e^{iθ}: cos part Re A, sin part −Im A
     return X
+
+
+def _check_force_harmonics(excitation: Excitation, H: int) -> None:
+    """A multi-harmonic force needs every harmonic k <= H in the truncated series."""
+    if excitation.harmonics and max(k for k, _a, _p in excitation.harmonics) > H:
+        k = max(k for k, _a, _p in excitation.harmonics)
+        raise ParameterError("harmonics", H, f"must be >= {k}: the force has a harmonic {k} f_e")
 
 
 def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
@@ -150,12 +227,13 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
     HBError
         If Newton does not converge.
     """
-    model.require_paper_family("harmonic balance", excitation)
     H, n_time = _check_harmonics(harmonics, n_time)
+    _check_force_harmonics(excitation, H)
     tol, max_iter = check_range("tol", tol, 0.0, False), check_int("max_iter", max_iter, 1)
     aft = _AFT(H, n_time)
+    par = _hb_par(model, excitation)
     if start is None:
-        X = _initial_guess(model, excitation, H)
+        X = _initial_guess(model, excitation, H, par)
     else:
         try:
             s = start.coefficients if isinstance(start, HBSolution) else np.asarray(start, float).reshape(-1)
@@ -166,10 +244,10 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
         X = np.zeros(2 * H + 1)
         n = min(s.size, X.size)
         X[:n] = s[:n]
-    par = (model.m2, model.l, model.damping_coefficient, excitation.pa_over_q)
     X, res, _ = _newton(X, excitation.r, par, aft, tol, max_iter)
-    return _solution(model, excitation.pa_over_q, excitation.f_e, X, par, aft, res, stability,
-                     model.units.y_um)
+    sol = _solution(model, excitation.pa_over_q, excitation.f_e, X, par, aft, res, stability, model.units.y_um)
+    model.check_motion(sol.ymax_um, "the harmonic-balance orbit")  # a table law: within its rows
+    return sol
 
 
 @dataclass(frozen=True)
@@ -222,7 +300,8 @@ class HBSettings:
 
 def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
                     harmonics: int = 32, settings: HBSettings | None = None, start=None,
-                    from_fmax: bool = False, f_start: float | None = None) -> HBBranch:
+                    from_fmax: bool = False, f_start: float | None = None, *, level_kind: str = "force",
+                    force_harmonics=()) -> HBBranch:
     """Follow a periodic branch from ``fmin`` to ``fmax`` by pseudo-arclength continuation.
 
     Parameters
@@ -245,6 +324,11 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     f_start : float, optional
         Start at this frequency [Hz] inside the range instead (direction still set by
         ``from_fmax``: decreasing f_e if True).
+    level_kind : str
+        What ``pa_over_q`` holds (:data:`contactvib.model.LEVEL_KINDS`): "force" (P_a/Q), or
+        base motion "base-um" (U [µm], the inertial force growing with f_e²) / "base-g" (A [g]).
+    force_harmonics : tuple of (k, P_k/Q, phase [deg])
+        Further harmonics of a force (:class:`Excitation`), each k <= ``harmonics``.
 
     Returns
     -------
@@ -256,8 +340,10 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     least one step and at most 12 Jacobians, step ×1.5 after ≤ 4 Jacobians, halved after a
     failure, capped so that f_e moves at most ``df_max``.
     """
-    model.require_paper_family("harmonic balance")
-    pa_over_q = check_range("P_a/Q", pa_over_q, 0.0, True)
+    kind = check_level_kind(level_kind)
+    if kind != "force" and force_harmonics:
+        raise ParameterError("force_harmonics", force_harmonics, "belong to a force level, not to base motion")
+    pa_over_q = check_range(LEVEL_KINDS[kind][0], pa_over_q, 0.0, True)
     fmin = check_range("fmin", fmin, 0.0, False, "Hz")
     fmax = check_range("fmax", fmax, 0.0, False, "Hz")
     if not fmin < fmax:
@@ -274,9 +360,10 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
         f0 = check_range("f_start", f_start, 0.0, False, "Hz")
         if not fmin <= f0 <= fmax:
             raise ParameterError("f_start", f_start, f"must be in [{fmin:g}, {fmax:g}] Hz")
-    first = hb_solve(model, model.excitation(pa_over_q, f0), H, start=start, n_time=n_time,
-                     tol=s.tol, stability=False)
-    prob = HBProblem(model, pa_over_q, aft, (fmin, fmax), s.energy_tol, s.stability)
+    exc0 = (model.excitation(pa_over_q, f0, harmonics=force_harmonics) if kind == "force"
+            else excitation_at(model, pa_over_q, f0, kind))
+    first = hb_solve(model, exc0, H, start=start, n_time=n_time, tol=s.tol, stability=False)
+    prob = HBProblem(model, pa_over_q, aft, (fmin, fmax), s.energy_tol, s.stability, _hb_par(model, exc0))
     u0 = np.append(first.coefficients, f0 / fn0)
     prob.f_exact = (u0[-1], f0)  # the first point's f_e as given, not r f_n0
     st, F, J, data = prob.residual_jacobian(u0)
@@ -322,9 +409,9 @@ class HBProblem:
     test_names = ()
     fold_tests = ()
 
-    def __init__(self, model, pa_over_q, aft, f_range, energy_tol, stability):
+    def __init__(self, model, pa_over_q, aft, f_range, energy_tol, stability, par=None):
         self.model, self.pa, self.aft = model, pa_over_q, aft
-        self.par = (model.m2, model.l, model.damping_coefficient, pa_over_q)
+        self.par = (model.m2, model.l, model.damping_coefficient, pa_over_q) if par is None else par
         self.fn0 = model.f_n0
         self.y0_um = model.units.y_um
         self.energy_tol, self.stability = energy_tol, stability
@@ -359,6 +446,9 @@ class HBProblem:
 
     def check(self, pt):
         s = pt.record
+        if self.model.law == "table" and s.ymax_um * 1e-6 > self.model.table.deflection_m[-1]:
+            return (f"stopped at {s.fe_hz:.1f} Hz: the orbit reaches {s.ymax_um:.4g} um, beyond the table's "
+                    f"last row ({self.model.table.deflection_m[-1] * 1e6:.4g} um)")
         if s.top_energy_fraction <= self.energy_tol:
             return None
         return (f"stopped at {s.fe_hz:.1f} Hz: the top quarter of the {s.harmonics} harmonics holds "
