@@ -23,7 +23,9 @@ import json
 import math
 import time
 
+import numba
 import numpy as np
+from numba import njit, prange
 from scipy.integrate import solve_ivp
 
 from contactvib import ContactModel, ExponentialLaw, TableLaw, find_attractors
@@ -64,6 +66,19 @@ def scipy_flow(z, t0, t1, par, rtol):
     return y
 
 
+@njit(parallel=True, cache=True)
+def _advance_many(Z, t_end, par, tol):
+    """The starts of ``Z`` (rows, in place) advanced to ``t_end`` in parallel: one start per
+    thread at a time (numba threads, the attractor search's kind of parallelism); total steps."""
+    steps = np.zeros(Z.shape[0], np.int64)
+    for i in prange(Z.shape[0]):
+        y = Z[i].copy()
+        _c, _h, ns, _tf, _ne, _st = advance_state(y, 0.0, t_end, y[0] > 0, 0.01, par, tol, 10**8)
+        Z[i] = y
+        steps[i] = ns
+    return steps.sum()
+
+
 def bench(model, n_starts=16, periods=20, tol=1e-8, seed=0):
     exc = model.excitation(0.65, 360.0)
     par = exc.kernel_parameters()
@@ -78,6 +93,13 @@ def bench(model, n_starts=16, periods=20, tol=1e-8, seed=0):
         advance_state(y, 0.0, periods * T, y[0] > 0, 0.01, par, tol, 10**8)
         ends.append(y)
     t_cv = time.perf_counter() - t
+    # the same starts on every core (numba threads), the work repeated 4 times so that each
+    # thread has several starts (the ratio is per start-period, as the 1-thread one)
+    Zp = np.tile(Z, (4, 1))
+    _advance_many(Zp[:2].copy(), T, par, tol)  # compile
+    t = time.perf_counter()
+    n_steps = _advance_many(Zp, periods * T, par, tol)
+    t_cv_threads = (time.perf_counter() - t) / 4
     k = max(2, n_starts // 8)
     t = time.perf_counter()
     sp = [scipy_flow(z, 0.0, periods * T, par, tol) for z in Z[:k]]
@@ -91,6 +113,8 @@ def bench(model, n_starts=16, periods=20, tol=1e-8, seed=0):
     found = find_attractors(model, exc, n_starts=64)
     t_search = time.perf_counter() - t
     return {"f_n0_hz": model.f_n0, "contactvib_s": t_cv, "scipy_s": t_sp, "ratio": t_sp / t_cv,
+            "threads": numba.get_num_threads(), "contactvib_threads_s": t_cv_threads,
+            "ratio_threads": t_sp / t_cv_threads, "steps_per_period": n_steps / (4 * n_starts * periods),
             "error_contactvib": err(ends[:k]), "error_scipy": err(sp),
             "search_64_starts_s": t_search, "attractors": [round(a.app_um, 5) for a in found],
             "trajectory_periods": n_starts * periods}
@@ -104,13 +128,16 @@ def main():
     for name, model in laws().items():
         rows[name] = r = bench(model)
         print(f"{name:30s} contactvib {r['contactvib_s']:.3f} s  scipy {r['scipy_s']:.2f} s  ratio "
-              f"{r['ratio']:.0f}x  error {r['error_contactvib']:.1e} vs {r['error_scipy']:.1e}  "
+              f"{r['ratio']:.0f}x ({r['threads']} threads: {r['ratio_threads']:.0f}x, "
+              f"{r['steps_per_period']:.0f} steps/period)  "
+              f"error {r['error_contactvib']:.1e} vs {r['error_scipy']:.1e}  "
               f"search(64) {r['search_64_starts_s']:.2f} s", flush=True)
     if args.out:
         with open(args.out, "w") as fh:
             json.dump({"benchmark": "bench_laws", "operating_point": "0.65 Q, 360 Hz", "tol": 1e-8,
                        "laws": rows, "note": "ratio = scipy time / contactvib time on the same starts and "
-                                             "periods (scipy's scaled from a subset)"}, fh, indent=1,
+                                             "periods (scipy's scaled from a subset), one thread; "
+                                             "ratio_threads: contactvib on all numba threads (cores)"}, fh, indent=1,
                       default=lambda x: None if isinstance(x, float) and not math.isfinite(x) else x)
 
 
