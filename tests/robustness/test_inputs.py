@@ -87,6 +87,9 @@ for _name in ("attractors", "simulate", "basins", "perturbation"):
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm"):
     OPTIONS[_name].update(LAW)
+#: What the levels hold (force, base-um, base-g): the sweeps, the continuation in f_e and hbm.
+for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
+    OPTIONS[_name]["--excitation"] = "value"
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
 #: --pa-max are a range with --parameter pa).

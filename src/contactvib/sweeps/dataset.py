@@ -146,6 +146,25 @@ def _trace_variables(pa: float, stops) -> dict:
     }
 
 
+def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndarray) -> tuple[dict, dict]:
+    """The level's variables and attributes of a base-motion sweep (``kind`` "base-um"/"base-g":
+    the level is U [um] or A [g]; nothing for a force sweep): the level variable ``pa_over_q``
+    with its own units and ``force_pa_over_q``, the inertial force of each point [Q]."""
+    if kind == "force":
+        return {}, {}
+    sym, unit, long_name = LEVEL_KINDS[kind]
+    variables = {
+        "pa_over_q": ("point", np.full(fe.size, pa), {
+            "units": unit, "long_name": f"{long_name} (the sweep's level)",
+            "comment": f"this dataset's level is {sym} [{unit}], not P_a/Q (see the attribute 'excitation'); "
+                       "the variable keeps its name so that every reader of a level finds it"}),
+        "force_pa_over_q": ("point", np.array([excitation_at(model, pa, float(v), kind).pa_over_q for v in fe]),
+                            {"units": "Q",
+                             "long_name": "equivalent force amplitude M U (2 pi f_e)^2/(M g) or M A/(M g)"}),
+    }
+    return variables, {"excitation": kind, "level_symbol": sym, "level_unit": unit}
+
+
 def level_dataset(model: ContactModel, level, settings: dict):
     """The Dataset of one P_a level from :func:`contactvib.sweeps.sweep.trace_level`'s output
     (a :class:`contactvib.sweeps.sweep.LevelTrace`); layout in the module docstring."""
@@ -207,18 +226,8 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um,
                          {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
     }
-    attrs = {}
-    kind_of_level = settings.get("excitation", "force")
-    if kind_of_level != "force":  # a base-motion sweep: the level is U [um] or A [g]
-        sym, unit, long_name = LEVEL_KINDS[kind_of_level]
-        point_vars["pa_over_q"] = ("point", np.full(n, pa), {
-            "units": unit, "long_name": f"{long_name} (the sweep's level)",
-            "comment": f"this dataset's level is {sym} [{unit}], not P_a/Q (see the attribute 'excitation'); "
-                       "the variable keeps its name so that every reader of a level finds it"})
-        point_vars["force_pa_over_q"] = ("point", np.array(
-            [excitation_at(model, pa, float(v), kind_of_level).pa_over_q for v in fe]),
-            {"units": "Q", "long_name": "equivalent force amplitude M U (2 pi f_e)^2/(M g) or M A/(M g)"})
-        attrs = {"excitation": kind_of_level, "level_symbol": sym, "level_unit": unit}
+    level_vars, attrs = _level_kind_variables(model, settings.get("excitation", "force"), pa, fe)
+    point_vars.update(level_vars)
     ds = xr.Dataset(
         {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},
         attrs={**attrs,
@@ -427,8 +436,15 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
         "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
                   "f": "Hz", "P_a": "Q = M g"},
         "attractors": atts,
-        **({"excitation": ds.attrs["excitation"], "level_symbol": ds.attrs["level_symbol"],
+        **_level_kind_record(ds, idx),
+    }
+
+
+def _level_kind_record(ds, idx) -> dict:
+    """A base-motion dataset's level kind and the inertial force [Q] at the rows ``idx`` (of one
+    grid point) for :func:`attractors_at`; nothing for a force dataset."""
+    if "excitation" not in ds.attrs:
+        return {}
+    return {"excitation": ds.attrs["excitation"], "level_symbol": ds.attrs["level_symbol"],
             "level_unit": ds.attrs["level_unit"],
             "force_pa_over_q": float(ds["force_pa_over_q"].values[idx[0]]) if idx.size else None}
-           if "excitation" in ds.attrs else {}),
-    }

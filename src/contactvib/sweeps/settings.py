@@ -1,0 +1,126 @@
+"""Settings of a resonance sweep: the frequency grid, the multi-start frequencies, the tolerances
+and what a level holds (:class:`SweepSettings`), used by :mod:`contactvib.sweeps.sweep`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from contactvib.model import (
+    KMAX_SWEEP_MAX,
+    MULTISTART_PER_OCTAVE_MAX,
+    ContactModel,
+    ParameterError,
+    check_frequency_range,
+    check_int,
+    check_level_kind,
+    check_range,
+    excitation_at,
+)
+from contactvib.model.checks import MEMORY_MAX, check_memory, format_number
+
+__all__ = ["SweepSettings", "frequency_grid", "multistart_indices"]
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """Settings of a resonance sweep.
+
+    Attributes
+    ----------
+    fmin_hz, fmax_hz, df_hz : float
+        Frequency grid [Hz].
+    kmax : int
+        Largest period detected [excitation periods].
+    max_periods : int
+        Transient limit after a jump [excitation periods].
+    multistart_per_octave : float
+        Multi-start frequencies per octave of f_e, geometrically spaced from f_min and snapped to
+        the grid (0: no multi-start).
+    multistart_starts : int
+        Random box starts per multi-start frequency (ballistic seeds are added).
+    seed : int
+        Random seed of the box samples.
+    rtol : float
+        Integrator tolerance of the shooting and the orbit descriptions.
+    close_tol : float
+        Relative closure for accepting an orbit.
+    excitation : str
+        What the level holds (:data:`contactvib.model.LEVEL_KINDS`): "force" (P_a/Q, the
+        paper's), "base-um" (base displacement U [µm]: the inertial force grows with f_e²) or
+        "base-g" (base acceleration A [g]).
+    """
+
+    fmin_hz: float = 30.0
+    fmax_hz: float = 2000.0
+    df_hz: float = 1.0
+    kmax: int = 8
+    max_periods: int = 300
+    multistart_per_octave: float = 8.0
+    multistart_starts: int = 24
+    seed: int = 0
+    rtol: float = 1e-10
+    close_tol: float = 1e-9
+    detect_tol: float = 1e-4
+    rtol_transient: float = 1e-8
+    same_tol: float = 1e-6
+    capture_tol: float = 1e-3
+    excitation: str = "force"
+
+    def __post_init__(self):
+        # stored as checked (a number given as text is a float, a count an int)
+        fmin, fmax = check_frequency_range(self.fmin_hz, self.fmax_hz)
+        df = check_range("df", self.df_hz, 0.0, False, "Hz")
+        span = fmax - fmin
+        if df > span * (1.0 + 1e-9):
+            raise ParameterError("df", self.df_hz, f"must be <= f_max - f_min = {format_number(span)} Hz "
+                                 "(the grid needs at least two frequencies)", ("f_min", "f_max"))
+        if span / df > 1e6:
+            raise ParameterError("df", self.df_hz, f"gives more than 1e6 frequencies over f_max - f_min = "
+                                 f"{format_number(span)} Hz; use a larger step or a narrower range",
+                                 ("f_min", "f_max"))
+        kmax = check_int("kmax", self.kmax, 1, KMAX_SWEEP_MAX)
+        v = dict(fmin_hz=fmin, fmax_hz=fmax, df_hz=df, kmax=kmax,
+                 max_periods=check_int("max_periods", self.max_periods, 4 * kmax),
+                 multistart_per_octave=check_range("multistart_per_octave", self.multistart_per_octave,
+                                                   0.0, True, upper=MULTISTART_PER_OCTAVE_MAX),
+                 multistart_starts=check_int("multistart_starts", self.multistart_starts, 0))
+        # the arrays of one multi-start search, as the attractor search's (2 KiB per start, x2)
+        check_memory("multistart_starts", self.multistart_starts, 4096.0 * v["multistart_starts"],
+                     MEMORY_MAX // 4096)
+        v["seed"] = check_int("seed", self.seed, 0)
+        v["excitation"] = check_level_kind(self.excitation)
+        for name, value in v.items():
+            object.__setattr__(self, name, value)
+
+    def to_dict(self) -> dict:
+        """The settings as keyword arguments (``excitation`` only when it is not the force, so
+        that a force sweep's record is the one it always was)."""
+        d = asdict(self)
+        if d["excitation"] == "force":
+            del d["excitation"]
+        return d
+
+    def excitation_at(self, model: ContactModel, level: float, f_e: float):
+        """The sweep's excitation at ``level`` and f_e [Hz] (:func:`contactvib.model.excitation_at`)."""
+        return excitation_at(model, level, f_e, self.excitation)
+
+
+def frequency_grid(settings: SweepSettings) -> np.ndarray:
+    """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
+    n = int(math.floor((settings.fmax_hz - settings.fmin_hz) / settings.df_hz + 1e-9)) + 1
+    return settings.fmin_hz + settings.df_hz * np.arange(n)
+
+
+def multistart_indices(settings: SweepSettings) -> np.ndarray:
+    """Grid indices of the multi-start frequencies: f_min · 2^(j / per_octave), snapped, unique."""
+    f = frequency_grid(settings)
+    if settings.multistart_per_octave <= 0 or settings.multistart_starts <= 0:
+        return np.zeros(0, np.int64)
+    n_oct = math.log2(f[-1] / f[0])
+    fs = f[0] * 2.0 ** (np.arange(int(n_oct * settings.multistart_per_octave) + 1)
+                        / settings.multistart_per_octave)
+    idx = np.clip(np.round((fs - f[0]) / settings.df_hz).astype(np.int64), 0, f.size - 1)
+    return np.unique(idx)
