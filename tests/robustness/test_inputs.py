@@ -85,7 +85,7 @@ EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
 for _name in ("attractors", "simulate", "basins", "perturbation"):
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
-for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm"):
+for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore"):
     OPTIONS[_name].update(LAW)
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
