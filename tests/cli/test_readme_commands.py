@@ -148,10 +148,12 @@ SLOW: set[str] = set()
 #: README lines that start a server (they never return, so they have no reduced run here): each
 #: is driven in headless Chromium by tests/explore/test_explore_browser.py (the dataset ones by
 #: test_explore_dataset_browser.py; a folder as `atlas/` by test_explore_dataset.py; the
-#: --graph-* grid by test_explore_level_graph_browser.py) instead.
+#: --graph-* grid by test_explore_level_graph_browser.py; the law options by
+#: test_explore_law.py, with the server replaced by a stub) instead.
 SERVERS: set[str] = {"contactvib explore", "contactvib explore --port 8765 --no-browser",
                      "contactvib explore paper/paper.nc", "contactvib explore atlas/",
-                     "contactvib explore --graph-fmin 100 --graph-fmax 1000 --graph-df 2"}
+                     "contactvib explore --graph-fmin 100 --graph-fmax 1000 --graph-df 2",
+                     "contactvib explore --law exponential --preload 2"}
 
 # ------------------------------------------------------------------ documented contents
 

@@ -144,7 +144,7 @@ def test_page_attractors_bad_value_and_url(server, browser, tmp_path):
     assert rows287 != rows
     # the perturbation series, on the in-contact period-1 orbit
     playwright.expect(page.locator(".series-note")).to_contain_text("drawn on attractor #4")
-    page.locator("select").first.select_option(index=4)
+    page.locator(".attractor-select select").select_option(index=4)
     page.wait_for_function("() => Array.from(Bokeh.index.all_views()).some(v => v.model.title && "
                            "v.model.title.text === 'Time history' && v.model.renderers.some(r => r.glyph && "
                            "JSON.stringify(r.glyph.line_color).includes('#c00000')))", timeout=30_000)

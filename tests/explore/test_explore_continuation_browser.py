@@ -15,8 +15,8 @@ def test_continuation_button_draws_the_branch(server, browser, tmp_path):  # noq
     page.goto(server)
     _wait_done(page)
     assert len(_table(page)) == 5  # the table (and its selector) of this request
-    page.locator("select option").nth(4).wait_for(state="attached")
-    page.locator("select").first.select_option(index=4)  # the 1/4 (in contact)
+    page.locator(".attractor-select select option").nth(4).wait_for(state="attached")
+    page.locator(".attractor-select select").select_option(index=4)  # the 1/4 (in contact)
     page.wait_for_timeout(500)
     page.locator(".continue button").first.click()
     done = page.locator(".cont-status .cont-done")

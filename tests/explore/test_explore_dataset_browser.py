@@ -39,7 +39,7 @@ def click_graph(page, fe: float, app: float, grid_fe: str):
     _same(_table(page), cli)
     apps = [a["app_um"] for a in cli["attractors"]]
     nearest = min(range(len(apps)), key=lambda i: abs(math.log(apps[i] / app)))
-    assert page.locator("select").first.evaluate("s => s.selectedIndex") == nearest  # the clicked one
+    assert page.locator(".attractor-select select").evaluate("s => s.selectedIndex") == nearest  # the clicked one
 
 
 @pytest.fixture(scope="module")

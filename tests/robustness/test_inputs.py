@@ -85,7 +85,7 @@ EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
 for _name in ("attractors", "simulate", "basins", "perturbation"):
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
-for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm"):
+for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore"):
     OPTIONS[_name].update(LAW)
 #: What the levels hold (force, base-um, base-g): the sweeps, the continuation in f_e and hbm.
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):

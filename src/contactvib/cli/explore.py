@@ -2,16 +2,19 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from functools import partial
 
 import click
 
 from contactvib.cli.common import (
+    _LAW,
     InputError,
     RunInterrupted,
     _excitation,
     _feasible_frequencies,
     _int,
+    _law_options,
     _levels,
     _mapped,
     _model,
@@ -19,13 +22,26 @@ from contactvib.cli.common import (
 )
 
 
+@contextmanager
+def _law_of(point):
+    """Within: the page's law options are the command's (``--law``, ``--law-file``,
+    ``--damping``, ``--preload``, read by ``_model``), in this thread only."""
+    token = _LAW.set(point.law_options())
+    try:
+        yield
+    finally:
+        _LAW.reset(token)
+
+
 def _check(point):
     """The model and excitation of the page's fields, checked as ``attractors`` checks
-    ``--set``, ``--pa`` and ``--fe`` (same one-line messages)."""
+    ``--law``, ``--damping``, ``--preload``, ``--set``, ``--pa`` and ``--fe`` (same one-line
+    messages)."""
     from contactvib.explore.state import BadInput
 
     try:
-        model = _model(point.settings())
+        with _law_of(point):
+            model = _model(point.settings())
         return model, _excitation(model, point.fields["pa"].strip(), None, point.fields["fe"].strip())
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
@@ -64,8 +80,7 @@ def _continue(point, model, exc, result, n):
     lo, hi = (f"{v:.10g}" for v in window_hz(exc.f_e))
     command = (f"contactvib continue --pa {point.fields['pa'].strip()} --from-fe "
                f"{point.fields['fe'].strip()} --attractor {n} --no-switch --fmin {lo} --fmax {hi} "
-               f"--max-points {CONTINUATION_POINTS} --rtol {CONTINUATION_RTOL}"
-               + "".join(f" --set {s}" for s in point.settings()))
+               f"--max-points {CONTINUATION_POINTS} --rtol {CONTINUATION_RTOL}" + point.command_options())
     try:
         s = _settings({"fmin": lo, "fmax": hi, "max_points": str(CONTINUATION_POINTS), "app_max": "2000",
                        "rtol": CONTINUATION_RTOL})
@@ -99,23 +114,39 @@ def _graph_grid(fmin, fmax, df) -> tuple[str, str, str]:
 
 def _level_inputs(point, grid):
     """The page's resonance graph as ``contactvib resonance --pa P_A --fmin .. --fmax .. --df ..
-    [--set ..]`` computes it for one level (its other options at their defaults), checked as that
-    command checks them (same one-line messages): ``(model, P_a [Q], SweepSettings, command)``."""
+    [--law .. --damping .. --preload .. --set ..]`` computes it for one level (its other options
+    at their defaults), checked as that command checks them (same one-line messages):
+    ``(model, P_a [Q], SweepSettings, command)``."""
     from contactvib.cli.sweeps import _sweep_inputs, resonance
     from contactvib.explore.state import BadInput
 
     fmin, fmax, df = grid
     pa = point.fields["pa"].strip()
-    command = (f"contactvib resonance --pa {pa} --fmin {fmin} --fmax {fmax} --df {df}"
-               + "".join(f" --set {s}" for s in point.settings()))
+    command = f"contactvib resonance --pa {pa} --fmin {fmin} --fmax {fmax} --df {df}" + point.command_options()
     sweep = {**{p.name: p.default for p in resonance.params}, "fmin": fmin, "fmax": fmax, "df": df,
              "settings": point.settings()}
     try:
         level = _levels((pa,))[0]
-        model, st, _workers = _sweep_inputs(sweep)
+        with _law_of(point):
+            model, st, _workers = _sweep_inputs(sweep)
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
     return model, level, st, command
+
+
+def _start_point():
+    """The page's first point: the paper's, with the command's law options (``--law``,
+    ``--law-file``, ``--damping``, ``--preload``), checked as every command checks them before
+    anything is served."""
+    from contactvib.explore.state import Point
+
+    opts = _LAW.get() or {}
+    _model(())
+    point = Point(law_file=opts.get("law_file"))
+    point.fields.update(law=opts.get("law") or "power", damping=opts.get("damping") or "power")
+    if opts.get("preload") is not None:
+        point.fields["preload"] = opts["preload"].strip()
+    return point
 
 
 @click.command()
@@ -134,6 +165,7 @@ def _level_inputs(point, grid):
               help="Without DATASET: frequency step [Hz] of that graph.")
 @click.option("--graph-time-limit", default="300", show_default=True,
               help="Stop the computation of that graph after this many seconds.")
+@_law_options
 def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax, graph_df,
             graph_time_limit):
     """The contact oscillator live in the browser: every attractor at the P_a and f_e you type.
@@ -141,11 +173,15 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
     DATASET (optional): a paper.nc/resonance.nc/atlas.nc, or a folder holding one; the page then
     shows the resonance graph of each stored level, and a click on it moves f_e there. Without
     one, a button computes the graph of the current level in the background: the sweep of
-    contactvib resonance from --graph-fmin to --graph-fmax, step --graph-df."""
+    contactvib resonance from --graph-fmin to --graph-fmax, step --graph-df.
+
+    --law, --law-file, --damping and --preload set the page's first contact law (the page's
+    choosers change it; --law table needs --law-file, and only then does the page offer it)."""
     port = _int("--port", port, 0, 65535, symbol="port")
     limit = _positive("--time-limit", "time_limit", time_limit, "s")
     grid = _graph_grid(graph_fmin, graph_fmax, graph_df)
     graph_limit = _positive("--graph-time-limit", "time_limit", graph_time_limit, "s")
+    start = _start_point()
     host = host.strip()
     if not host or any(c.isspace() for c in host):
         raise InputError(f"--host {host!r}: expected a host name or an address")
@@ -168,7 +204,7 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
 
     try:
         ops = (_check, _find, _continue, partial(_level_inputs, grid=grid))
-        serve(ops, port, host, not no_browser, limit, ready, levels, graph_limit)
+        serve(ops, port, host, not no_browser, limit, ready, levels, graph_limit, start)
     except OSError as e:
         raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
     except KeyboardInterrupt:

@@ -22,6 +22,7 @@ from bokeh.plotting import figure
 from contactvib.explore.level_graph import GRAPH_TIME_LIMIT_S, LevelRun, sweep_level
 from contactvib.explore.state import (
     DEFAULTS,
+    MODEL_FIELDS,
     TIME_LIMIT_S,
     BadInput,
     Point,
@@ -32,10 +33,15 @@ from contactvib.explore.state import (
     search,
     table_rows,
 )
+from contactvib.model.laws import DAMPING_NAMES
 
 log = logging.getLogger("contactvib.explore")
 _LABELS = {"pa": "P_a [Q]", "fe": "f_e [Hz]", "M": "M [kg]", "g": "g [m/s²]", "S": "S [m²]",
-           "c_n": "c_n [N/m^(2+m2)]", "m2": "m2 [1]", "h_n": "h_n [N s/m^(3+l)]", "l": "l [1]"}
+           "c_n": "c_n [N/m^(2+m2)]", "m2": "m2 [1]", "h_n": "h_n [N s/m^(3+l)]", "l": "l [1]",
+           "law": "contact law (--law)", "damping": "damping (--damping)", "preload": "preload F_pre [N]",
+           "c_e": "c_e [N/m²]", "lam": "lam [m]", "alpha": "alpha [s/m]"}
+#: The page's choosers (Select widgets); every other field is typed.
+_CHOOSERS = ("law", "damping")
 _EXECUTOR = ThreadPoolExecutor(max_workers=2, thread_name_prefix="contactvib-explore")
 #: The background levels of every session, one at a time (a queued one shows 0 points done).
 _GRAPH_EXECUTOR = ThreadPoolExecutor(max_workers=1, thread_name_prefix="contactvib-graph")
@@ -137,7 +143,12 @@ class Page:
         self.graph_key = self._level_key()  # the (P_a, model) of graph_run or graph_level
         self.levels, self.pick_um = levels, None  # a DatasetLevels; A_pp [µm] of the last click
         self.fields = {k: pn.widgets.TextInput(name=_LABELS[k], value=point.fields[k], width=150,
-                                               css_classes=[f"field-{k}"]) for k in DEFAULTS}
+                                               css_classes=[f"field-{k}"]) for k in DEFAULTS if k not in _CHOOSERS}
+        for k, options in (("law", point.law_choices()), ("damping", DAMPING_NAMES)):
+            self.fields[k] = pn.widgets.Select(name=_LABELS[k], options=list(options), value=point.fields[k],
+                                               width=150, css_classes=[f"field-{k}"])
+        self.model_grid = pn.GridBox(ncols=4)
+        self._show_families()
         self.fe_slider = pn.widgets.FloatSlider(name="f_e slider [Hz]", start=50, end=1000, step=1,
                                                 value=self._float("fe", 360.0), width=320)
         if levels is None:
@@ -159,7 +170,8 @@ class Page:
         self.status = pn.pane.HTML("", css_classes=["status"], width=900)
         self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
         self.table = pn.pane.HTML("", css_classes=["table"], width=900)
-        self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=230)
+        self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=230,
+                                        css_classes=["attractor-select"])
         self.download = pn.widgets.FileDownload(callback=self._json, filename="attractors.json",
                                                 label="attractors.json (the CLI's --json)", width=260,
                                                 css_classes=["download-json"])
@@ -191,10 +203,20 @@ class Page:
     def _set(self, name, value):
         self.fields[name].value = f"{value:g}"
 
+    def _show_families(self):
+        """Show the model fields of the chosen law and damping only (:meth:`.state.Point.active`);
+        the others keep their values, hidden."""
+        active = self.point.active()
+        if list(self.model_grid.objects) != [self.fields[k] for k in active]:
+            self.model_grid.objects = [self.fields[k] for k in active]
+        for k in MODEL_FIELDS:
+            self.fields[k].visible = k in active
+
     def layout(self):
         ops = pn.Column("### Operating point", pn.Row(self.fields["pa"], self.pa_slider),
                         pn.Row(self.fields["fe"], self.fe_slider), "### Model",
-                        pn.GridBox(*(self.fields[k] for k in DEFAULTS if k not in ("pa", "fe")), ncols=4),
+                        pn.Row(*(self.fields[k] for k in ("law", "damping", "preload"))),
+                        self.model_grid,
                         self.derived)
         return pn.Column("## contactvib explore: the contact oscillator of Kostek 2013", ops, self.message,
                          self.status, pn.Row(self.graph_button, self.graph_progress, self.graph_status),
@@ -207,7 +229,8 @@ class Page:
 
     async def refresh(self):
         """Check the fields and search (the newest request wins; older results are dropped)."""
-        self.point = Point({k: w.value for k, w in self.fields.items()})
+        self.point = Point({k: w.value for k, w in self.fields.items()}, self.point.law_file)
+        self._show_families()
         if self._level_key() != self.graph_key:
             self._drop_graph()
         for name, slider in (("fe", self.fe_slider), ("pa", self.pa_slider)):
@@ -242,7 +265,7 @@ class Page:
         self.payload = payload
         d = derived(payload["model"])
         self.derived.object = (f"f_n0 = {d['f_n0']:.1f} Hz, y0 = {d['y0']:.4f} µm, "
-                               f"ζ = {d['zeta']:.4f}")
+                               f"ζ = {d['zeta']:.4f}; {html.escape(payload['model'].describe_law())}")
         result = payload["result"]
         rows = table_rows(result, payload["labels"])
         self.table.object = _table_html(rows, mine)
@@ -351,8 +374,8 @@ class Page:
         return int(np.nanargmin(np.abs(np.log(np.maximum(app, 1e-300)) - np.log(pick))))
 
     def _level_key(self):
-        """What a level's graph depends on: P_a and the model fields, as typed."""
-        return self.point.fields["pa"].strip(), self.point.settings()
+        """What a level's graph depends on: P_a and the model (law options and fields), as typed."""
+        return self.point.fields["pa"].strip(), self.point.model_args()
 
     def _drop_graph(self):
         """A new P_a or model: stop the background level under way, drop the computed graph."""
@@ -443,13 +466,15 @@ class Page:
             loc.search = ("?" + urlencode(q)) if q else ""
 
 
-def build(ops, limit_s: float = TIME_LIMIT_S, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S):
-    """The page of a new session, from its URL query parameters (``ops``: see :func:`_compute`;
+def build(ops, limit_s: float = TIME_LIMIT_S, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S,
+          start: Point | None = None):
+    """The page of a new session, from its URL query parameters over ``start`` (the explore
+    command's law options; default the paper's point) (``ops``: see :func:`_compute`;
     ``levels``: a :class:`.dataset_view.DatasetLevels` or None). With a dataset and no P_a in
     the URL, P_a starts at the stored level nearest the default."""
     args = {k: [v.decode("utf-8", "replace") if isinstance(v, bytes) else v for v in vs]
             for k, vs in (pn.state.session_args or {}).items()}
-    point = Point.from_query(args)
+    point = Point.from_query(args, start)
     if levels is not None and "pa" not in args:
         lv = np.asarray(levels.levels)
         point.fields["pa"] = f"{lv[np.argmin(np.abs(lv - float(point.fields['pa'])))]:g}"

@@ -7,18 +7,20 @@ from contactvib.explore.state import TIME_LIMIT_S
 
 
 def serve(ops, port: int = 0, host: str = "127.0.0.1", open_browser: bool = True,
-          limit_s: float = TIME_LIMIT_S, ready=None, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S):
+          limit_s: float = TIME_LIMIT_S, ready=None, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S,
+          start=None):
     """Serve until stopped; ``ops = (check, find, continue, level inputs)`` (:func:`.app._compute`,
     :class:`.app.Page`). ``ready(url)`` is called once the server listens (the CLI prints it).
     ``levels``: a :class:`.dataset_view.DatasetLevels` whose resonance graphs the pages show
     (read-only, shared by the sessions); without it a page computes the graph of its level in
-    the background, stopped after ``graph_limit_s``."""
+    the background, stopped after ``graph_limit_s``. ``start``: the first point of every page
+    (a :class:`.state.Point`, its law and law file; default the paper's)."""
     import panel as pn
 
     from contactvib.explore.app import build
 
     def page():
-        return build(ops, limit_s, levels, graph_limit_s)
+        return build(ops, limit_s, levels, graph_limit_s, start)
 
     if not port:
         import socket

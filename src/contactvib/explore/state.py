@@ -7,48 +7,104 @@ the CLI's search, and this package never imports the CLI."""
 
 from __future__ import annotations
 
+import shlex
 import threading
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from contactvib.model.oscillator import PAPER_DEFAULTS
+from contactvib.model.laws import DAMPING_NAMES, EXPONENTIAL_DEFAULTS, HUNT_CROSSLEY_DEFAULT, LAW_NAMES
+from contactvib.model.oscillator import FAMILY_PARAMETERS, PAPER_DEFAULTS
 
-#: Text fields of the page (P_a/Q, f_e and the model parameters) with their defaults.
-DEFAULTS = {"pa": "0.65", "fe": "360", **{k: f"{v:g}" for k, v in PAPER_DEFAULTS.items()}}
+#: The contact-law fields: the law and damping choosers (the CLI's ``--law``, ``--damping``),
+#: the preload [N] (``--preload``, 0: none) and the parameters of the other families
+#: (``--set c_e``, ``lam``, ``alpha``) at the library's defaults.
+LAW_DEFAULTS = {"law": "power", "damping": "power", "preload": "0",
+                **{k: f"{v:g}" for k, v in EXPONENTIAL_DEFAULTS.items()}, "alpha": f"{HUNT_CROSSLEY_DEFAULT:g}"}
+#: Text fields of the page (P_a/Q, f_e, the model parameters and the law fields) with their defaults.
+DEFAULTS = {"pa": "0.65", "fe": "360", **{k: f"{v:g}" for k, v in PAPER_DEFAULTS.items()}, **LAW_DEFAULTS}
+#: The model parameters the page may pass as ``--set`` (the CLI's ``SET_NAMES``), in its order.
+MODEL_FIELDS = (*PAPER_DEFAULTS, "c_e", "lam", "alpha")
 #: Default time limit of one computation [s].
 TIME_LIMIT_S = 30.0
 
 
 @dataclass
 class Point:
-    """The page's fields as typed (text); :meth:`checked` turns them into a model and excitation."""
+    """The page's fields as typed (text); :meth:`checked` turns them into a model and excitation.
+
+    ``law_file``: the table of ``--law table`` (the explore command's ``--law-file``; never
+    from a URL, which must not name files on the server). The parameters of a family that is
+    not chosen (``c_e`` under the power law, ``alpha`` under the power damping, …) are hidden in
+    the page and ignored here: they are neither checked nor passed, so switching families back
+    and forth keeps what was typed, and a hidden field can never block the page."""
 
     fields: dict[str, str] = field(default_factory=lambda: dict(DEFAULTS))
+    law_file: str | None = None
 
     @classmethod
-    def from_query(cls, query: dict) -> Point:
-        """The point of URL query parameters (unknown names ignored; values stay text)."""
-        fields = dict(DEFAULTS)
+    def from_query(cls, query: dict, start: Point | None = None) -> Point:
+        """The point of URL query parameters over ``start`` (the page's first point; default
+        the paper's): unknown names ignored, values stay text, a law or damping the page does not
+        offer is ignored."""
+        start = cls() if start is None else start
+        fields = dict(start.fields)
+        choices = {"law": start.law_choices(), "damping": DAMPING_NAMES}
         for name in DEFAULTS:
             value = query.get(name)
             if isinstance(value, (list, tuple)):
                 value = value[-1] if value else None
             if isinstance(value, bytes):
                 value = value.decode("utf-8", "replace")
-            if value is not None:
+            if value is not None and (name not in choices or str(value) in choices[name]):
                 fields[name] = str(value)[:64]
-        return cls(fields)
+        return cls(fields, start.law_file)
+
+    def law_choices(self) -> tuple[str, ...]:
+        """The laws the page offers: power, exponential, and table with a ``law_file``."""
+        return LAW_NAMES if self.law_file is not None else tuple(n for n in LAW_NAMES if n != "table")
 
     def query(self) -> dict[str, str]:
         """URL query parameters of the fields that differ from the defaults."""
         return {k: v for k, v in self.fields.items() if v != DEFAULTS[k]}
 
+    def active(self) -> tuple[str, ...]:
+        """The model fields of the chosen law and damping: M, g, S (every law's), the spring's, the
+        damping's."""
+        law, damping = self.fields["law"].strip(), self.fields["damping"].strip()
+        return ("M", "g", "S", *FAMILY_PARAMETERS.get(law, ()), *FAMILY_PARAMETERS.get(f"damping {damping}", ()))
+
     def settings(self) -> tuple[str, ...]:
-        """The model fields that differ from the paper's, as the CLI's ``--set NAME=VALUE``."""
-        return tuple(f"{k}={self.fields[k].strip()}" for k in PAPER_DEFAULTS
+        """The model fields of the chosen families that differ from their defaults, as the CLI's
+        ``--set NAME=VALUE``."""
+        return tuple(f"{k}={self.fields[k].strip()}" for k in self.active()
                      if self.fields[k].strip() != DEFAULTS[k])
+
+    def law_options(self) -> dict:
+        """The CLI's law options (``--law``, ``--law-file``, ``--damping``, ``--preload``) as
+        :func:`contactvib.cli.common._law_options` hands them to ``_model``; a preload of 0 is
+        none."""
+        law, preload = self.fields["law"].strip(), self.fields["preload"].strip()
+        return {"law": law, "law_file": self.law_file if law == "table" else None,
+                "damping": self.fields["damping"].strip(), "preload": None if preload == "0" else preload}
+
+    def model_args(self) -> tuple[str, ...]:
+        """The model as the CLI's arguments: the law options that differ from the defaults, then
+        ``--set NAME=VALUE`` (:meth:`settings`)."""
+        opts = self.law_options()
+        args = [*(("--law", opts["law"]) if opts["law"] != "power" else ()),
+                *(("--law-file", opts["law_file"]) if opts["law_file"] is not None else ()),
+                *(("--damping", opts["damping"]) if opts["damping"] != "power" else ()),
+                *(("--preload", opts["preload"]) if opts["preload"] is not None else ())]
+        for s in self.settings():
+            args += ["--set", s]
+        return tuple(args)
+
+    def command_options(self) -> str:
+        """:meth:`model_args` as they follow a command on a shell line (each one quoted where the
+        shell needs it), with a leading space; empty for the paper's model."""
+        return "".join(f" {shlex.quote(a)}" for a in self.model_args())
 
 
 class BadInput(ValueError):
