@@ -94,6 +94,11 @@ REDUCED: dict[str, list[str]] = {
     "contactvib attractors --pa 0.65 --fe 700 --damping hunt-crossley --set alpha=34.4":
         ["attractors", "--pa", "0.65", "--fe", "700", "--damping", "hunt-crossley", "--set", "alpha=34.4",
          "--starts", "8"],
+    "contactvib attractors --pa 0.3 --fe 1000 --law table --law-file examples/gw_table.csv --damping hunt-crossley "
+    "--set alpha=34.4":
+        ["attractors", "--pa", "0.3", "--fe", "1000", "--law", "table", "--law-file",
+         str(README.parent / "examples" / "gw_table.csv"), "--damping", "hunt-crossley", "--set", "alpha=34.4",
+         "--starts", "8", "--no-seeds"],
     "contactvib attractors --pa 0.65 --fe 700 --preload 2":
         ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
     "contactvib attractors --fe 1200 --base-um 0.05":

@@ -27,7 +27,8 @@ def _cases():
         "exponential": (ContactModel(law="exponential"), lambda m: m.excitation(0.1, F_E)),
         "hunt-crossley-preload": (ContactModel(damping="hunt-crossley", preload=1.0), lambda m: m.excitation(0.1, F_E)),
         "power-base-um": (power, lambda m: Excitation.base(m, F_E, u_um=0.05)),
-        "exponential-base-g": (ContactModel(law="exponential", preload=0.3), lambda m: Excitation.base(m, F_E, a_g=0.2)),
+        "exponential-base-g": (ContactModel(law="exponential", preload=0.3),
+                               lambda m: Excitation.base(m, F_E, a_g=0.2)),
         "power-preload-harmonics": (ContactModel(preload=0.5),
                                     lambda m: m.excitation(0.1, F_E, harmonics=((2, 0.05, 30.0), (3, 0.02, -60.0)))),
     }

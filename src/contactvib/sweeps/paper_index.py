@@ -83,8 +83,10 @@ def _level_text(ds, pa: float, m_max: int = 6) -> list:
 def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spec_path) -> Path:
     st = _statements(spec_path)
     L = ["# contactvib reproduction of Kostek (2013), Part 3", ""]
+    law = ds.attrs.get("law", "")
     L.append(f"Model: f_n0 = {float(ds.attrs['fn0_hz']):.1f} Hz, y0 = {float(ds.attrs['y0_um']):.4f} µm "
-             f"(S2.1, S2.2). Dataset `paper.nc`: {ds.sizes['point']} attractor points, "
+             f"(S2.1, S2.2){'; ' + law if law else ''}; parameters `{ds.attrs.get('model', '')}`. "
+             f"Dataset `paper.nc`: {ds.sizes['point']} attractor points, "
              f"{ds.sizes['branch']} branches on {len(levels)} levels. Sweep settings: "
              f"`{ds.attrs['settings']}`.")
     L.append(f"Wall time: {timing['sweeps_and_figures_s']:.1f} s for the sweeps and figures "
