@@ -242,3 +242,20 @@ def test_slider_absolute_motion_against_scipy(kw):
                                    rtol=0, atol=1e-12)
     force = find_attractors(PAPER, PAPER.excitation(0.3, f), n_starts=8)
     assert all(a.slider_app_um is None and "slider_app_um" not in a.to_dict() for a in force)
+
+
+def test_sweep_points_carry_the_slider_motion(base_sweep):
+    """Every periodic point of the base sweep has slider_app_um = the attractor search's value at
+    the same orbit (rel 1e-9: the same orbit point sampled the same way), NaN elsewhere."""
+    from contactvib.steady.orbits import slider_app_um
+
+    ds = base_sweep
+    s = ds["slider_app_um"].values
+    periodic = ds["period"].values > 0
+    assert np.all(np.isfinite(s[periodic])) and np.all(np.isnan(s[~periodic]))
+    sy, sv = PAPER.y0, PAPER.y0 * PAPER.omega_n0
+    for j in np.flatnonzero(periodic)[::40]:
+        f = float(ds["fe_hz"][j])
+        z = np.array([float(ds["state_y_um"][j]) * 1e-6 / sy, float(ds["state_ydot_mm_s"][j]) * 1e-3 / sv])
+        exc = Excitation.base(PAPER, f, u_um=U_UM)
+        assert s[j] == pytest.approx(slider_app_um(exc, z, int(ds["period"][j])), rel=1e-9)

@@ -105,6 +105,17 @@ SLIDER_SAMPLES = 4000
 EQUILIBRIUM_APP = 1e-9
 
 
+def slider_app_um(excitation: Excitation, z_or_records, n_periods: int) -> float:
+    """Peak-to-peak [µm] of the slider's absolute motion s = y + u over ``n_periods`` under base
+    motion u(t) (:attr:`Excitation.base_amplitude_um`), from the orbit point ``z`` at phase 0 (or
+    its step records), sampled :data:`SLIDER_SAMPLES` times a period."""
+    rec = record(excitation, z_or_records, n_periods)[0] if np.ndim(z_or_records) == 1 else z_or_records
+    tau = np.linspace(0.0, n_periods * excitation.tau_period, n_periods * SLIDER_SAMPLES + 1)
+    xs, _v, _c = sample_records(rec, tau)
+    s = xs * excitation.model.units.y_um + excitation.base_amplitude_um * np.cos(excitation.r * tau)
+    return float(s.max() - s.min())
+
+
 def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
                    monodromy=None, closure: float = math.inf, basin_fraction: float = 0.0,
                    hits: int = 0, n_periods_nonperiodic: int = 32, kind: str | None = None,
@@ -122,13 +133,7 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     xmin, xmax, flight, n_min, t_ext, x_ext, is_min = measure_orbit(rec, t_flight, n, excitation.r)
     if xmax - xmin <= EQUILIBRIUM_APP:  # an equilibrium (the rest state at P_a = 0): no extrema
         n_min, t_ext, x_ext, is_min = 0, np.empty(0), np.empty(0), np.empty(0, bool)
-    slider_app = None
-    U = excitation.base_amplitude_um
-    if U is not None:  # the slider's absolute motion s = y + u, sampled densely over the span
-        tau = np.linspace(0.0, n * excitation.tau_period, n * SLIDER_SAMPLES + 1)
-        xs, _v, _c = sample_records(rec, tau)
-        s = xs * u.y_um + U * np.cos(excitation.r * tau)
-        slider_app = float(s.max() - s.min())
+    slider_app = slider_app_um(excitation, rec, n) if excitation.base_amplitude_um is not None else None
     if period is not None:
         strobe = strobe_points(excitation, z, period)
         multipliers = np.linalg.eigvals(monodromy) if monodromy is not None else np.empty(0, complex)

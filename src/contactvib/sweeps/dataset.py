@@ -146,12 +146,24 @@ def _trace_variables(pa: float, stops) -> dict:
     }
 
 
-def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndarray) -> tuple[dict, dict]:
+def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndarray, rows) -> tuple[dict, dict]:
     """The level's variables and attributes of a base-motion sweep (``kind`` "base-um"/"base-g":
     the level is U [um] or A [g]; nothing for a force sweep): the level variable ``pa_over_q``
-    with its own units and ``force_pa_over_q``, the inertial force of each point [Q]."""
+    with its own units, ``force_pa_over_q``, the inertial force of each point [Q], and
+    ``slider_app_um``, the peak-to-peak of the slider's absolute motion s = y + u (periodic
+    points; NaN for non-periodic ones)."""
     if kind == "force":
         return {}, {}
+    from contactvib.steady.orbits import OrbitError, slider_app_um
+
+    def slider(j):
+        if rows.kind[j] != 0:
+            return math.nan
+        try:
+            return slider_app_um(excitation_at(model, pa, float(fe[j]), kind), rows.z[j], int(rows.k[j]))
+        except OrbitError:
+            return math.nan
+
     sym, unit, long_name = LEVEL_KINDS[kind]
     variables = {
         "pa_over_q": ("point", np.full(fe.size, pa), {
@@ -161,6 +173,9 @@ def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndar
         "force_pa_over_q": ("point", np.array([excitation_at(model, pa, float(v), kind).pa_over_q for v in fe]),
                             {"units": "Q",
                              "long_name": "equivalent force amplitude M U (2 pi f_e)^2/(M g) or M A/(M g)"}),
+        "slider_app_um": ("point", np.array([slider(j) for j in range(fe.size)]),
+                          {"units": "um", "long_name": "peak-to-peak of the slider's absolute motion s = y + u",
+                           "comment": "NaN for non-periodic points"}),
     }
     return variables, {"excitation": kind, "level_symbol": sym, "level_unit": unit}
 
@@ -226,7 +241,7 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um,
                          {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
     }
-    level_vars, attrs = _level_kind_variables(model, settings.get("excitation", "force"), pa, fe)
+    level_vars, attrs = _level_kind_variables(model, settings.get("excitation", "force"), pa, fe, rows)
     point_vars.update(level_vars)
     ds = xr.Dataset(
         {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},
@@ -402,6 +417,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
             "kind": str(v["kind"][p]),
             "minima_per_period": int(v["minima_per_period"][p]) if periodic else None,
             "app_um": float(v["app_um"][p]),
+            **({"slider_app_um": num(ds["slider_app_um"].values[p])} if "slider_app_um" in ds else {}),
             "ymin_um": float(v["ymin_um"][p]),
             "ymax_um": float(v["ymax_um"][p]),
             "loses_contact": bool(v["loses_contact"][p]),
