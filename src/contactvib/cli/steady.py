@@ -38,14 +38,33 @@ def _search(starts, seed, kmax, max_periods) -> dict:
     return dict(zip(_SEARCH_OPTIONS, _mapped(_SEARCH_OPTIONS, check_search, **kw)))
 
 
-def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
-    """find_attractors with the search options (it checks them; we name the options)."""
+def _find(model, exc, starts, seed, kmax, max_periods, no_seeds, progress=None):
+    """find_attractors with the search options (it checks them; we name the options);
+    ``progress`` as find_attractors'."""
     from contactvib.steady.attractors import find_attractors
 
     kw = _search(starts, seed, kmax, max_periods)
     names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
     with _ctrl_c():
-        return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, **kw)
+        return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, progress=progress, **kw)
+
+
+def _header(model, exc, no_seeds):
+    """A progress callback of the search that prints the table's header lines when the search
+    starts (its inputs checked), so that they show what runs while it runs."""
+    from contactvib.steady.attractors import ballistic_seeds
+
+    def progress(done, total):
+        if done:
+            return
+        n_seeds = 0 if no_seeds else ballistic_seeds(exc)[0].shape[0]
+        click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
+                   f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
+                   f"{total - n_seeds} box starts + {n_seeds} seeds")
+        if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
+            click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+
+    return progress
 
 
 def _excitation_text(exc) -> str:
@@ -78,16 +97,12 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
     """All coexisting attractors at one operating point (P_a, f_e)."""
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
-    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
     if as_json:
+        result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
         _echo_json(result.to_json())
         _none_settled(result)
         return
-    click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
-               f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
-               f"{result.n_box} box starts + {result.n_seeds} seeds")
-    if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
-        click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds, _header(model, exc, no_seeds))
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
             f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}")
     click.echo(head)
