@@ -46,6 +46,29 @@ def test_bad_input_one_line(args, message):
     assert lines[0].startswith(message)
 
 
+@pytest.mark.parametrize("args, start, needle", [
+    # f_e is ordinary; the --set values move f_n0 out of its reach: they are named, with their range
+    (["--set", "m2=1", "--pa", "0.65", "--fe", "360"],
+     "contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz", "this f_e needs m2 >= 1.466"),
+    (["--set", "c_n=1e25"], "contactvib: error: --set c_n = 1e+25: gives f_n0 = 181112 Hz",
+     "this f_e needs c_n <= 2.582e+21"),
+    (["--set", "c_n=1e-10", "--set", "h_n=1e-6", "--pa", "0.65", "--fe", "360"],
+     "contactvib: error: --set c_n = 1e-10 --set h_n = 1e-6: gives f_n0 = 0.000322069 Hz",
+     "this f_e needs c_n >= 156.1"),
+    (["--set", "c_n=1e-10", "--pa", "0.65", "--fe", "360"],
+     "contactvib: error: --set c_n=1e-10 (h_n) = 3.5e+11: gives the damping ratio zeta = 1.77e+18", "h_n <="),
+    # f_e is out of reach of the paper's f_n0 as well: --fe is named
+    (["--set", "M=2", "--fe", "1e-9"], "contactvib: error: --fe (f_e) = 1e-9: must lie in", "f_n0 = 845.941 Hz"),
+])
+def test_model_parameter_errors_name_the_parameter(args, start, needle, capsys):
+    """An error a --set value causes names that --set (not --fe), one line, exit 2."""
+    assert main(["attractors", *args]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(start) and needle in lines[0], err
+
+
 @pytest.mark.parametrize("args, message", [
     (["attractors", "--pa", "-1"],
      "contactvib: error: --pa (P_a/Q) = -1: must be >= 0 (multiple of Q = M g)"),

@@ -10,18 +10,20 @@ from contactvib.cli.common import (
     InputError,
     _ctrl_c,
     _echo_json,
+    _error,
     _excitation,
     _int,
     _mapped,
     _max_periods,
     _model,
+    _model_blamed,
     _number,
     _operating_point_options,
     _output_folder,
     _scoped,
     _search_options,
 )
-from contactvib.model import ContactModel
+from contactvib.model import ContactModel, ParameterError
 
 #: Options of the attractor search, by find_attractors' parameter names.
 _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
@@ -46,7 +48,27 @@ def _find(model, exc, starts, seed, kmax, max_periods, no_seeds, progress=None):
     kw = _search(starts, seed, kmax, max_periods)
     names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
     with _ctrl_c():
-        return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, progress=progress, **kw)
+        try:
+            return find_attractors(model, exc, seeds=not no_seeds, progress=progress, **kw)
+        except ParameterError as e:
+            blamed = _model_blamed(model, e, _work_within_reach(exc, kw, no_seeds))
+            raise (blamed or _error(names.get(e.symbol, e.symbol), e, names)) from None
+
+
+def _work_within_reach(exc, kw: dict, no_seeds: bool):
+    """Whether the search of ``kw`` at ``exc``'s excitation is within the work limit for a
+    model (a test for :func:`_model_blamed`)."""
+    import dataclasses
+
+    from contactvib.steady.attractors import ballistic_seeds, default_max_periods
+    from contactvib.steady.transients import WORK_MAX_STEPS, check_work
+
+    def accepts(model):
+        e = dataclasses.replace(exc, model=model)
+        n = kw["n_starts"] + (0 if no_seeds else ballistic_seeds(e)[0].shape[0])
+        return check_work(e, n, kw["max_periods"] or default_max_periods(e)) <= WORK_MAX_STEPS
+
+    return accepts
 
 
 def _header(model, exc, no_seeds):
