@@ -4,6 +4,7 @@ traceback, nothing written or computed."""
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from contactvib.cli import main
@@ -229,6 +230,46 @@ def test_query_errors_are_one_line(small_dataset, capsys, args, needle):
     assert main(["query", str(small_dataset), *args]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("contactvib: error: ") and needle in err, err
+
+
+def _damaged(small_dataset, path, damage):
+    """A copy of the small dataset at ``path`` with ``damage(ds)`` applied (in memory)."""
+    import xarray as xr
+
+    with xr.open_dataset(small_dataset) as ds:
+        ds = damage(ds.load())
+    ds.to_netcdf(path)
+    return path
+
+
+def _set(name, i, value):
+    def damage(ds):
+        v = ds[name].values.copy()
+        v[i] = value
+        return ds.assign({name: (ds[name].dims, v)})
+    return damage
+
+
+@pytest.mark.parametrize("damage, where", [
+    (lambda ds: ds.drop_vars("app_um"), "damaged: variable 'app_um' is missing"),
+    (lambda ds: ds.drop_vars("strobe_y_um"), "damaged: variable 'strobe_y_um' is missing"),
+    (_set("branch_index", 3, 99), "damaged: branch_index = 99 at point 3 (P_a = 0.65 Q, f_e = 346 Hz) "
+                                  "refers outside the 2 stored branch entries"),
+    (_set("extrema_start", 0, 10 ** 6), "damaged: extrema_start = 1000000, extrema_count = "),
+    (_set("fe_hz", 2, np.nan), "damaged: fe_hz is nan at point 2 (P_a = 0.65 Q, f_e = nan Hz)"),
+    (_set("pa_over_q", 0, np.nan), "damaged: pa_over_q is nan at point 0"),
+    (_set("ymin_um", 5, np.nan), "damaged: ymin_um is nan at point 5 (P_a = 0.65 Q, f_e = 350 Hz)"),
+    (_set("strobe_y_um", 4, np.inf), "damaged: strobe_y_um is inf at strobe 4"),
+])
+def test_query_on_a_damaged_dataset_says_where(small_dataset, tmp_path, capsys, damage, where):
+    """A damaged dataset: one line naming the file and the damage, exit 2 (not a library's
+    message, not an answer with nulls)."""
+    path = _damaged(small_dataset, tmp_path / "damaged.nc", damage)
+    assert main(["query", str(path), "--pa", "0.65", "--fe", "360", "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err.count("\n") == 1 and err.startswith(f"contactvib: error: DATASET = {path}: {where}"), err
+    assert err.rstrip().endswith("recompute it")
 
 
 def test_query_rejects_missing_and_foreign_files(tmp_path, capsys):
