@@ -150,9 +150,23 @@ def test_cli_continue_in_pa_bad_input(args, message, capsys):
     assert len(err) == 1 and err[0].startswith(message)
 
 
+def test_continue_refuses_an_amplitude_bound_no_branch_can_leave(tmp_path, capsys):
+    """--app-max below the A_pp of every start: one line naming it and the smallest A_pp, exit 2,
+    nothing written."""
+    out = tmp_path / "b"
+    assert main(["continue", "--app-max", "0.01", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(
+        "contactvib: error: --app-max (app_max_um) = 0.01: must be > 0.8534 µm, the smallest A_pp"), err
+    assert not any(out.iterdir())
+
+
 @pytest.mark.parametrize("args, message", [
     (["continue", "--rtol", "1e-16"], "contactvib: error: --rtol (rtol) = 1e-16: must be in [1e-15, 1e-6]"),
     (["continue", "--app-max", "-1"], "contactvib: error: --app-max (app_max_um) = -1: must be > 0 µm"),
+    (["continue", "--max-points", "1"], "contactvib: error: --max-points (max_points) = 1: must be an integer >= 2"),
+    (["bifurcations", "--max-points", "0"],
+     "contactvib: error: --max-points (max_points) = 0: must be an integer >= 2"),
     (["continue", "--attractor", "1.5"], "contactvib: error: --attractor (attractor) = 1.5: must be an integer >= 0"),
     (["bifurcations", "--seed-fe", "500,2500"],
      "contactvib: error: --seed-fe (f_e) = 2500: must lie in [--fmin, --fmax] = [30, 2000] Hz"),
