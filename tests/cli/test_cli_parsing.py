@@ -58,8 +58,6 @@ def test_bifurcations_levels(tmp_path, capsys):
 
 def test_levels_reach_the_command(monkeypatch, tmp_path):
     """`--pa 0.5 0.6 0.65` gives three levels, in order; `--pa A --pa B` too."""
-    import contactvib.cli.sweeps as sweeps
-
     seen = []
 
     def stop(model, levels, *a, **k):
@@ -67,7 +65,6 @@ def test_levels_reach_the_command(monkeypatch, tmp_path):
         raise InputError("stop")
 
     monkeypatch.setattr("contactvib.sweeps.resonance.resonance_dataset", stop)
-    assert sweeps is not None
     assert main(["resonance", "--pa", "0.5", "0.6", "0.65", "--df", "5", "--out", str(tmp_path)]) == 2
     assert main(["resonance", "--pa", "0.5", "--df", "5", "--pa", "0.7", "--out", str(tmp_path)]) == 2
     assert main(["resonance", "--df", "5", "--out", str(tmp_path)]) == 2
