@@ -70,6 +70,19 @@ def test_model_parameter_errors_name_the_parameter(args, start, needle, capsys):
     assert len(lines) == 1 and lines[0].startswith(start) and needle in lines[0], err
 
 
+@pytest.mark.parametrize("command", [["basins"], ["resonance", "--pa", "0.5"], ["continue"], ["bifurcations"]])
+def test_model_parameter_errors_name_the_parameter_in_every_command(command, tmp_path, capsys):
+    """--set m2=1 (f_n0 = 2.2 MHz) names m2 wherever f_e or the frequency range is refused
+    for it (the work of a basin map, --fmin = 30 Hz below 1e-4 f_n0)."""
+    out = tmp_path / "out"
+    assert main([*command, "--set", "m2=1", "--out", str(out)]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz"), lines
+    assert "this f_e needs m2 >= " in lines[0]
+    assert not out.exists() or not any(out.iterdir())
+
+
 @pytest.mark.parametrize("args, message", [
     (["attractors", "--pa", "-1"],
      "contactvib: error: --pa (P_a/Q) = -1: must be >= 0 (multiple of Q = M g)"),

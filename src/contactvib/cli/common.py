@@ -205,11 +205,12 @@ def _boundary(model: ContactModel, name: str, accepts) -> float | None:
     return math.exp(hi) if log else hi
 
 
-def _model_blamed(model: ContactModel, e: ParameterError, accepts) -> InputError | None:
+def _model_blamed(model: ContactModel, e: ParameterError, accepts, option: str = "--fe") -> InputError | None:
     """An f_e refusal that the --set parameters cause (the frequency ratio r = f_e/f_n0 or the
     work of a search out of reach), as one line naming them: when the paper's parameters accept
     this f_e (``accepts(ContactModel())``), the --set values that moved f_n0 (and ζ) are to
-    blame, with the range of each one alone that this f_e allows. None otherwise (--fe is named)."""
+    blame, with the range of each one alone that this f_e allows. None otherwise (``option``,
+    the option that gave f_e, is named)."""
     changed = _set_changes(model)
     if e.symbol != "f_e" or not changed:
         return None
@@ -229,7 +230,7 @@ def _model_blamed(model: ContactModel, e: ParameterError, accepts) -> InputError
                else "")
     return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz and zeta = {model.zeta:.3g} (the paper's "
                       f"parameters: f_n0 = {paper.f_n0:.6g} Hz, zeta = {paper.zeta:.3g}), with which "
-                      f"--fe (f_e) = {_show(e.value)}: {e.allowed}{allowed}")
+                      f"{option} (f_e) = {_show(e.value)}: {e.allowed}{allowed}")
 
 
 def _scoped(var: contextvars.ContextVar, names: tuple[str, ...], f):
@@ -484,4 +485,7 @@ def _feasible_frequencies(model: ContactModel, fmin: float, fmax: float,
     """Both ends of a frequency range are excitation frequencies the model can be integrated at
     (checked by :class:`Excitation`, whose f_e range follows from the model's f_n0)."""
     for option, f in zip(options, (fmin, fmax)):
-        _checked(option, Excitation, model, 0.0, f)
+        refused = _frequency_ratio_error(model, f)
+        if refused is not None:
+            blamed = _model_blamed(model, refused, lambda m, f=f: _frequency_ratio_error(m, f) is None, option)
+            raise blamed or _error(option, refused)
