@@ -339,7 +339,7 @@ _QUERY_POINT = ("pa_over_q", "fe_hz", "period", "kind", "minima_per_period", "ap
 _QUERY_OTHER = ("extremum_t_ms", "extremum_y_um", "extremum_is_min", "strobe_y_um", "strobe_ydot_mm_s",
                 "branch_id", "branch_label", "branch_reached_by_sweep")
 #: Variables that must be finite everywhere (the others may hold NaN: basin, Lyapunov, ...).
-_FINITE = ("pa_over_q", "fe_hz", "app_um", "ymin_um", "ymax_um", "contact_loss_fraction", "dominant_harmonic",
+_FINITE = ("pa_over_q", "fe_hz", "app_um", "ymin_um", "ymax_um", "contact_loss_fraction",
            "extremum_t_ms", "extremum_y_um", "strobe_y_um", "strobe_ydot_mm_s")
 
 
