@@ -58,6 +58,11 @@ def test_bad_input_one_line(args, message):
      "this f_e needs c_n >= 156.1"),
     (["--set", "c_n=1e-10", "--pa", "0.65", "--fe", "360"],
      "contactvib: error: --set c_n=1e-10 (h_n) = 3.5e+11: gives the damping ratio zeta = 1.77e+18", "h_n <="),
+    # little damping: the automatic transient limit makes the search's work out of reach
+    (["--set", "h_n=1e3"], "contactvib: error: --set h_n = 1000: gives f_n0 = 1485.02 Hz and zeta = 5.16e-11",
+     "this f_e needs h_n >= 9.473e+07"),
+    (["--set", "l=10"], "contactvib: error: --set l = 10: gives f_n0 = 1485.02 Hz and zeta = 2.71e-62",
+     "this f_e needs l <= 1.537"),
     # f_e is out of reach of the paper's f_n0 as well: --fe is named
     (["--set", "M=2", "--fe", "1e-9"], "contactvib: error: --fe (f_e) = 1e-9: must lie in", "f_n0 = 845.941 Hz"),
 ])
