@@ -12,12 +12,13 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attract
 :func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`.
 """
 
-from contactvib.model import PAPER_DEFAULTS, ContactModel, Excitation, ExponentialLaw, ParameterError, TableLaw
-
 __version__ = "0.1.0"
 
 #: public name -> (module, attribute); the module is imported on first access
 _LAZY = {
+    # the model (lazy too: ``import contactvib`` stays cheap for the console script)
+    **{name: ("contactvib.model", name) for name in ("ContactModel", "Excitation", "ExponentialLaw", "TableLaw",
+                                                      "ParameterError", "PAPER_DEFAULTS")},
     # steady states
     "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
     "simulate": ("contactvib.steady.simulate", "simulate"),
@@ -69,9 +70,7 @@ _LAZY = {
     "open_levels": ("contactvib.sweeps.film", "open_levels"),
 }
 
-__all__ = ["ContactModel", "Excitation", "ExponentialLaw", "TableLaw",
-           "ParameterError", "PAPER_DEFAULTS", "__version__",
-           *_LAZY]
+__all__ = ["__version__", *_LAZY]
 
 
 def __getattr__(name):

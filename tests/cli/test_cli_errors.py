@@ -4,6 +4,7 @@ traceback, nothing written or computed."""
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from contactvib.cli import main
@@ -44,6 +45,47 @@ def test_bad_input_one_line(args, message):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1, r.stderr
     assert lines[0].startswith(message)
+
+
+@pytest.mark.parametrize("args, start, needle", [
+    # f_e is ordinary; the --set values move f_n0 out of its reach: they are named, with their range
+    (["--set", "m2=1", "--pa", "0.65", "--fe", "360"],
+     "contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz", "this f_e needs m2 >= 1.466"),
+    (["--set", "c_n=1e25"], "contactvib: error: --set c_n = 1e+25: gives f_n0 = 181112 Hz",
+     "this f_e needs c_n <= 2.582e+21"),
+    (["--set", "c_n=1e-10", "--set", "h_n=1e-6", "--pa", "0.65", "--fe", "360"],
+     "contactvib: error: --set c_n = 1e-10 --set h_n = 1e-6: gives f_n0 = 0.000322069 Hz",
+     "this f_e needs c_n >= 156.1"),
+    (["--set", "c_n=1e-10", "--pa", "0.65", "--fe", "360"],
+     "contactvib: error: --set c_n=1e-10 (h_n) = 3.5e+11: gives the damping ratio zeta = 1.77e+18", "h_n <="),
+    # little damping: the automatic transient limit makes the search's work out of reach
+    (["--set", "h_n=1e3"], "contactvib: error: --set h_n = 1000: gives f_n0 = 1485.02 Hz and zeta = 5.16e-11",
+     "this f_e needs h_n >= 9.473e+07"),
+    (["--set", "l=10"], "contactvib: error: --set l = 10: gives f_n0 = 1485.02 Hz and zeta = 2.71e-62",
+     "this f_e needs l <= 1.537"),
+    # f_e is out of reach of the paper's f_n0 as well: --fe is named
+    (["--set", "M=2", "--fe", "1e-9"], "contactvib: error: --fe (f_e) = 1e-9: must lie in", "f_n0 = 845.941 Hz"),
+])
+def test_model_parameter_errors_name_the_parameter(args, start, needle, capsys):
+    """An error a --set value causes names that --set (not --fe), one line, exit 2."""
+    assert main(["attractors", *args]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(start) and needle in lines[0], err
+
+
+@pytest.mark.parametrize("command", [["basins"], ["resonance", "--pa", "0.5"], ["continue"], ["bifurcations"]])
+def test_model_parameter_errors_name_the_parameter_in_every_command(command, tmp_path, capsys):
+    """--set m2=1 (f_n0 = 2.2 MHz) names m2 wherever f_e or the frequency range is refused
+    for it (the work of a basin map, --fmin = 30 Hz below 1e-4 f_n0)."""
+    out = tmp_path / "out"
+    assert main([*command, "--set", "m2=1", "--out", str(out)]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz"), lines
+    assert "this f_e needs m2 >= " in lines[0]
+    assert not out.exists() or not any(out.iterdir())
 
 
 @pytest.mark.parametrize("args, message", [
@@ -126,9 +168,23 @@ def test_cli_continue_in_pa_bad_input(args, message, capsys):
     assert len(err) == 1 and err[0].startswith(message)
 
 
+def test_continue_refuses_an_amplitude_bound_no_branch_can_leave(tmp_path, capsys):
+    """--app-max below the A_pp of every start: one line naming it and the smallest A_pp, exit 2,
+    nothing written."""
+    out = tmp_path / "b"
+    assert main(["continue", "--app-max", "0.01", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(
+        "contactvib: error: --app-max (app_max_um) = 0.01: must be > 0.8534 µm, the smallest A_pp"), err
+    assert not any(out.iterdir())
+
+
 @pytest.mark.parametrize("args, message", [
     (["continue", "--rtol", "1e-16"], "contactvib: error: --rtol (rtol) = 1e-16: must be in [1e-15, 1e-6]"),
     (["continue", "--app-max", "-1"], "contactvib: error: --app-max (app_max_um) = -1: must be > 0 µm"),
+    (["continue", "--max-points", "1"], "contactvib: error: --max-points (max_points) = 1: must be an integer >= 2"),
+    (["bifurcations", "--max-points", "0"],
+     "contactvib: error: --max-points (max_points) = 0: must be an integer >= 2"),
     (["continue", "--attractor", "1.5"], "contactvib: error: --attractor (attractor) = 1.5: must be an integer >= 0"),
     (["bifurcations", "--seed-fe", "500,2500"],
      "contactvib: error: --seed-fe (f_e) = 2500: must lie in [--fmin, --fmax] = [30, 2000] Hz"),
@@ -206,6 +262,46 @@ def test_query_errors_are_one_line(small_dataset, capsys, args, needle):
     assert main(["query", str(small_dataset), *args]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("contactvib: error: ") and needle in err, err
+
+
+def _damaged(small_dataset, path, damage):
+    """A copy of the small dataset at ``path`` with ``damage(ds)`` applied (in memory)."""
+    import xarray as xr
+
+    with xr.open_dataset(small_dataset) as ds:
+        ds = damage(ds.load())
+    ds.to_netcdf(path)
+    return path
+
+
+def _set(name, i, value):
+    def damage(ds):
+        v = ds[name].values.copy()
+        v[i] = value
+        return ds.assign({name: (ds[name].dims, v)})
+    return damage
+
+
+@pytest.mark.parametrize("damage, where", [
+    (lambda ds: ds.drop_vars("app_um"), "damaged: variable 'app_um' is missing"),
+    (lambda ds: ds.drop_vars("strobe_y_um"), "damaged: variable 'strobe_y_um' is missing"),
+    (_set("branch_index", 3, 99), "damaged: branch_index = 99 at point 3 (P_a = 0.65 Q, f_e = 346 Hz) "
+                                  "refers outside the 2 stored branch entries"),
+    (_set("extrema_start", 0, 10 ** 6), "damaged: extrema_start = 1000000, extrema_count = "),
+    (_set("fe_hz", 2, np.nan), "damaged: fe_hz is nan at point 2 (P_a = 0.65 Q, f_e = nan Hz)"),
+    (_set("pa_over_q", 0, np.nan), "damaged: pa_over_q is nan at point 0"),
+    (_set("ymin_um", 5, np.nan), "damaged: ymin_um is nan at point 5 (P_a = 0.65 Q, f_e = 350 Hz)"),
+    (_set("strobe_y_um", 4, np.inf), "damaged: strobe_y_um is inf at strobe 4"),
+])
+def test_query_on_a_damaged_dataset_says_where(small_dataset, tmp_path, capsys, damage, where):
+    """A damaged dataset: one line naming the file and the damage, exit 2 (not a library's
+    message, not an answer with nulls)."""
+    path = _damaged(small_dataset, tmp_path / "damaged.nc", damage)
+    assert main(["query", str(path), "--pa", "0.65", "--fe", "360", "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err.count("\n") == 1 and err.startswith(f"contactvib: error: DATASET = {path}: {where}"), err
+    assert err.rstrip().endswith("recompute it")
 
 
 def test_query_rejects_missing_and_foreign_files(tmp_path, capsys):

@@ -58,8 +58,6 @@ def test_bifurcations_levels(tmp_path, capsys):
 
 def test_levels_reach_the_command(monkeypatch, tmp_path):
     """`--pa 0.5 0.6 0.65` gives three levels, in order; `--pa A --pa B` too."""
-    import contactvib.cli.sweeps as sweeps
-
     seen = []
 
     def stop(model, levels, *a, **k):
@@ -67,7 +65,6 @@ def test_levels_reach_the_command(monkeypatch, tmp_path):
         raise InputError("stop")
 
     monkeypatch.setattr("contactvib.sweeps.resonance.resonance_dataset", stop)
-    assert sweeps is not None
     assert main(["resonance", "--pa", "0.5", "0.6", "0.65", "--df", "5", "--out", str(tmp_path)]) == 2
     assert main(["resonance", "--pa", "0.5", "--df", "5", "--pa", "0.7", "--out", str(tmp_path)]) == 2
     assert main(["resonance", "--df", "5", "--out", str(tmp_path)]) == 2
@@ -140,11 +137,21 @@ def _damaged(src, dst, **changes):
     return dst
 
 
-def test_query_json_is_strict_on_damaged_files(small_dataset, tmp_path, capsys):
+def test_query_refuses_nan_values_instead_of_answering_nulls(small_dataset, tmp_path, capsys):
+    """NaN where a value must be finite: one line naming the damage (the answer was all nulls)."""
     bad = _damaged(small_dataset, tmp_path / "nan.nc", app_um=np.nan, ymin_um=np.nan, contact_loss_fraction=np.nan)
-    assert main(["query", str(bad), "--pa", "0.65", "--fe", "360", "--json"]) == 0
+    assert main(["query", str(bad), "--pa", "0.65", "--fe", "360", "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err == f"contactvib: error: DATASET = {bad}: damaged: app_um is nan at point 0 " \
+                                "(P_a = 0.65 Q, f_e = 340 Hz): recompute it\n"
+
+
+def test_query_json_is_strict_where_values_may_be_missing(small_dataset, capsys):
+    """Values that may be missing (the basin fraction, the Lyapunov exponent: NaN in the
+    dataset) are null in the JSON, never a bare NaN."""
+    assert main(["query", str(small_dataset), "--pa", "0.65", "--fe", "360", "--json"]) == 0
     res = json.loads(capsys.readouterr().out, parse_constant=lambda c: pytest.fail(f"bare {c}"))
-    assert res["attractors"] and all(a["app_um"] is None for a in res["attractors"])
+    assert res["attractors"] and all(a["basin_fraction"] is None for a in res["attractors"])
 
 
 @pytest.mark.parametrize("settings_attr", ["{not json", "[]", '{"df_hz": 5}',

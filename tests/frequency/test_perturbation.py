@@ -8,7 +8,12 @@ import pytest
 
 from contactvib import ContactModel, ParameterError
 from contactvib.cli import main
-from contactvib.frequency.perturbation import perturbation_series, series_state, steady_counterpart
+from contactvib.frequency.perturbation import (
+    linear_response,
+    perturbation_series,
+    series_state,
+    steady_counterpart,
+)
 from contactvib.steady.orbits import describe_orbit, refine_orbit
 from contactvib.steady.simulate import attractor_history
 
@@ -25,7 +30,7 @@ def _shooting(model, exc, order=80):
                                          (ContactModel(m2=1.5, c_n=1e14, l=0.5), 0.4, 700.0)])
 def test_order_one_is_the_linear_response(model, pa, fe):
     """Order 1 = M ÿ + c ẏ + k y = P_a cos ωt from the SI parameters (k = m2 S c_n y0^(m2−1),
-    c = S h_n y0^l), amplitude and phase, to round-off."""
+    c = S h_n y0^l), amplitude and phase, to round-off; so is :func:`linear_response`."""
     y0 = (model.M * model.g / (model.S * model.c_n)) ** (1 / model.m2)
     k = model.m2 * model.S * model.c_n * y0 ** (model.m2 - 1)
     c = model.S * model.h_n * y0 ** model.l
@@ -38,6 +43,8 @@ def test_order_one_is_the_linear_response(model, pa, fe):
     h = res.history(1, 200)
     t = h.t_ms * 1e-3
     assert np.allclose(h.y_um - y0 * 1e6, (Y * np.exp(1j * w * t)).real, atol=1e-12 * abs(Y))
+    amplitude, phase = linear_response(model, model.excitation(pa, fe))  # the closed form in r, ζ
+    assert amplitude == pytest.approx(abs(Y), rel=1e-12) and phase == pytest.approx(np.angle(Y), abs=1e-12)
 
 
 @pytest.mark.parametrize("fe", [287.0, 700.0, 1300.0])

@@ -170,26 +170,105 @@ def test_cli_refuses_unreachable_work_at_once(capsys):
     rc = main(["attractors", "--set", "m2=1"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and time.perf_counter() - t0 < 5.0
-    assert len(err) == 1 and err[0].startswith("contactvib: error: --fe (f_e) = 360 Hz: needs about")
-    assert "f_n0 = 2.21198e+06 Hz" in err[0] and "--starts" in err[0]
+    assert len(err) == 1 and err[0].startswith("contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz")
+    assert "--fe (f_e) = 360 Hz: needs about" in err[0] and "--starts" in err[0] and "needs m2 >= 1.466" in err[0]
 
 
-def test_sigint_interrupts_a_long_search_within_a_second():
-    """0.65 Q, 232 Hz with a 500,000-period limit runs for minutes (its chaotic starts never
-    settle, ~10 s each); SIGINT ends it within about a second, with one line and exit 130."""
-    cmd = [sys.executable, "-c", "from contactvib.cli.main import main; import sys; "
-           "sys.exit(main(sys.argv[1:]))", "attractors", "--pa", "0.65", "--fe", "232",
-           "--max-periods", "500000", "--starts", "64", "--no-seeds"]
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(6.0)  # imports and the kernel cache
-    assert p.poll() is None, p.communicate()
-    t0 = time.perf_counter()
-    p.send_signal(signal.SIGINT)
-    _out, err = p.communicate(timeout=30)
-    waited = time.perf_counter() - t0
+#: A search that is long by construction: at 3000 Hz the attractors have periods 2 and 3 (and a
+#: torus), so with --kmax 1 no start can stop early: all 64 run the whole 2,000,000-period limit
+#: (about 3e9 integration steps, minutes).
+LONG_SEARCH = ["attractors", "--pa", "0.65", "--fe", "3000", "--kmax", "1", "--max-periods", "2000000",
+               "--starts", "64", "--no-seeds"]
+
+
+def _sigint_free_child():
+    """The child's SIGINT at its default (a shell's background job, or a CI runner, may have
+    it ignored, and Python would keep ignoring it)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _first_line(p, timeout: float) -> str:
+    """The first line of ``p``'s stdout, or fail after ``timeout`` [s] (a cold kernel cache
+    takes about a minute)."""
+    import select
+
+    ready, _, _ = select.select([p.stdout], [], [], timeout)
+    assert ready, "the search did not start"
+    return p.stdout.readline()
+
+
+@pytest.mark.parametrize("into_search", [0.0, 2.0])
+def test_sigint_interrupts_a_long_search_within_a_second(into_search):
+    """SIGINT when the search starts (its header line) and 2 s into it ends the run within
+    about a second, with one line and exit 130."""
+    p = subprocess.Popen([sys.executable, "-m", "contactvib", *LONG_SEARCH], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, preexec_fn=_sigint_free_child)
+    try:
+        header = _first_line(p, 300.0)
+        assert header.startswith("P_a = 0.65 Q") and "64 box starts + 0 seeds" in header
+        time.sleep(into_search)
+        assert p.poll() is None
+        t0 = time.perf_counter()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=30)
+        waited = time.perf_counter() - t0
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
     assert p.returncode == 130
     assert err == "contactvib: interrupted\n"
+    assert out == ""  # no table
     assert waited < 1.5
+
+
+def test_sigint_in_the_nonperiodic_verdict_ends_the_run(monkeypatch, capsys):
+    """SIGINT while the chaotic starts' Lyapunov exponents are computed (after the starts'
+    kernel has returned) is not lost: one line, exit 130, no table."""
+    import contactvib.steady.attractors as search
+
+    calls = []
+
+    def verdict(*args):
+        calls.append(1)
+        signal.raise_signal(signal.SIGINT)
+        return real(*args)
+
+    real = search.nonperiodic_verdict
+    monkeypatch.setattr(search, "nonperiodic_verdict", verdict)
+    rc = main(["attractors", "--pa", "0.65", "--fe", "232", "--starts", "64", "--no-seeds"])
+    out, err = capsys.readouterr()
+    assert calls == [1]
+    assert rc == 130 and err == "contactvib: interrupted\n"
+    assert "period" not in out  # the header, not the table
+
+
+def test_sigint_outside_the_computation_is_one_line(monkeypatch, capsys):
+    """Ctrl-C while the options are read (outside the search) gives the same line, without the
+    empty line click prints for an Abort."""
+    import contactvib.cli.steady as steady
+
+    def interrupted(_settings):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(steady, "_model", interrupted)
+    assert main(["attractors"]) == 130
+    assert capsys.readouterr().err == "contactvib: interrupted\n"
+
+
+def test_sigint_while_the_commands_load_is_one_line():
+    """Ctrl-C while the console script imports the commands (``import contactvib`` before it is
+    light): the same line and exit 130, no traceback."""
+    code = ("import sys\n"
+            "class Interrupt:\n"
+            "    def find_spec(self, name, path=None, target=None):\n"
+            "        if name == 'contactvib.cli.main':\n"
+            "            raise KeyboardInterrupt\n"
+            "sys.meta_path.insert(0, Interrupt())\n"
+            "from contactvib.__main__ import main\n"
+            "sys.exit(main(['attractors']))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert (r.returncode, r.stderr, r.stdout) == (130, "contactvib: interrupted\n", "")
 
 
 # --- undamped models and self-consistent rows -------------------------------------------------

@@ -10,9 +10,9 @@ from contactvib.cli.common import (
     _echo_json,
     _error,
     _excitation,
-    _mapped,
     _max_periods,
     _model,
+    _model_blamed,
     _number,
     _operating_point_options,
     _output_folder,
@@ -82,8 +82,11 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
 
     grid_, box_, kmax_, mp_, starts_, seed_ = checked
     with _ctrl_c():
-        bmap = _mapped(_BASIN_OPTIONS, run, model, exc, grid=grid_, box=box_, kmax=kmax_,
-                       max_periods=mp_, n_starts=starts_, seed=seed_)
+        try:
+            bmap = run(model, exc, grid=grid_, box=box_, kmax=kmax_, max_periods=mp_, n_starts=starts_, seed=seed_)
+        except ParameterError as e:  # a --set that moved f_n0 out of reach is named (not --fe)
+            blamed = _model_blamed(model, e, _grid_within_reach(exc, grid_[0] * grid_[1], mp_))
+            raise (blamed or _error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e, _BASIN_OPTIONS)) from None
     paths = [] if folder is None else _write(bmap, folder)
     if as_json:
         _echo_json(bmap.to_json())
@@ -91,6 +94,21 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     _table(bmap, exc, model)
     for p in paths:
         click.echo(f"wrote {p}")
+
+
+def _grid_within_reach(exc, n_grid: int, max_periods):
+    """Whether the grid's integration at ``exc``'s excitation is within the work limit for a
+    model (a test for ``_model_blamed``)."""
+    import dataclasses
+
+    from contactvib.steady.attractors import default_max_periods
+    from contactvib.steady.transients import WORK_MAX_STEPS, check_work
+
+    def accepts(model):
+        e = dataclasses.replace(exc, model=model)
+        return check_work(e, n_grid, max_periods or default_max_periods(e)) <= WORK_MAX_STEPS
+
+    return accepts
 
 
 def _write(bmap, folder) -> list:

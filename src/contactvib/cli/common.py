@@ -178,6 +178,62 @@ def _model(settings: tuple[str, ...]) -> ContactModel:
         raise _error(given, e) from None
 
 
+def _set_changes(model: ContactModel) -> dict[str, float]:
+    """The model's numeric parameters that differ from the paper's (what --set changed)."""
+    return {k: v for k, v in model.parameters().items()
+            if isinstance(v, float) and k in SET_NAMES and v != PAPER_DEFAULTS.get(k)}
+
+
+def _boundary(model: ContactModel, name: str, accepts) -> float | None:
+    """The value of parameter ``name`` between the model's and the paper's at which ``accepts``
+    (a test of a model) turns true, by bisection (in log scale for positive values); None if
+    the paper's value is not accepted either or the model cannot be rebuilt."""
+    a, b = getattr(model, name), PAPER_DEFAULTS[name]
+
+    def ok(x):
+        try:
+            return bool(accepts(model.replace(**{name: x})))
+        except ParameterError:
+            return False
+
+    if not ok(b):
+        return None
+    log = a > 0.0 and b > 0.0
+    lo, hi = (math.log(a), math.log(b)) if log else (a, b)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if ok(math.exp(mid) if log else mid) else (mid, hi)
+    return math.exp(hi) if log else hi
+
+
+def _model_blamed(model: ContactModel, e: ParameterError, accepts, option: str = "--fe") -> InputError | None:
+    """An f_e refusal that the --set parameters cause (the frequency ratio r = f_e/f_n0 or the
+    work of a search out of reach), as one line naming them: when the paper's parameters accept
+    this f_e (``accepts(ContactModel())``), the --set values that moved f_n0 (and ζ) are to
+    blame, with the range of each one alone that this f_e allows. None otherwise (``option``,
+    the option that gave f_e, is named)."""
+    changed = _set_changes(model)
+    if e.symbol != "f_e" or not changed:
+        return None
+    paper = ContactModel()
+    try:
+        if not accepts(paper):
+            return None
+    except ParameterError:
+        return None
+    label = " ".join(f"--set {k} = {format_number(v)}" for k, v in changed.items())
+    ranges = []
+    for name, value in changed.items():
+        edge = _boundary(model, name, accepts)
+        if edge is not None:
+            ranges.append(f"{name} {'>=' if edge > value else '<='} {edge:.4g}")
+    allowed = (f"; with the other parameters as given, this f_e needs {' or '.join(ranges)}" if ranges
+               else "")
+    return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz and zeta = {model.zeta:.3g} (the paper's "
+                      f"parameters: f_n0 = {paper.f_n0:.6g} Hz, zeta = {paper.zeta:.3g}), with which "
+                      f"{option} (f_e) = {_show(e.value)}: {e.allowed}{allowed}")
+
+
 def _scoped(var: contextvars.ContextVar, names: tuple[str, ...], f):
     """``f`` with the keyword arguments ``names`` taken out and kept in ``var`` while it runs."""
     @functools.wraps(f)
@@ -255,9 +311,27 @@ def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: 
         kw = {"u_um": u} if option == "--base-um" else {"a_g": u}
         return _mapped(names, Excitation.base, model, fe, **kw)
     harmonics = _harmonics(fam.get("harmonic") or ())
-    if pa_newton is not None:
-        return _mapped(names, Excitation.from_newtons, model, pa_newton, fe, harmonics=harmonics)
-    return _mapped(names, Excitation, model, "0.65" if pa is None else pa, fe, harmonics=harmonics)
+    try:
+        if pa_newton is not None:
+            return _mapped(names, Excitation.from_newtons, model, pa_newton, fe, harmonics=harmonics)
+        return _mapped(names, Excitation, model, "0.65" if pa is None else pa, fe, harmonics=harmonics)
+    except InputError as refused:
+        try:
+            f_e = float(fe)
+        except ValueError:
+            raise refused from None
+        ratio = _frequency_ratio_error(model, f_e)
+        blamed = ratio and _model_blamed(model, ratio, lambda m: _frequency_ratio_error(m, f_e) is None)
+        raise (blamed or refused) from None
+
+
+def _frequency_ratio_error(model: ContactModel, f_e: float) -> ParameterError | None:
+    """The refusal of ``f_e`` for ``model`` by the range of r = f_e/f_n0, or None."""
+    try:
+        Excitation(model, 0.0, f_e)
+    except ParameterError as e:
+        return e
+    return None
 
 
 def _frequency_range(fmin: str, fmax: str) -> tuple[float, float]:
@@ -427,4 +501,7 @@ def _feasible_frequencies(model: ContactModel, fmin: float, fmax: float,
     """Both ends of a frequency range are excitation frequencies the model can be integrated at
     (checked by :class:`Excitation`, whose f_e range follows from the model's f_n0)."""
     for option, f in zip(options, (fmin, fmax)):
-        _checked(option, Excitation, model, 0.0, f)
+        refused = _frequency_ratio_error(model, f)
+        if refused is not None:
+            blamed = _model_blamed(model, refused, lambda m, f=f: _frequency_ratio_error(m, f) is None, option)
+            raise blamed or _error(option, refused)

@@ -15,6 +15,7 @@ from contactvib.cli.common import (
     InputError,
     LevelsCommand,
     _checked,
+    _ctrl_c,
     _echo_json,
     _feasible_frequencies,
     _frequency_range,
@@ -44,16 +45,25 @@ _CONTINUATION_OPTIONS = {"fmin": "--fmin", "fmax": "--fmax", "f_min": "--fmin", 
 def _settings(cont: dict, pa_range=(0.0, 2.0)):
     """ContinuationSettings of the continuation options ``cont`` (the library checks them; we
     name the options)."""
-    from contactvib.continuation.shooting import ContinuationSettings
+    from contactvib.continuation.shooting import BRANCH_POINTS_MIN, ContinuationSettings
 
     lo, hi = _frequency_range(cont["fmin"], cont["fmax"])
-    n = _int("--max-points", cont["max_points"], 1, symbol="max_points")
+    n = _int("--max-points", cont["max_points"], BRANCH_POINTS_MIN, symbol="max_points")
     a = _number("--app-max", "app_max_um", cont["app_max"])
     r = _checked("--rtol", check_range, "rtol", cont["rtol"], SHOOTING_RTOL_RANGE[0], True,
                  upper=SHOOTING_RTOL_RANGE[1])
     return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin=lo, fmax=hi,
                    pa_min=pa_range[0], pa_max=pa_range[1], max_points=n, app_max_um=a, rtol=r,
                    tol=max(100 * r, 1e-11), excitation=cont.get("level_kind", "force"))
+
+
+def _below_app_max(starts, app_max_um: float, fe: float) -> None:
+    """Refuse an --app-max below the A_pp of every periodic start: no branch could leave it."""
+    periodic = [a.app_um for a in starts if a.period is not None]
+    if periodic and min(periodic) >= app_max_um:
+        raise InputError(f"--app-max (app_max_um) = {app_max_um:g}: must be > {min(periodic):.4g} µm, the smallest "
+                         f"A_pp of the periodic attractors to continue at {fe:g} Hz (a branch stops above "
+                         f"--app-max, so none could start)")
 
 
 def _in_range(option: str, symbol: str, text_or_value, lo: float, hi: float, names: tuple[str, str],
@@ -218,10 +228,12 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.steady.attractors import find_attractors
 
-    found = find_attractors(model, exc)
+    with _ctrl_c():
+        found = find_attractors(model, exc)
     if n is not None and n >= len(found):
         raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
                          f"of the {len(found)} attractors found at {fe:g} Hz")
+    _below_app_max(found if n is None else [found[n]], s.app_max_um, fe)
     msgs = []
     bset = continue_attractors(model, p, fe, n, s, switch=not cont["no_switch"], attractors=found,
                                log=msgs.append, parameter="P_a" if by_pa else "f_e")

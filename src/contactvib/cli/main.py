@@ -19,7 +19,19 @@ from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Group(click.Group):
+    """The command group: Ctrl-C anywhere in a command (parsing, computing, printing) becomes
+    :class:`RunInterrupted`, i.e. the one line ``contactvib: interrupted`` and exit 130 (click
+    would print an empty line first)."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            raise RunInterrupted("interrupted") from None
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="contactvib")
 def cli():
     """contactvib: primary and superharmonic contact resonances (Kostek 2013).

@@ -10,18 +10,20 @@ from contactvib.cli.common import (
     InputError,
     _ctrl_c,
     _echo_json,
+    _error,
     _excitation,
     _int,
     _mapped,
     _max_periods,
     _model,
+    _model_blamed,
     _number,
     _operating_point_options,
     _output_folder,
     _scoped,
     _search_options,
 )
-from contactvib.model import ContactModel
+from contactvib.model import ContactModel, ParameterError
 
 #: Options of the attractor search, by find_attractors' parameter names.
 _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
@@ -38,14 +40,53 @@ def _search(starts, seed, kmax, max_periods) -> dict:
     return dict(zip(_SEARCH_OPTIONS, _mapped(_SEARCH_OPTIONS, check_search, **kw)))
 
 
-def _find(model, exc, starts, seed, kmax, max_periods, no_seeds):
-    """find_attractors with the search options (it checks them; we name the options)."""
+def _find(model, exc, starts, seed, kmax, max_periods, no_seeds, progress=None):
+    """find_attractors with the search options (it checks them; we name the options);
+    ``progress`` as find_attractors'."""
     from contactvib.steady.attractors import find_attractors
 
     kw = _search(starts, seed, kmax, max_periods)
     names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
     with _ctrl_c():
-        return _mapped(names, find_attractors, model, exc, seeds=not no_seeds, **kw)
+        try:
+            return find_attractors(model, exc, seeds=not no_seeds, progress=progress, **kw)
+        except ParameterError as e:
+            blamed = _model_blamed(model, e, _work_within_reach(exc, kw, no_seeds))
+            raise (blamed or _error(names.get(e.symbol, e.symbol), e, names)) from None
+
+
+def _work_within_reach(exc, kw: dict, no_seeds: bool):
+    """Whether the search of ``kw`` at ``exc``'s excitation is within the work limit for a
+    model (a test for :func:`_model_blamed`)."""
+    import dataclasses
+
+    from contactvib.steady.attractors import ballistic_seeds, default_max_periods
+    from contactvib.steady.transients import WORK_MAX_STEPS, check_work
+
+    def accepts(model):
+        e = dataclasses.replace(exc, model=model)
+        n = kw["n_starts"] + (0 if no_seeds else ballistic_seeds(e)[0].shape[0])
+        return check_work(e, n, kw["max_periods"] or default_max_periods(e)) <= WORK_MAX_STEPS
+
+    return accepts
+
+
+def _header(model, exc, no_seeds):
+    """A progress callback of the search that prints the table's header lines when the search
+    starts (its inputs checked), so that they show what runs while it runs."""
+    from contactvib.steady.attractors import ballistic_seeds
+
+    def progress(done, total):
+        if done:
+            return
+        n_seeds = 0 if no_seeds else ballistic_seeds(exc)[0].shape[0]
+        click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
+                   f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
+                   f"{total - n_seeds} box starts + {n_seeds} seeds")
+        if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
+            click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+
+    return progress
 
 
 def _excitation_text(exc) -> str:
@@ -78,16 +119,12 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
     """All coexisting attractors at one operating point (P_a, f_e)."""
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
-    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
     if as_json:
+        result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
         _echo_json(result.to_json())
         _none_settled(result)
         return
-    click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
-               f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
-               f"{result.n_box} box starts + {result.n_seeds} seeds")
-    if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
-        click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds, _header(model, exc, no_seeds))
     base = any(a.slider_app_um is not None for a in result)
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
             f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}"

@@ -201,7 +201,7 @@ def query(dataset, pa, fe, as_json):
     path = _dataset_file(dataset)
     import xarray as xr
 
-    from contactvib.sweeps.dataset import attractors_at
+    from contactvib.sweeps.dataset import DamagedDataset, attractors_at
 
     try:
         ds = xr.open_dataset(path)
@@ -214,8 +214,13 @@ def query(dataset, pa, fe, as_json):
             raise InputError(f"DATASET = {dataset}: written by an older contactvib: recompute it")
         try:
             res = attractors_at(ds, p, f)
+        except DamagedDataset as e:
+            raise InputError(f"DATASET = {dataset}: {e}") from None
         except LookupError as e:
             raise InputError(str(e)) from None
+        except (OSError, RuntimeError, ValueError, TypeError, IndexError) as e:  # unreadable values
+            raise InputError(f"DATASET = {dataset}: damaged: its values cannot be read ({type(e).__name__}: "
+                             f"{e}): recompute it") from None
     if as_json:
         _echo_json(res)
         return

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-__all__ = ["fold_test", "pd_test", "ns_test", "test_values", "locate_zero"]
+__all__ = ["fold_test", "pd_test", "ns_test", "locate_zero"]
 
 
 def fold_test(M: np.ndarray) -> float:
@@ -49,12 +49,6 @@ def ns_test(M: np.ndarray) -> float:
     if 0.25 * tr * tr - det >= 0.0:
         return math.nan
     return float(det - 1.0)
-
-
-def test_values(M: np.ndarray, xmin: float) -> dict:
-    """All test functions at one branch point (``xmin`` in units of y0)."""
-    return {"fold": fold_test(M), "period-doubling": pd_test(M), "neimark-sacker": ns_test(M),
-            "grazing": float(xmin)}
 
 
 def locate_zero(func, a: float, b: float, fa: float, fb: float, xtol: float, max_iter: int = 60):

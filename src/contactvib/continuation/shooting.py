@@ -68,6 +68,10 @@ class ContinuationError(RuntimeError):
     """The seed orbit could not be refined (Newton shooting failed)."""
 
 
+#: Smallest ``max_points``: a direction of a branch is its start and at least one step.
+BRANCH_POINTS_MIN = 2
+
+
 @dataclass(frozen=True)
 class ContinuationSettings:
     """Knobs of a continuation run.
@@ -81,7 +85,7 @@ class ContinuationSettings:
     ds0, ds_min, ds_max : float
         Initial, smallest and largest pseudo-arclength step [relative units: 0.05 ≈ 5 %].
     max_points : int
-        Points per direction.
+        Points per direction, the start included (≥ :data:`BRANCH_POINTS_MIN`).
     app_max_um : float
         Amplitude bound [µm]; the branch stops when A_pp exceeds it.
     rtol : float
@@ -139,7 +143,7 @@ class ContinuationSettings:
         v["ds_min"] = check_range("ds_min", self.ds_min, 0.0, False)
         v["ds0"] = check_range("ds0", self.ds0, v["ds_min"], True, lower_name="ds_min")
         v["ds_max"] = check_range("ds_max", self.ds_max, v["ds0"], True, lower_name="ds0")
-        v["max_points"] = check_int("max_points", self.max_points, 1)
+        v["max_points"] = check_int("max_points", self.max_points, BRANCH_POINTS_MIN)
         v["app_max_um"] = check_range("app_max_um", self.app_max_um, 0.0, False, "µm")
         v["rtol"] = check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
         v["tol"] = check_range("tol", self.tol, 0.0, False)

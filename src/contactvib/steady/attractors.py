@@ -221,7 +221,8 @@ def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int 
 def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
                     seed: int = 0, kmax: int = 8, max_periods: int | None = None,
                     seeds: bool = True, detect_tol: float = 1e-4,
-                    rtol_transient: float = 1e-8, capture_tol: float = 3e-3) -> AttractorSet:
+                    rtol_transient: float = 1e-8, capture_tol: float = 3e-3,
+                    progress=None) -> AttractorSet:
     """All attractors reached from the start box and the ballistic seeds.
 
     Parameters
@@ -249,6 +250,10 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     capture_tol : float
         Relative distance to a known orbit's strobe point at which a second-wave start is
         counted for that orbit (0: every start runs to the end).
+    progress : callable or None
+        Called as ``progress(done, total)`` with the starts finished and all starts: once with
+        ``done = 0`` when the inputs are checked and the integration begins (the CLI prints its
+        header then), and after each wave.
 
     Returns
     -------
@@ -280,7 +285,13 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         out = settle_starts(excitation, Z, ph, kmax, max_periods, detect_tol, rtol_transient,
                             cap_pts, cap_id, capture_tol)
         counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out)[:3]
+        done[0] += Z.shape[0]
+        if progress is not None:
+            progress(done[0], n_starts + Zs.shape[0])
 
+    done = [0]
+    if progress is not None:
+        progress(0, n_starts + Zs.shape[0])
     no_pts, no_id = np.empty((0, 2)), np.empty(0, np.int64)
     run(np.vstack([Zb[:n_first], Zs]), np.concatenate([phb[:n_first], phs]),
         np.arange(n_first + Zs.shape[0]) < n_first, no_pts, no_id)

@@ -40,7 +40,8 @@ from contactvib._kernels.status import STOP_FAILED, STOP_GRID_END, STOP_KNOWN, S
 from contactvib.model import LEVEL_KINDS, ContactModel, excitation_at
 from contactvib.sweeps.labels import attractor_type, level_labels
 
-__all__ = ["level_dataset", "merge_levels", "attractors_at", "write_atomic", "check_consistency",
+__all__ = ["level_dataset", "merge_levels", "attractors_at", "write_atomic", "check_consistency", "check_damage",
+           "DamagedDataset",
            "STOP_REASONS"]
 
 #: Layout version written into every dataset (``format`` attribute); chunks and datasets of
@@ -364,15 +365,72 @@ def _local_writes():
     return dask.config.set(scheduler="synchronous")
 
 
+class DamagedDataset(LookupError):
+    """A resonance dataset whose variables are missing, not finite where they must be, or
+    refer outside their arrays; the message says where (one line)."""
+
+
+#: Per-point variables :func:`attractors_at` reads, the ragged arrays and the branch table.
+_QUERY_POINT = ("pa_over_q", "fe_hz", "period", "kind", "minima_per_period", "app_um", "ymin_um", "ymax_um",
+                "loses_contact", "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_re",
+                "floquet_im", "closure", "lyapunov_per_period", "resonance", "branch_index", "extrema_start",
+                "extrema_count", "strobe_start", "strobe_count", "origin", "dominant_harmonic", "found_by",
+                "attractor_type")
+_QUERY_OTHER = ("extremum_t_ms", "extremum_y_um", "extremum_is_min", "strobe_y_um", "strobe_ydot_mm_s",
+                "branch_id", "branch_label", "branch_reached_by_sweep")
+#: Variables that must be finite everywhere (the others may hold NaN: basin, Lyapunov, ...).
+_FINITE = ("pa_over_q", "fe_hz", "app_um", "ymin_um", "ymax_um", "contact_loss_fraction",
+           "extremum_t_ms", "extremum_y_um", "strobe_y_um", "strobe_ydot_mm_s")
+
+
+def check_damage(ds) -> str | None:
+    """Where a resonance dataset is damaged, in one line (a variable :func:`attractors_at` needs
+    is missing, a value that must be finite is not, an index points outside its array), or
+    None."""
+    for name in _QUERY_POINT + _QUERY_OTHER:
+        if name not in ds:
+            return f"variable {name!r} is missing"
+    pa, fe = np.asarray(ds["pa_over_q"].values, float), np.asarray(ds["fe_hz"].values, float)
+
+    def at(name, i):
+        dim = ds[name].dims[0]
+        return f"point {i} (P_a = {pa[i]:g} Q, f_e = {fe[i]:g} Hz)" if dim == "point" else f"{dim} {i}"
+
+    for name in _FINITE:
+        bad = np.nonzero(~np.isfinite(np.asarray(ds[name].values, float)))[0]
+        if bad.size:
+            return f"{name} is {ds[name].values[bad[0]]} at {at(name, int(bad[0]))}"
+    for start, count, dim in (("extrema_start", "extrema_count", "extremum"),
+                              ("strobe_start", "strobe_count", "strobe"), ("branch_index", None, "branch")):
+        s0 = np.asarray(ds[start].values)
+        n = np.ones_like(s0) if count is None else np.asarray(ds[count].values)
+        size = ds.sizes.get(dim, 0)
+        bad = np.nonzero((s0 < 0) | (n < 0) | (s0 + n > size))[0]
+        if bad.size:
+            i = int(bad[0])
+            what = f"{start} = {s0[i]}" + ("" if count is None else f", {count} = {n[i]}")
+            return f"{what} at {at(start, i)} refers outside the {size} stored {dim} entries"
+    return None
+
+
+def _refuse_damaged(ds) -> None:
+    """Raise :class:`DamagedDataset` where :func:`check_damage` finds damage."""
+    damage = check_damage(ds)
+    if damage:
+        raise DamagedDataset(f"damaged: {damage}: recompute it")
+
+
 def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
     """The attractors stored at the grid point nearest (P_a, f_e), in the attractors JSON contract.
 
     P_a must match a stored level within 1e-6, f_e the nearest grid frequency within half a
-    grid step. Raises ``LookupError`` with a one-line message otherwise.
+    grid step. Raises ``LookupError`` with a one-line message otherwise, :class:`DamagedDataset`
+    if the dataset is damaged (:func:`check_damage`).
     """
     if ds.attrs.get("format") != FORMAT:
         raise LookupError(f"dataset format {ds.attrs.get('format')!r} is not {FORMAT!r} "
                           "(written by another contactvib version): recompute it")
+    _refuse_damaged(ds)
     levels = np.unique(ds["pa_over_q"].values)
     j = int(np.argmin(np.abs(levels - pa_over_q)))
     if abs(levels[j] - pa_over_q) > 1e-6:
