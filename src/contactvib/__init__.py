@@ -18,7 +18,7 @@ __version__ = "0.1.0"
 _LAZY = {
     # the model (lazy too: ``import contactvib`` stays cheap for the console script)
     **{name: ("contactvib.model", name) for name in ("ContactModel", "Excitation", "ExponentialLaw", "TableLaw",
-                                                      "ParameterError", "PAPER_DEFAULTS")},
+                                                      "GreenwoodWilliamson", "ParameterError", "PAPER_DEFAULTS")},
     # steady states
     "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
     "simulate": ("contactvib.steady.simulate", "simulate"),
@@ -62,7 +62,7 @@ _LAZY = {
     "SweepSettings": ("contactvib.sweeps.sweep", "SweepSettings"),
     "trace_level": ("contactvib.sweeps.sweep", "trace_level"),
     "resonance_dataset": ("contactvib.sweeps.resonance", "resonance_dataset"),
-    "attractors_at": ("contactvib.sweeps.dataset", "attractors_at"),
+    "attractors_at": ("contactvib.sweeps.stored", "attractors_at"),
     "reproduce_paper": ("contactvib.sweeps.paper", "reproduce_paper"),
     "PaperResult": ("contactvib.sweeps.paper", "PaperResult"),
     "animate": ("contactvib.sweeps.film", "animate"),

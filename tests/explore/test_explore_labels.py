@@ -11,7 +11,7 @@ import xarray as xr
 from contactvib.cli.explore import _check, _find
 from contactvib.explore.state import Point, resonance_of, table_rows
 from contactvib.steady.simulate import attractor_history
-from contactvib.sweeps.dataset import attractors_at
+from contactvib.sweeps.stored import attractors_at
 
 
 def _labels(pa: str, fe: str):

@@ -17,10 +17,11 @@ import xarray as xr
 
 from contactvib.cli import main
 from contactvib.model import ContactModel, ParameterError
-from contactvib.sweeps.dataset import attractors_at, check_consistency
+from contactvib.sweeps.dataset import check_consistency
 from contactvib.sweeps.facts import coexisting_resonances, resonance_facts
 from contactvib.sweeps.labels import dominant_ratio, resonance_label
 from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
+from contactvib.sweeps.stored import attractors_at
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid, multistart_indices, trace_level
 
 REF = json.loads((Path(__file__).parents[1] / "data" / "reference.json").read_text())

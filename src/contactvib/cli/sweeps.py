@@ -201,7 +201,7 @@ def query(dataset, pa, fe, as_json):
     path = _dataset_file(dataset)
     import xarray as xr
 
-    from contactvib.sweeps.dataset import DamagedDataset, attractors_at
+    from contactvib.sweeps.stored import DamagedDataset, attractors_at
 
     try:
         ds = xr.open_dataset(path)

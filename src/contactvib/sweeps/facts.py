@@ -162,7 +162,7 @@ def level_stages(ds, pa_over_q: float, orders=SUPERHARMONIC_ORDERS) -> dict:
 
 def coexisting_resonances(ds, pa_over_q: float, fe_hz: float) -> list:
     """Resonance orders m of the stable period-1 orbits of order m stored at (P_a, f_e), sorted."""
-    from contactvib.sweeps.dataset import attractors_at
+    from contactvib.sweeps.stored import attractors_at
 
     res = attractors_at(ds, pa_over_q, fe_hz)
     ms = {resonance_order(a["resonance"]) for a in res["attractors"] if a["period"] == 1}

@@ -129,7 +129,7 @@ def _time_figure(ds, model: ContactModel, tf: TimeFigure, out: Path):
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.paper import TimeRow, time_figure
     from contactvib.steady.simulate import simulate
-    from contactvib.sweeps.dataset import attractors_at
+    from contactvib.sweeps.stored import attractors_at
 
     res = attractors_at(ds, tf.pa_over_q, tf.fe_hz)
     exc = model.excitation(tf.pa_over_q, res["fe_hz"])
