@@ -52,8 +52,9 @@ def _friction_options(f):
         ("--kd", dict(default="1e5", show_default=True, metavar="N_M", help="Drive spring k_d [N/m], > 0.")),
         ("--kt-law", dict(default="normal", show_default=True, type=click.Choice(["normal", "constant"]),
                           help="k_t follows the normal stiffness dF_s/dy(y(t)), or is held at dF_s/dy(y0).")),
-        ("--kt-ratio", dict(default="0.8235", show_default=True,
-                            help="Tangential over normal contact stiffness (Mindlin, Hertz, nu = 0.3: 0.8235).")),
+        ("--kt-ratio", dict(default=None, metavar="RATIO",
+                            help="Tangential over normal contact stiffness [default: Mindlin's 2(1 - nu)/(2 - nu) "
+                                 "= 0.8235 of a Hertz contact at nu = 0.3].")),
         ("--mu", dict(default="0.3", show_default=True, help="Coulomb friction coefficient mu, > 0.")),
         ("--vd", dict(default="0.1", show_default=True, metavar="MM_S",
                       help="Drive velocity v_d [mm/s] of the drive spring's end, > 0.")),
@@ -67,8 +68,9 @@ def _friction_model():
     from contactvib.friction import FrictionModel
 
     o = _FRICTION.get() or {}
-    return _mapped(_FRICTION_NAMES, FrictionModel, mu=o["mu"], kt_ratio=o["kt_ratio"], kt_law=o["kt_law"],
-                   kd=o["kd"], cd=o["cd"], vd=o["vd"], beta=o["beta"])
+    kt = {} if o["kt_ratio"] is None else {"kt_ratio": o["kt_ratio"]}
+    return _mapped(_FRICTION_NAMES, FrictionModel, mu=o["mu"], kt_law=o["kt_law"], kd=o["kd"], cd=o["cd"],
+                   vd=o["vd"], beta=o["beta"], **kt)
 
 
 def _frequencies(o) -> np.ndarray:
@@ -134,24 +136,26 @@ def _one_point(model, exc, found, fm, out, as_json) -> None:
                 results.append(friction_at(model, exc, a, fm))
             except FrictionError:
                 results.append(None)
-    if out is not None:
-        _write_point(model, exc, found, results, out)
     if as_json:
         items = [{"period": a.period, "app_um": a.app_um, "contact_loss_fraction": a.contact_loss_fraction,
                   "basin_fraction": a.basin_fraction, **({} if r is None else r.to_dict())}
                  for a, r in zip(found, results)]
         _echo_json({"fn0_hz": model.f_n0, "y0_um": model.units.y_um, "pa_over_q": exc.pa_over_q, "fe_hz": exc.f_e,
                     "friction": fm.parameters(), "model": model.parameters(), "attractors": items})
-        return
-    click.echo(_header(model, exc, fm))
-    click.echo(_HEAD)
-    for i, (a, r) in enumerate(zip(found, results)):
-        click.echo(_point_row(i, a, r))
-    if any(r is not None and not r.settled for r in results):
-        click.echo("   T_t '-': the tangential motion did not become periodic within its period limit")
+    else:
+        click.echo(_header(model, exc, fm))
+        click.echo(_HEAD)
+        for i, (a, r) in enumerate(zip(found, results)):
+            click.echo(_point_row(i, a, r))
+        if any(r is not None and not r.settled for r in results):
+            click.echo("   T_t '-': the tangential motion did not become periodic within its period limit")
+    if out is not None:
+        _write_point(found, results, out, not as_json)
 
 
-def _write_point(model, exc, found, results, out) -> None:
+def _write_point(found, results, out, echo) -> None:
+    """OUT/friction_<i>.png (the steady tangential motion of attractor i) and OUT/friction.json;
+    their paths on stdout when ``echo``."""
     import json
 
     from contactvib.plotting.figures import save_figure
@@ -161,10 +165,13 @@ def _write_point(model, exc, found, results, out) -> None:
         if r is not None:
             fig = friction_history_figure(r.history(), r, f"#{i} (period {found[i].period}, "
                                                            f"A_pp {found[i].app_um:.3g} um): ")
-            click.echo(str(save_figure(fig, out / f"friction_{i}.png")))
+            png = save_figure(fig, out / f"friction_{i}.png")
+            if echo:
+                click.echo(str(png))
     path = out / "friction.json"
     path.write_text(json.dumps([None if r is None else r.to_dict() for r in results]))
-    click.echo(str(path))
+    if echo:
+        click.echo(str(path))
 
 
 def _sweep_out(sweep, x, out, as_json) -> None:

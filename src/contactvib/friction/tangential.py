@@ -113,7 +113,8 @@ class FrictionResult:
     tangential_period : int
         Period of the tangential motion [normal periods] (0: not settled).
     settled : bool
-        Whether the tangential motion became periodic within ``n_periods``.
+        Whether the tangential motion became periodic within ``n_periods`` (if not, the means are
+        over the second half of the run; their accuracy is that of a long-time average).
     n_periods : int
         Normal periods integrated.
     steady_distance : float
@@ -277,7 +278,9 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         Tangential parameters (default ``FrictionModel()``).
     max_periods : int or None
         Limit of normal periods to reach the steady state (None: :func:`auto_max_periods`).
-        An unsettled run is returned with ``settled = False`` and its last period's averages.
+        An unsettled run (a tangential motion that is not periodic with a period ≤ 8 normal
+        periods, e.g. quasi-periodic stick–slip beating with the drive) is returned with
+        ``settled = False`` and the means over the second half of its periods.
     """
     fm = FrictionModel() if friction is None else friction
     if not isinstance(fm, FrictionModel):
@@ -293,7 +296,7 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         _patience(tpar, period))
     if st != STATUS_OK:
         raise FrictionError(f"tangential integration failed after {n} periods ({status_message(st)})")
-    jj = max(j, 1)
+    jj = j if j > 0 else max(1, n // 2)  # unsettled (quasi-periodic stick-slip): the last half's mean
     sel = slice(n - jj, n)
     q = quad[sel].sum(axis=0)
     span = jj * period
@@ -302,8 +305,9 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     ratio = q[0] / span / fm.mu
     drive = tpar[kf.T_VD] * q[0]
     tm = times[sel].sum(axis=0) / span
-    run = (model, fm, rec, period, tpar, par, states[n - jj].copy(), int(modes[n - jj, 0]),
-           float(modes[n - jj, 1]), jj)
+    jh = j if j > 0 else 1  # the history of an unsettled run: its last normal period
+    run = (model, fm, rec, period, tpar, par, states[n - jh].copy(), int(modes[n - jh, 0]),
+           float(modes[n - jh, 1]), jh)
     return FrictionResult(
         friction_ratio=float(ratio), mu_apparent=float(ratio * fm.mu), mean_drive_force_n=float(ratio * fm.mu * W),
         limit_mean=mean_limit(model, excitation, attractor, fm.beta),

@@ -18,15 +18,30 @@ _PERIOD_COLORS = {1: "C0", 2: "C1", 3: "C2", 4: "C3"}
 
 def plot_friction_sweep(sweep: FrictionSweep, x: str = "fe_hz", ax=None):
     """The friction ratio ⟨F_drive⟩/(μ W) (= μ_apparent/μ, the ratio to the value without vibration)
-    against ``x`` ("fe_hz" or "vd_mm_s"), one marker per normal attractor, coloured by its period;
-    the no-vibration value 1 dashed. Returns the axes."""
+    against ``x`` ("fe_hz" or "vd_mm_s"), one marker per normal attractor, coloured by its period
+    (hollow: the tangential motion did not become periodic, its long-time mean); the no-vibration
+    value 1 dashed. Returns the axes."""
     ax = _ax(ax)
     rows = sweep.rows
     periods = np.minimum(rows["period"].astype(int), 5) if len(sweep) else np.empty(0, int)
+    if x == "vd_mm_s":  # one curve per attractor of the operating point
+        for rank in sorted(set(rows["attractor"].astype(int).tolist())):
+            sel = rows["attractor"] == rank
+            k = int(rows["period"][sel][0])
+            ax.plot(rows[x][sel], rows["friction_ratio"][sel], "o-", ms=3.5, lw=1.0,
+                    label=f"#{rank}: period {k}, A_pp {rows['app_um'][sel][0]:.3g} µm, "
+                          f"flight {rows['contact_loss_fraction'][sel][0]:.0%}")
+        periods = periods[:0]
+    settled = rows["settled"].astype(bool) if len(sweep) else np.empty(0, bool)
     for k in sorted(set(periods.tolist())):
         sel = periods == k
-        ax.plot(rows[x][sel], rows["friction_ratio"][sel], "o", ms=3.5, color=_PERIOD_COLORS.get(k, "C4"),
+        color = _PERIOD_COLORS.get(k, "C4")
+        ax.plot(rows[x][sel & settled], rows["friction_ratio"][sel & settled], "o", ms=3.5, color=color,
                 label=f"normal period {k}" if k in _PERIOD_COLORS else "normal period > 4")
+        ax.plot(rows[x][sel & ~settled], rows["friction_ratio"][sel & ~settled], "o", ms=4.5, mfc="none",
+                color=color)
+    if len(sweep) and not settled.all():
+        ax.plot([], [], "o", mfc="none", color="0.3", label="tangential motion not periodic (mean)")
     ax.axhline(1.0, color="0.4", ls="--", lw=0.8, label="no vibration")
     ax.set_ylim(0.0, 1.1)
     ax.set_xlabel("excitation frequency f_e [Hz]" if x == "fe_hz" else "drive velocity v_d [mm/s]")
@@ -34,14 +49,17 @@ def plot_friction_sweep(sweep: FrictionSweep, x: str = "fe_hz", ax=None):
     if x == "vd_mm_s":
         ax.set_xscale("log")
     if len(sweep):
-        ax.legend(fontsize=7, loc="lower right")
+        if x == "fe_hz":  # the points fill the plane: the legend beside it
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        else:
+            ax.legend(fontsize=7, loc="upper left")
     ax.grid(alpha=0.3)
     return ax
 
 
 def friction_sweep_figure(sweep: FrictionSweep, x: str = "fe_hz"):
     """:func:`plot_friction_sweep` on a new figure, titled with the level and the parameters."""
-    fig, axes = new_figure(figsize=(7.0, 4.0))
+    fig, axes = new_figure(figsize=(8.6 if x == "fe_hz" else 7.0, 4.0))
     ax = plot_friction_sweep(sweep, x, axes[0, 0])
     p = sweep.friction
     vd = "" if x == "vd_mm_s" else f", v_d = {p['vd']:g} mm/s"
