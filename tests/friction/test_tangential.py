@@ -136,3 +136,16 @@ def test_bad_parameters_name_the_symbol(kw, symbol):
     with pytest.raises(ParameterError) as e:
         FrictionModel(**kw)
     assert e.value.symbol == symbol
+
+
+def test_switches_are_located_events(paper_360):
+    """Each switch is one located event (no chattering): the 1/3 resonance has 11 per period,
+    touchdown → stick → slip (→ stick → slip) → free at each of its three contacts, the same count
+    in the samples of its history; the orbit without loss of contact 2 (stick ↔ slip)."""
+    m, exc, found = paper_360
+    r = friction_at(m, exc, found[3])
+    assert r.switches_per_period == 11.0
+    h = r.history(200000)  # a stick of 1e-5 of the period before the third separation
+    assert int((h.mode[1:] != h.mode[:-1]).sum()) + int(h.mode[0] != h.mode[-1]) == 11
+    r4 = friction_at(m, exc, found[4])
+    assert r4.switches_per_period == 2.0 and r4.free_fraction == 0.0

@@ -86,6 +86,8 @@ def normal_at(Fn, yn, t0, h, contact, tau, par, tpar):
     th = min(max((tau - t0) / h, 0.0), 1.0)
     x = dense_value(Fn, yn, th, 0)
     v = dense_value(Fn, yn, th, 1)
+    if x <= 0.0:  # at the surface (a contact step's ends, to round-off): no compression
+        return 0.0, 0.0, 0.0
     r = contact_force(x, v, par)
     fx, fv = contact_partials(x, v, par)
     dr = fx * v + fv * acceleration(True, tau, x, v, par)

@@ -164,6 +164,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
         which, th = find_event(mode, sigma, F, z, t, hh, nstep, par, tpar)
         if which >= 0:
             n_events += 1
+            times[3] += 1.0  # switches of the period
             if n_events > MAX_EVENTS_PER_STEP:
                 return STATUS_TOO_MANY_EVENTS, mode, sigma, h
             he = th * hh
@@ -228,8 +229,8 @@ def settle(rec, period, par, tpar, z0, mode, sigma, rtol, scale, max_periods, jm
         The last relative distance of the phase-0 states j periods apart.
     quad : float64[max_periods, 4]
         Per period: ∫ f_drive, damper, slip and spring works [W y0] (per unit τ integrated).
-    times : float64[max_periods, 3]
-        Per period: time [τ] in stick, slip, free.
+    times : float64[max_periods, 4]
+        Per period: time [τ] in stick, slip, free, and the number of located switches.
     wr : float64[max_periods, 2]
         Per period: min and max of w [y0].
     states : float64[max_periods + 1, 3]
@@ -238,7 +239,7 @@ def settle(rec, period, par, tpar, z0, mode, sigma, rtol, scale, max_periods, jm
         Their mode and σ.
     """
     quad = np.zeros((max_periods, 4))
-    times = np.zeros((max_periods, 3))
+    times = np.zeros((max_periods, 4))
     wr = np.zeros((max_periods, 2))
     states = np.zeros((max_periods + 1, 3))
     modes = np.zeros((max_periods + 1, 2), np.int64)
@@ -306,7 +307,7 @@ def samples(rec, period, par, tpar, z0, mode, sigma, rtol, scale, n_periods, ts)
     z = np.zeros(N_STATE)
     z[:3] = z0
     jpos = np.zeros(1, np.int64)
-    times = np.zeros(3)
+    times = np.zeros(4)
     wr = np.zeros(2)
     h = 0.05
     for n in range(n_periods):

@@ -119,6 +119,8 @@ class FrictionResult:
         Normal periods integrated.
     steady_distance : float
         Relative distance of the last two phase-0 states one tangential period apart [1].
+    switches_per_period : float
+        Located mode switches (stick, slip, free) per normal period.
     drive_work_uj, damper_dissipation_uj, slip_dissipation_uj, spring_work_uj : float
         Per steady period [µJ]: the drive's work v_d ∫ F_drive dt, the damper's and the slip
         element's dissipation, and the work into the tangential spring (0 for a constant k_t; with
@@ -143,6 +145,7 @@ class FrictionResult:
     settled: bool
     n_periods: int
     steady_distance: float
+    switches_per_period: float
     drive_work_uj: float
     damper_dissipation_uj: float
     slip_dissipation_uj: float
@@ -304,7 +307,8 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     energy = W * model.y0 * 1e6  # µJ per unit W y0
     ratio = q[0] / span / fm.mu
     drive = tpar[kf.T_VD] * q[0]
-    tm = times[sel].sum(axis=0) / span
+    tm = times[sel, :3].sum(axis=0) / span
+    switches = times[sel, 3].sum() / jj
     jh = j if j > 0 else 1  # the history of an unsettled run: its last normal period
     run = (model, fm, rec, period, tpar, par, states[n - jh].copy(), int(modes[n - jh, 0]),
            float(modes[n - jh, 1]), jh)
@@ -315,7 +319,7 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         contact_loss_fraction=float(attractor.contact_loss_fraction),
         tangential_app_um=float((wr[sel, 1].max() - wr[sel, 0].min()) * u.y_um),
         normal_period=int(attractor.period), tangential_period=int(j), settled=j > 0, n_periods=int(n),
-        steady_distance=float(dist),
+        steady_distance=float(dist), switches_per_period=float(switches),
         drive_work_uj=float(drive * energy), damper_dissipation_uj=float(q[1] * energy),
         slip_dissipation_uj=float(q[2] * energy), spring_work_uj=float(q[3] * energy),
         energy_residual=float((drive - q[1] - q[2] - q[3]) / drive) if drive else math.nan,
