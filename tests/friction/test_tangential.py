@@ -149,3 +149,30 @@ def test_switches_are_located_events(paper_360):
     assert int((h.mode[1:] != h.mode[:-1]).sum()) + int(h.mode[0] != h.mode[-1]) == 11
     r4 = friction_at(m, exc, found[4])
     assert r4.switches_per_period == 2.0 and r4.free_fraction == 0.0
+
+
+def test_non_periodic_attractor_is_refused(paper_360):
+    import dataclasses
+
+    from contactvib.friction import FrictionError
+
+    m, exc, found = paper_360
+    with pytest.raises(FrictionError, match="non-periodic"):
+        friction_at(m, exc, dataclasses.replace(found[3], period=None))
+
+
+def test_table_law_gives_the_power_laws_friction(paper_360):
+    """The paper's law as a 301-row PCHIP table (examples/power_law_table.csv) through the general
+    kernel path (k_t from the table's slope) against the power law: measured 1e-6 … 2e-5."""
+    from pathlib import Path
+
+    from contactvib import TableLaw
+
+    m, exc, found = paper_360
+    table = ContactModel(law=TableLaw.from_csv(Path(__file__).parents[2] / "examples" / "power_law_table.csv"))
+    t_exc = table.excitation(0.65, 360.0)
+    t_found = list(find_attractors(table, t_exc, n_starts=32))
+    for a in found[2:]:
+        b = min(t_found, key=lambda b: abs(b.app_um - a.app_um))
+        assert friction_at(table, t_exc, b).friction_ratio == pytest.approx(friction_at(m, exc, a).friction_ratio,
+                                                                            rel=1e-4)
