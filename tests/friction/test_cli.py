@@ -71,7 +71,8 @@ def test_one_point_out_writes_histories(tmp_path, capsys):
 @pytest.mark.parametrize("args, message", [
     (["--mu", "-0.1"], "--mu (mu) = -0.1: must be in (0, 100]"),
     (["--kt-ratio", "0"], "--kt-ratio (kt_ratio) = 0: must be in (0, 1e+6]"),
-    (["--kd", "0"], "--kd (k_d) = 0: must be in (0, 1e+15] N/m"),
+    (["--kd", "0"], "--kd (k_d) = 0: must be > 0 N/m: the drive velocity v_d acts through a drive spring"),
+    (["--kd", "1e16"], "--kd (k_d) = 1e+16: must be <= 1e+15 N/m"),
     (["--vd", "0"], "--vd (v_d) = 0: must be in (0, 1e+6] mm/s"),
     (["--vd", "-1"], "--vd (v_d) = -1: must be in (0, 1e+6] mm/s"),
     (["--cd", "-1"], "--cd (c_d) = -1: must be in [0, 1e+12] N s/m"),

@@ -26,7 +26,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from contactvib.model.checks import check_choice, check_range
+from contactvib.model.checks import ParameterError, check_choice, check_range
 
 #: Mindlin's ratio of tangential to normal stiffness of a Hertz contact, 2(1 − ν)/(2 − ν) at ν = 0.3.
 MINDLIN_RATIO = 2.0 * (1.0 - 0.3) / (2.0 - 0.3)
@@ -78,7 +78,11 @@ class FrictionModel:
         put(self, "kt_ratio", check_range("kt_ratio", self.kt_ratio, 0.0, False, "1", upper=1e6))
         put(self, "kt_law", check_choice("kt_law", self.kt_law, KT_LAWS))
         put(self, "drive", check_choice("drive", self.drive, DRIVES))
-        put(self, "kd", check_range("k_d", self.kd, 0.0, False, "N/m", upper=1e15))
+        kd = check_range("k_d", self.kd, None, unit="N/m", upper=1e15)
+        if kd <= 0.0:
+            raise ParameterError("k_d", self.kd, "must be > 0 N/m: the drive velocity v_d acts through a drive "
+                                 "spring (a constant tangential force is not built yet)")
+        put(self, "kd", kd)
         put(self, "cd", check_range("c_d", self.cd, 0.0, True, "N s/m", upper=1e12))
         put(self, "vd", check_range("v_d", self.vd, 0.0, False, "mm/s", upper=1e6))
         put(self, "beta", check_range("beta", self.beta, 0.0, False, "1", upper=1.0))
