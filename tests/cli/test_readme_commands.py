@@ -147,6 +147,8 @@ REDUCED: dict[str, list[str]] = {
     "contactvib friction --pa 0.65 --fe 360 --vd-range 0.001 100 --nvd 21 --out docs/friction/":
         ["friction", "--pa", "0.65", "--fe", "360", "--vd-range", "0.001", "100", "--nvd", "3", "--starts", "8",
          "--out", "docs/friction/"],
+    "contactvib friction --pa 0.65 --fe 360 --drive force --ft 0.3":
+        ["friction", "--pa", "0.65", "--fe", "360", "--drive", "force", "--ft", "0.3", "--starts", "16"],
     "contactvib perturbation --pa 0.65 --fe 287 --order 40 --out pert/":
         ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--out", "pert/"],
     "contactvib perturbation --pa 0.65 --fe 287 --order 40 --json":

@@ -25,7 +25,7 @@ def test_json_contract(capsys):
                  "--mu", "0.2", "--vd", "1", "--beta", "0.8"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["friction"] == {"mu": 0.2, "kt_ratio": MINDLIN_RATIO, "kt_law": "constant", "kd": 1e5, "cd": 30.0,
-                             "vd": 1.0, "beta": 0.8, "drive": "velocity"}
+                             "vd": 1.0, "beta": 0.8, "drive": "velocity", "ft": 0.0}
     assert {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "model", "attractors"} <= set(d)
     for a in d["attractors"]:
         assert {"period", "app_um", "contact_loss_fraction", "friction_ratio", "friction_reduction",
@@ -84,8 +84,19 @@ def test_one_point_out_writes_histories(tmp_path, capsys):
     (["--fe-range", "300", "400", "--df", "0"], "--df (df) = 0: must be > 0 Hz"),
     (["--fe-range", "1", "1e12"], "--df = 20: 50000000000 frequencies over --fe-range; at most 10000"),
     (["--kt-law", "mindlin"], "--kt-law"),
+    (["--drive", "force"], "--drive force: needs the tangential force --ft N"),
+    (["--ft", "1"], "--ft: belongs to --drive force"),
+    (["--drive", "force", "--ft", "0"], "--ft (F_T) = 0: must be in (0, 1e+12] N"),
+    (["--drive", "force", "--ft", "1", "--vd-range", "0.1", "1"], "--vd-range: belongs to the velocity drive"),
 ])
 def test_bad_input_one_line(args, message, capsys):
     assert main(["friction", *args]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("contactvib: error: ") and message in err, err
+
+
+def test_force_drive_table(capsys):
+    assert main(["friction", "--pa", "0.65", "--fe", "360", "--starts", "16", "--drive", "force", "--ft", "0.3"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert "F_T = 0.3 N" in out[0] and out[1].split()[-3:] == ["v", "[mm/s]", "T_t"]
+    assert all(float(line.split()[-2]) > 0.0 for line in out[2:])  # every attractor creeps

@@ -131,7 +131,9 @@ def test_history_over_one_steady_period(paper_360):
 @pytest.mark.parametrize("kw, symbol", [({"mu": -0.1}, "mu"), ({"mu": 0.0}, "mu"), ({"kt_ratio": -1}, "kt_ratio"),
                                         ({"kd": 0.0}, "k_d"), ({"vd": 0.0}, "v_d"), ({"cd": -1.0}, "c_d"),
                                         ({"beta": 1.5}, "beta"), ({"kt_law": "x"}, "kt_law"),
-                                        ({"drive": "force"}, "drive"), ({"mu": float("nan")}, "mu")])
+                                        ({"drive": "x"}, "drive"), ({"mu": float("nan")}, "mu"),
+                                        ({"drive": "force"}, "F_T"), ({"drive": "force", "ft": -1.0}, "F_T"),
+                                        ({"ft": 1.0}, "F_T")])
 def test_bad_parameters_name_the_symbol(kw, symbol):
     with pytest.raises(ParameterError) as e:
         FrictionModel(**kw)
@@ -176,3 +178,32 @@ def test_table_law_gives_the_power_laws_friction(paper_360):
         b = min(t_found, key=lambda b: abs(b.app_um - a.app_um))
         assert friction_at(table, t_exc, b).friction_ratio == pytest.approx(friction_at(m, exc, a).friction_ratio,
                                                                             rel=1e-4)
+
+
+def test_constant_force_without_vibration_sticks_or_slides():
+    """No normal vibration: a force below μ W sticks (no creep); above it the slider slides at
+    (F_T − μ W)/c_d, the damper to the ground taking the rest."""
+    m = ContactModel()
+    exc = m.excitation(0.0, 360.0)
+    (rest,) = find_attractors(m, exc, n_starts=8, seeds=False)
+    mu_w = 0.3 * m.W
+    stuck = friction_at(m, exc, rest, FrictionModel(drive="force", ft=0.5 * mu_w))
+    assert stuck.mean_velocity_mm_s == 0.0 and stuck.stick_fraction == 1.0
+    slide = friction_at(m, exc, rest, FrictionModel(drive="force", ft=1.5 * mu_w))
+    assert slide.mean_velocity_mm_s == pytest.approx(0.5 * mu_w / 30.0 * 1e3, rel=1e-9)
+    assert slide.friction_ratio == pytest.approx(1.0, abs=1e-9)
+
+
+def test_constant_force_creep_under_vibration(paper_360):
+    """Normal vibration lets a force below μ W creep (vibration-induced creep); a large force
+    slips forward throughout at (F_T − μ⟨R⁺⟩)/c_d; the energy balance F_T Δu = damper + slip."""
+    m, exc, found = paper_360
+    mu_w = 0.3 * m.W
+    for a in found[2:]:
+        creep = friction_at(m, exc, a, FrictionModel(drive="force", ft=0.5 * mu_w))
+        assert creep.settled and creep.mean_velocity_mm_s > 0.01
+        assert creep.friction_ratio == pytest.approx(0.5 - 30.0 * creep.mean_velocity_mm_s * 1e-3 / mu_w, rel=1e-6)
+        assert abs(creep.energy_residual) < 1e-8
+        fast = friction_at(m, exc, a, FrictionModel(drive="force", ft=1.2 * mu_w, kt_law="constant"))
+        v = (1.2 * mu_w - mu_w * mean_limit(m, exc, a)) / 30.0 * 1e3
+        assert fast.mean_velocity_mm_s == pytest.approx(v, rel=1e-8) and fast.stick_fraction < 1e-12

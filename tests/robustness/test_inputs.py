@@ -77,7 +77,8 @@ OPTIONS = {
     "friction": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set", "--starts": "value",
                  "--seed": "value", "--kmax": "value", "--max-periods": "value", "--vd": "value", "--mu": "value",
                  "--kt-ratio": "value", "--kt-law": "value", "--kd": "value", "--cd": "value", "--beta": "value",
-                 "--fe-range": "pair", "--df": "value", "--vd-range": "pair", "--nvd": "value"},
+                 "--fe-range": "pair", "--df": "value", "--vd-range": "pair", "--nvd": "value", "--drive": "value",
+                 "--ft": "value"},
     "explore": {"--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
                 "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
@@ -100,7 +101,8 @@ for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
 NEEDS = {("simulate", "--periods"): ["--from-state", "0.1", "0"],
          ("continue", "--pa-min"): ["--parameter", "pa"], ("continue", "--pa-max"): ["--parameter", "pa"],
          ("continue", "--pa"): ["--parameter", "pa"],
-         ("friction", "--df"): ["--fe-range", "300", "400"], ("friction", "--nvd"): ["--vd-range", "0.01", "1"]}
+         ("friction", "--df"): ["--fe-range", "300", "400"], ("friction", "--nvd"): ["--vd-range", "0.01", "1"],
+         ("friction", "--ft"): ["--drive", "force"]}
 
 CASES = [pytest.param(c, o, k, id=f"{c}{o}") for c, opts in OPTIONS.items() for o, k in opts.items()]
 

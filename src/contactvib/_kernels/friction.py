@@ -5,7 +5,10 @@ Nondimensional, in the normal problem's units (length y0, force W = Q + F_pre, t
 κ = k y0 / W the nondimensional mass, ``par[0]``), with w = (u − v_d t)/y0 the slider's
 tangential displacement behind the drive's end moving at v_d::
 
-    κ w'' = −k_d w − c_d w' − f_t
+    κ w'' = f_T − k_d w − c_d w' − f_t
+
+(the velocity drive: f_T = 0; a constant tangential force f_T: k_d = v_d = 0, w = u/y0, the
+damper c_d to the ground)
 
 where f_t is the tangential force of the contact, a Jenkins element: a spring k_t(τ) in series
 with a Coulomb slip element of limit l(τ) = μ (r⁺)^β, r = R/W the normal contact force of the
@@ -52,8 +55,8 @@ from numba import njit
 from .contact import contact_force, contact_partials, spring
 from .flow import E3, E5, REC_F, REC_X, A, B, C, D, acceleration, dense_value
 
-#: Slots of the tangential parameter vector ``tpar``.
-T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA = range(8)
+#: Slots of the tangential parameter vector ``tpar`` (T_FT: a constant drive force [W]).
+T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA, T_FT = range(9)
 #: Modes of the contact.
 STICK, SLIP, FREE = 0, 1, 2
 #: Components of the state: w, w', f_t (dynamic) and the quadratures of the period.
@@ -129,7 +132,7 @@ def rhs(mode, sigma, z, r, dr, kt, tpar, out):
         ds = sigma * lr * du - el
     else:
         ft = 0.0
-    fd = -tpar[T_KD] * z[Z_W] - tpar[T_CD] * z[Z_V]
+    fd = tpar[T_FT] - tpar[T_KD] * z[Z_W] - tpar[T_CD] * z[Z_V]
     out[Z_W] = z[Z_V]
     out[Z_V] = (fd - ft) / tpar[T_KAPPA]
     out[Q_DRIVE] = fd

@@ -28,7 +28,7 @@ _FRICTION: contextvars.ContextVar = contextvars.ContextVar("contactvib_friction"
 #: FrictionModel's symbols, by option.
 _FRICTION_NAMES = {"mu": "--mu", "kt_ratio": "--kt-ratio", "kt_law": "--kt-law", "k_d": "--kd", "c_d": "--cd",
                    "v_d": "--vd", "beta": "--beta", "v_min": "--vd-range VMIN", "v_max": "--vd-range VMAX",
-                   "n_vd": "--nvd"}
+                   "n_vd": "--nvd", "F_T": "--ft", "drive": "--drive"}
 #: Largest number of frequencies of --fe-range.
 FE_POINTS_MAX = 10000
 
@@ -36,9 +36,14 @@ FE_POINTS_MAX = 10000
 def _friction_options(f):
     """--vd, --mu, --kt-ratio, --kt-law, --kd, --cd, --beta, and the grids --fe-range/--df and
     --vd-range/--nvd."""
-    names = ("vd", "mu", "kt_ratio", "kt_law", "kd", "cd", "beta", "fe_range", "df", "vd_range", "nvd")
+    names = ("vd", "mu", "kt_ratio", "kt_law", "kd", "cd", "beta", "fe_range", "df", "vd_range", "nvd", "drive", "ft")
     f = _scoped(_FRICTION, names, f)
     opts = [
+        ("--ft", dict(default=None, metavar="N",
+                      help="The constant tangential force F_T [N] of --drive force (c_d: a damper to the ground).")),
+        ("--drive", dict(default="velocity", show_default=True, type=click.Choice(["velocity", "force"]),
+                         help="velocity: a drive spring k_d whose end moves at v_d; force: a constant tangential "
+                              "force --ft (the slider creeps at the mean velocity the vibration lets through).")),
         ("--nvd", dict(default="13", show_default=True, help="Drive velocities of --vd-range (log-spaced).")),
         ("--vd-range", dict(nargs=2, default=None, metavar="VMIN VMAX",
                             help="Friction against the drive velocity [mm/s] at --fe: OUT/friction_vd.png, .csv.")),
@@ -68,9 +73,17 @@ def _friction_model():
     from contactvib.friction import FrictionModel
 
     o = _FRICTION.get() or {}
-    kt = {} if o["kt_ratio"] is None else {"kt_ratio": o["kt_ratio"]}
+    kw = {} if o["kt_ratio"] is None else {"kt_ratio": o["kt_ratio"]}
+    if o["drive"] == "force":
+        if o["ft"] is None:
+            raise InputError("--drive force: needs the tangential force --ft N")
+        if o["vd_range"] is not None:
+            raise InputError("--vd-range: belongs to the velocity drive, not to --drive force")
+        kw.update(drive="force", ft=o["ft"])
+    elif o["ft"] is not None:
+        raise InputError("--ft: belongs to --drive force (a constant tangential force), not to the velocity drive")
     return _mapped(_FRICTION_NAMES, FrictionModel, mu=o["mu"], kt_law=o["kt_law"], kd=o["kd"], cd=o["cd"],
-                   vd=o["vd"], beta=o["beta"], **kt)
+                   vd=o["vd"], beta=o["beta"], **kw)
 
 
 def _frequencies(o) -> np.ndarray:
@@ -107,23 +120,25 @@ def _grid_excitation(model, pa, pa_newton, f):
 
 
 def _header(model, exc, fm) -> str:
+    drive = (f"F_T = {fm.ft:g} N ({fm.ft / (fm.mu * model.W):.4g} mu W), c_d = {fm.cd:g} N s/m" if fm.drive == "force"
+             else f"k_d = {fm.kd:g} N/m, c_d = {fm.cd:g} N s/m, v_d = {fm.vd:g} mm/s")
+    beta = f", beta = {fm.beta:g}" if fm.beta != 1.0 else ""
     return (f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz; friction: mu = {fm.mu:g}, "
-            f"k_t = {fm.kt_ratio:.4g} dF_s/dy ({fm.kt_law}), k_d = {fm.kd:g} N/m, c_d = {fm.cd:g} N s/m, "
-            f"v_d = {fm.vd:g} mm/s" + (f", beta = {fm.beta:g}" if fm.beta != 1.0 else ""))
+            f"k_t = {fm.kt_ratio:.4g} dF_s/dy ({fm.kt_law}), {drive}{beta}")
 
 
 _HEAD = (f"{'#':>2} {'period':>6} {'A_pp [um]':>10} {'gap':>6} {'ratio':>8} {'reduction':>9} {'stick':>6} "
          f"{'slip':>6} {'free':>6} {'u_pp [um]':>10} {'T_t':>4}")
 
 
-def _point_row(i, a, r) -> str:
+def _point_row(i, a, r, force=False) -> str:
     if r is None:
         return f"{i:>2} {'-' if a.period is None else a.period:>6} {a.app_um:>10.5g} {a.contact_loss_fraction:>6.3f} " \
                f"{'-':>8}   (non-periodic: no friction)"
     t_t = str(r.tangential_period) if r.settled else "-"
     return (f"{i:>2} {a.period:>6} {a.app_um:>10.5g} {a.contact_loss_fraction:>6.3f} {r.friction_ratio:>8.4f} "
             f"{r.friction_reduction:>9.2%} {r.stick_fraction:>6.3f} {r.slip_fraction:>6.3f} {r.free_fraction:>6.3f} "
-            f"{r.tangential_app_um:>10.4g} {t_t:>4}")
+            f"{r.mean_velocity_mm_s if force else r.tangential_app_um:>10.4g} {t_t:>4}")
 
 
 def _one_point(model, exc, found, fm, out, as_json) -> None:
@@ -143,10 +158,11 @@ def _one_point(model, exc, found, fm, out, as_json) -> None:
         _echo_json({"fn0_hz": model.f_n0, "y0_um": model.units.y_um, "pa_over_q": exc.pa_over_q, "fe_hz": exc.f_e,
                     "friction": fm.parameters(), "model": model.parameters(), "attractors": items})
     else:
+        force = fm.drive == "force"
         click.echo(_header(model, exc, fm))
-        click.echo(_HEAD)
+        click.echo(_HEAD.replace(" u_pp [um]", "v [mm/s]".rjust(10)) if force else _HEAD)
         for i, (a, r) in enumerate(zip(found, results)):
-            click.echo(_point_row(i, a, r))
+            click.echo(_point_row(i, a, r, force))
         if any(r is not None and not r.settled for r in results):
             click.echo("   T_t '-': the tangential motion did not become periodic within its period limit")
     if out is not None:

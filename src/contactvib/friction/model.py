@@ -31,9 +31,10 @@ from contactvib.model.checks import ParameterError, check_choice, check_range
 #: Mindlin's ratio of tangential to normal stiffness of a Hertz contact, 2(1 − ν)/(2 − ν) at ν = 0.3.
 MINDLIN_RATIO = 2.0 * (1.0 - 0.3) / (2.0 - 0.3)
 KT_LAWS = ("normal", "constant")
-#: Drives of the slider; only the velocity drive is built (a drive at rest and a constant
-#: tangential force are later steps of issue 26).
-DRIVES = ("velocity",)
+#: Drives of the slider: the end of a drive spring moving at v_d, or a constant tangential force
+#: F_T (with the damper c_d to the ground). A spring at rest (v_d = 0) is not built: its steady
+#: state depends on its initial stretch.
+DRIVES = ("velocity", "force")
 
 
 @dataclass(frozen=True)
@@ -59,8 +60,12 @@ class FrictionModel:
         Drive velocity v_d [mm/s], > 0 (default 0.1).
     beta : float
         Hess & Soom's exponent β of the slip limit μ W (R/W)^β [1], 0 < β ≤ 1 (1: Coulomb, μ R).
-    drive : {"velocity"}
-        The drive: the end of the drive spring moves at v_d.
+    drive : {"velocity", "force"}
+        The drive: the end of the drive spring moves at v_d; or a constant tangential force
+        ``ft`` pulls the slider (k_d and v_d unused, c_d a damper to the ground): the slider then
+        creeps at the mean velocity the vibration lets through.
+    ft : float
+        The constant tangential force F_T [N] of ``drive="force"``, > 0 there (0 otherwise).
     """
 
     mu: float = 0.3
@@ -71,6 +76,7 @@ class FrictionModel:
     vd: float = 0.1
     beta: float = 1.0
     drive: str = "velocity"
+    ft: float = 0.0
 
     def __post_init__(self):
         put = object.__setattr__
@@ -81,11 +87,16 @@ class FrictionModel:
         kd = check_range("k_d", self.kd, None, unit="N/m", upper=1e15)
         if kd <= 0.0:
             raise ParameterError("k_d", self.kd, "must be > 0 N/m: the drive velocity v_d acts through a drive "
-                                 "spring (a constant tangential force is not built yet)")
+                                 "spring (or drive='force' with a constant tangential force ft)")
         put(self, "kd", kd)
         put(self, "cd", check_range("c_d", self.cd, 0.0, True, "N s/m", upper=1e12))
         put(self, "vd", check_range("v_d", self.vd, 0.0, False, "mm/s", upper=1e6))
         put(self, "beta", check_range("beta", self.beta, 0.0, False, "1", upper=1.0))
+        if self.drive == "force":
+            put(self, "ft", check_range("F_T", self.ft, 0.0, False, "N", upper=1e12))
+        elif check_range("F_T", self.ft, None, unit="N") != 0.0:
+            raise ParameterError("F_T", self.ft, "belongs to drive='force' (a constant tangential force), "
+                                 "not to the velocity drive")
 
     def parameters(self) -> dict:
         """The parameters as a dict (JSON, dataset attributes)."""
@@ -93,15 +104,20 @@ class FrictionModel:
 
     def kernel_parameters(self, model) -> np.ndarray:
         """``tpar`` of :mod:`contactvib._kernels.friction` for ``model``: μ, β, kt_ratio, the
-        constant-k_t flag, k_d y0/W, c_d y0 ω_n0/W, v_d/(y0 ω_n0), κ."""
+        constant-k_t flag, k_d y0/W, c_d y0 ω_n0/W, v_d/(y0 ω_n0), κ, F_T/W (k_d = v_d = 0 under a
+        force drive, F_T = 0 under the velocity drive)."""
         y0, w, W = model.y0, model.omega_n0, model.W
+        force = self.drive == "force"
         return np.array([self.mu, self.beta, self.kt_ratio, 1.0 if self.kt_law == "constant" else 0.0,
-                         self.kd * y0 / W, self.cd * y0 * w / W, self.vd * 1e-3 / (y0 * w), model.kappa])
+                         0.0 if force else self.kd * y0 / W, self.cd * y0 * w / W,
+                         0.0 if force else self.vd * 1e-3 / (y0 * w), model.kappa, self.ft / W])
 
     def scales(self, model) -> np.ndarray:
         """Scales of w [y0], w' and f_t [W] for error control and the steady-state test: the
-        elastic displacement μ/k_t, the drive velocity plus the stick oscillation's velocity,
+        elastic displacement μ/k_t (inf under a force drive: u drifts, its error does not act
+        back and it is not compared), the drive velocity plus the stick oscillation's velocity,
         and μ."""
         tp = self.kernel_parameters(model)
         kt0 = self.kt_ratio * model.kappa
-        return np.array([self.mu / kt0, tp[6] + self.mu / math.sqrt(kt0 * model.kappa), self.mu])
+        w = math.inf if self.drive == "force" else self.mu / kt0  # a force drive's u drifts: not compared
+        return np.array([w, tp[6] + self.mu / math.sqrt(kt0 * model.kappa), self.mu])

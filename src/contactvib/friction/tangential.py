@@ -42,6 +42,8 @@ RTOL = 1e-11
 STEADY_TOL = 1e-9
 #: Distance at which a settled run stops refining its steady state (or at its noise floor).
 STEADY_TOL_FINE = 1e-13
+#: Drift [y0] per normal period below which a slider under a constant force is stuck (round-off).
+STUCK_DRIFT = 1e-10
 #: Largest tangential period searched [normal periods].
 JMAX = 8
 #: Gauss–Legendre nodes per normal step of :func:`mean_limit`.
@@ -107,7 +109,12 @@ class FrictionResult:
     contact_loss_fraction : float
         Fraction of the period in flight, y < 0 [1] (the normal attractor's).
     tangential_app_um : float
-        Peak-to-peak of u − v_d t over the period [µm] (the tangential oscillation).
+        Peak-to-peak of u − v_d t over the period [µm] (the tangential oscillation; NaN under a
+        force drive, where u drifts).
+    mean_velocity_mm_s : float
+        The slider's mean velocity [mm/s]: v_d under the velocity drive; under a constant force
+        the creep that the vibration lets through (0: stuck), and then friction_ratio =
+        (F_T − c_d · mean velocity) / (μ W).
     normal_period : int
         Period of the normal attractor [excitation periods].
     tangential_period : int
@@ -122,7 +129,7 @@ class FrictionResult:
     switches_per_period : float
         Located mode switches (stick, slip, free) per normal period.
     drive_work_uj, damper_dissipation_uj, slip_dissipation_uj, spring_work_uj : float
-        Per steady period [µJ]: the drive's work v_d ∫ F_drive dt, the damper's and the slip
+        Per steady period [µJ]: the drive's work (v_d ∫ F_drive dt, or F_T Δu), the damper's and the slip
         element's dissipation, and the work into the tangential spring (0 for a constant k_t; with
         k_t following the normal contact, what the neglected normal–tangential coupling exchanges).
     energy_residual : float
@@ -140,6 +147,7 @@ class FrictionResult:
     free_fraction: float
     contact_loss_fraction: float
     tangential_app_um: float
+    mean_velocity_mm_s: float
     normal_period: int
     tangential_period: int
     settled: bool
@@ -244,8 +252,11 @@ def mean_limit(model: ContactModel, excitation: Excitation, attractor: Attractor
 
 
 def _start(rec, tpar, par):
-    """Steady sliding without vibration: the drive spring stretched by μ W, the slider at v_d,
-    slipping forward (free in flight)."""
+    """Velocity drive: steady sliding without vibration, the drive spring stretched by μ W, the
+    slider at v_d, slipping forward (free in flight). Force drive: the slider at rest, sticking
+    with no tangential force."""
+    if tpar[kf.T_KD] == 0.0:
+        return np.zeros(3), kf.STICK, 1.0
     z0 = np.array([-tpar[kf.T_MU] / tpar[kf.T_KD], 0.0, tpar[kf.T_MU]])
     return z0, (kf.SLIP if rec[0, REC_MODE] > 0.5 else kf.FREE), 1.0
 
@@ -306,7 +317,11 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     W, u = model.W, model.units
     energy = W * model.y0 * 1e6  # µJ per unit W y0
     ratio = q[0] / span / fm.mu
-    drive = tpar[kf.T_VD] * q[0]
+    drift = states[n, 0] - states[n - jj, 0]  # w over the window: 0 on a closed velocity-drive orbit
+    force = fm.drive == "force"
+    if force and abs(drift) <= STUCK_DRIFT * jj:  # stuck: the force never overcomes the contact
+        drift = 0.0
+    drive = tpar[kf.T_FT] * drift if force else tpar[kf.T_VD] * q[0]  # the drive's work
     tm = times[sel, :3].sum(axis=0) / span
     switches = times[sel, 3].sum() / jj
     jh = j if j > 0 else 1  # the history of an unsettled run: its last normal period
@@ -317,10 +332,11 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         limit_mean=mean_limit(model, excitation, attractor, fm.beta),
         stick_fraction=float(tm[kf.STICK]), slip_fraction=float(tm[kf.SLIP]), free_fraction=float(tm[kf.FREE]),
         contact_loss_fraction=float(attractor.contact_loss_fraction),
-        tangential_app_um=float((wr[sel, 1].max() - wr[sel, 0].min()) * u.y_um),
+        tangential_app_um=math.nan if force else float((wr[sel, 1].max() - wr[sel, 0].min()) * u.y_um),
+        mean_velocity_mm_s=float((drift / span + tpar[kf.T_VD]) * u.ydot_mm_s),
         normal_period=int(attractor.period), tangential_period=int(j), settled=j > 0, n_periods=int(n),
         steady_distance=float(dist), switches_per_period=float(switches),
         drive_work_uj=float(drive * energy), damper_dissipation_uj=float(q[1] * energy),
         slip_dissipation_uj=float(q[2] * energy), spring_work_uj=float(q[3] * energy),
-        energy_residual=float((drive - q[1] - q[2] - q[3]) / drive) if drive else math.nan,
+        energy_residual=float((drive - q[1] - q[2] - q[3]) / drive) if drive else math.nan,  # NaN: stuck
         friction=fm.parameters(), _run=run)
