@@ -9,7 +9,8 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attract
 :func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
 :func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
-:func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`.
+:func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`,
+:func:`friction_at`.
 """
 
 __version__ = "0.1.0"
@@ -68,6 +69,11 @@ _LAZY = {
     "animate": ("contactvib.sweeps.film", "animate"),
     "FilmResult": ("contactvib.sweeps.film", "FilmResult"),
     "open_levels": ("contactvib.sweeps.film", "open_levels"),
+    # friction under normal contact vibration (issue 26)
+    "friction_at": ("contactvib.friction.tangential", "friction_at"),
+    "FrictionModel": ("contactvib.friction.model", "FrictionModel"),
+    "FrictionResult": ("contactvib.friction.tangential", "FrictionResult"),
+    "FrictionHistory": ("contactvib.friction.tangential", "FrictionHistory"),
 }
 
 __all__ = ["__version__", *_LAZY]

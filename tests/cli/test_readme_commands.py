@@ -139,6 +139,21 @@ REDUCED: dict[str, list[str]] = {
          "--out", "evo/"],
     "contactvib map paper/ --out map/": ["map", "paper/", "--out", "map/"],
     "contactvib map paper/ --curves evo/ --out map/": ["map", "paper/", "--curves", "evo/", "--out", "map/"],
+    "contactvib friction --pa 0.65 --fe 360 --vd 0.1":
+        ["friction", "--pa", "0.65", "--fe", "360", "--vd", "0.1", "--starts", "16"],
+    "contactvib friction --pa 0.65 --fe 360 --json":
+        ["friction", "--pa", "0.65", "--fe", "360", "--json", "--starts", "16"],
+    "contactvib friction --pa 0.65 --fe 360 --mu 0.2 --kt-law constant --beta 0.7 --out fric/":
+        ["friction", "--pa", "0.65", "--fe", "360", "--mu", "0.2", "--kt-law", "constant", "--beta", "0.7",
+         "--out", "fric/", "--starts", "16"],
+    "contactvib friction --pa 0.65 --fe-range 100 2000 --df 20 --starts 64 --out docs/friction/":
+        ["friction", "--pa", "0.65", "--fe-range", "340", "380", "--df", "40", "--starts", "8",
+         "--out", "docs/friction/"],
+    "contactvib friction --pa 0.65 --fe 360 --vd-range 0.001 100 --nvd 21 --out docs/friction/":
+        ["friction", "--pa", "0.65", "--fe", "360", "--vd-range", "0.001", "100", "--nvd", "3", "--starts", "8",
+         "--out", "docs/friction/"],
+    "contactvib friction --pa 0.65 --fe 360 --drive force --ft 0.3":
+        ["friction", "--pa", "0.65", "--fe", "360", "--drive", "force", "--ft", "0.3", "--starts", "16"],
     "contactvib perturbation --pa 0.65 --fe 287 --order 40 --out pert/":
         ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--out", "pert/"],
     "contactvib perturbation --pa 0.65 --fe 287 --order 40 --json":
@@ -549,5 +564,23 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         d = json.loads((folder / "branch.json").read_text())
         assert {"pa_over_q", "harmonics", "fmin_hz", "fmax_hz", "branches"} <= set(d)
         assert d["harmonics"] == 16 and (d["fmin_hz"], d["fmax_hz"]) == (300.0, 340.0) and d["branches"]
+    elif cmd == "friction":
+        _check_friction(args, folder, out)
     else:
         raise AssertionError(f"no output check for {line!r}: add one to this test")
+
+
+def _check_friction(args, folder, out):
+    """`friction`: the table or JSON of one point, its time histories, or a grid's CSV and figure."""
+    if "--json" in args:
+        d = json.loads(out)
+        assert d["attractors"] and all(0.0 < a["friction_ratio"] < 1.0 for a in d["attractors"])
+    elif "--fe-range" in args or "--vd-range" in args:
+        stem = "friction_fe" if "--fe-range" in args else "friction_vd"
+        assert (folder / f"{stem}.csv").read_text().startswith("fe_hz,vd_mm_s,attractor")
+        assert_figure_file(folder / f"{stem}.png")
+    else:
+        assert out.splitlines()[1].split()[:2] == ["#", "period"] and len(out.splitlines()) >= 3
+        if folder is not None:
+            assert_figure_file(folder / "friction_0.png")
+            assert json.loads((folder / "friction.json").read_text())

@@ -74,6 +74,11 @@ OPTIONS = {
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                      "--order": "value", "--summation": "value"},
     "map": {"--orders": "levels", "--curves": "value"},
+    "friction": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set", "--starts": "value",
+                 "--seed": "value", "--kmax": "value", "--max-periods": "value", "--vd": "value", "--mu": "value",
+                 "--kt-ratio": "value", "--kt-law": "value", "--kd": "value", "--cd": "value", "--beta": "value",
+                 "--fe-range": "pair", "--df": "value", "--vd-range": "pair", "--nvd": "value", "--drive": "value",
+                 "--ft": "value"},
     "explore": {"--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
                 "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
@@ -82,7 +87,7 @@ OPTIONS = {
 #: options of the commands at one operating point.
 LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload": "value"}
 EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
-for _name in ("attractors", "simulate", "basins", "perturbation"):
+for _name in ("attractors", "simulate", "basins", "perturbation", "friction"):
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore"):
@@ -95,7 +100,9 @@ for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
 #: --pa-max are a range with --parameter pa).
 NEEDS = {("simulate", "--periods"): ["--from-state", "0.1", "0"],
          ("continue", "--pa-min"): ["--parameter", "pa"], ("continue", "--pa-max"): ["--parameter", "pa"],
-         ("continue", "--pa"): ["--parameter", "pa"]}
+         ("continue", "--pa"): ["--parameter", "pa"],
+         ("friction", "--df"): ["--fe-range", "300", "400"], ("friction", "--nvd"): ["--vd-range", "0.01", "1"],
+         ("friction", "--ft"): ["--drive", "force"]}
 
 CASES = [pytest.param(c, o, k, id=f"{c}{o}") for c, opts in OPTIONS.items() for o, k in opts.items()]
 

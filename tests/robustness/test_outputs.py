@@ -37,6 +37,9 @@ COMMANDS = [
     pytest.param("map", ["DATASET"], id="map"),  # DATASET: the small_dataset fixture
     # animate's --out is a file (evolution.mp4); the dataset is read after --out is checked
     pytest.param("animate", ["no_such_dataset.nc"], id="animate"),
+    pytest.param("friction", [], id="friction"),
+    pytest.param("friction", ["--fe-range", "300", "400", "--df", "50"], id="friction-fe-range"),
+    pytest.param("friction", ["--vd-range", "0.01", "1", "--nvd", "3", "--json"], id="friction-vd-range"),
     _writes_nothing("attractors"),
     _writes_nothing("query"),
     _writes_nothing("explore"),  # a server: it writes no file

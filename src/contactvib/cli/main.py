@@ -14,6 +14,7 @@ from contactvib.cli.continuation import bifurcations, continue_, evolution
 from contactvib.cli.explore import explore
 from contactvib.cli.film import animate
 from contactvib.cli.frequency import hbm, perturbation
+from contactvib.cli.friction import friction
 from contactvib.cli.regimes import map_
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
@@ -42,7 +43,7 @@ def cli():
 
 
 for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
-                 bifurcations, evolution, perturbation, hbm, map_, explore):
+                 bifurcations, evolution, perturbation, hbm, map_, explore, friction):
     cli.add_command(_command)
 
 
