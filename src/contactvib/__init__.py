@@ -18,6 +18,10 @@ __version__ = "0.1.0"
 
 #: public name -> (module, attribute); the module is imported on first access
 _LAZY = {
+    # fitting to measurements
+    "fit": ("contactvib.fitting.solver", "fit"),
+    "FitResult": ("contactvib.fitting.results", "FitResult"),
+    "FitError": ("contactvib.fitting.solver", "FitError"),
     # steady states
     "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
     "simulate": ("contactvib.steady.simulate", "simulate"),

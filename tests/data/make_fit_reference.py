@@ -41,9 +41,9 @@ N_DECAY = 1000
 #: name -> (m2, l, y0 [m], zeta, points per sweep, decay start a [y0])
 SETS = {
     "paper": (2.0, 1.0, None, None, 38, 1.2),
-    "a": (1.5, 0.5, 0.30e-6, 0.030, 25, 1.5),
-    "b": (2.5, 1.5, 0.15e-6, 0.012, 25, 1.0),
-    "c": (1.3, 0.0, 0.40e-6, 0.020, 25, 1.2),
+    "a": (1.5, 0.5, 0.30e-6, 0.030, 14, 1.5),
+    "b": (2.5, 1.5, 0.15e-6, 0.012, 14, 1.0),
+    "c": (1.3, 0.0, 0.40e-6, 0.020, 14, 1.2),
 }
 #: level [Q] -> range of f_e / f_n0 swept
 LEVELS = {0.3: (0.64, 1.04), 0.65: (0.54, 1.0)}
@@ -102,11 +102,18 @@ def stepped_sine(c_n, m2, h_n, l, pa, freqs, y0):
     return np.array(out)
 
 
-def make(name):
+def make(name, frf=True):
     m2, l, y0_set, zeta, npts, a = SETS[name]
     c_n, h_n = parameters(m2, l, y0_set, zeta)
     y0, fn0, z = scales(c_n, m2, h_n, l)
     print(f"{name}: c_n = {c_n:.6g}, h_n = {h_n:.6g}, y0 = {y0 * 1e6:.4f} um, f_n0 = {fn0:.2f} Hz, zeta = {z:.4f}")
+    head = f"# set {name}: M={M} g={G} S={S} c_n={c_n!r} m2={m2} h_n={h_n!r} l={l}\n"
+    make_decay(name, head, c_n, m2, h_n, l, y0, fn0, a)
+    if frf:
+        make_frf(name, head, c_n, m2, h_n, l, y0, fn0, npts)
+
+
+def make_frf(name, head, c_n, m2, h_n, l, y0, fn0, npts):
     rows = []
     for pa, (r0, r1) in LEVELS.items():
         f = np.round(np.linspace(r0 * fn0, r1 * fn0, npts), 2)
@@ -114,13 +121,15 @@ def make(name):
             app = stepped_sine(c_n, m2, h_n, l, pa, freqs, y0)
             rows += [(fe, pa * Q, A * 1e6, direction) for fe, A in zip(freqs, app)]
             print(f"  {pa} Q {direction}: A_pp {app.min() * 1e6:.3f} .. {app.max() * 1e6:.3f} um")
-    head = f"# set {name}: M={M} g={G} S={S} c_n={c_n!r} m2={m2} h_n={h_n!r} l={l}\n"
     with open(HERE / f"fit_{name}_frf.csv", "w", newline="") as fh:
         fh.write(head)
         w = csv.writer(fh)
         w.writerow(["fe_hz", "force_amplitude_n", "app_um", "direction"])
         for fe, F, A, d in rows:
             w.writerow([f"{fe:.2f}", f"{F:.10g}", f"{A:.10g}", d])
+
+
+def make_decay(name, head, c_n, m2, h_n, l, y0, fn0, a):
     T_end = DECAY_CYCLES / fn0
     t = np.linspace(0.0, T_end, N_DECAY)
     tr = integrate_contact(ode(c_n, m2, h_n, l, 0.0, 1.0), y0 * (1 + a), 0.0, 0.0, T_end, rtol=1e-11,
@@ -135,5 +144,6 @@ def make(name):
 
 
 if __name__ == "__main__":
-    for name in sys.argv[1:] or SETS:
-        make(name)
+    names = [n for n in sys.argv[1:] if n != "--decay-only"]
+    for name in names or SETS:
+        make(name, frf="--decay-only" not in sys.argv)

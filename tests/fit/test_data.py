@@ -1,10 +1,10 @@
-"""Reading and checking the measurement files of ``contactvib fit`` (:mod:`contactvib.fit.data`):
+"""Reading and checking the measurement files of ``contactvib fit`` (:mod:`contactvib.fitting.data`):
 every bad input is a ParameterError naming the data set, the row and what is wrong."""
 
 import numpy as np
 import pytest
 
-from contactvib.fit import decay_data, frf_data, read_decay, read_frf, read_static, static_data
+from contactvib.fitting import decay_data, frf_data, read_decay, read_frf, read_static, static_data
 from contactvib.model import ParameterError
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from contactvib import ContactModel
-from contactvib.fit import fit, static_data
+from contactvib.fitting import fit, static_data
 
 #: (S c_n [N/m^m2], m2): the paper's and three others (m2 in 1.3 .. 2.5)
 CASES = [(0.0009 * 4.52e16, 2.0), (1.257e10, 1.5), (2.371e17, 2.5), (4.28e8, 1.3)]

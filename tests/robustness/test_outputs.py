@@ -4,6 +4,7 @@ under 2 s with one ``contactvib: error:`` line naming ``--out``, exit status 2, 
 computed (the computations are replaced by stubs, tests/robustness/conftest.py)."""
 
 import time
+from pathlib import Path
 
 import pytest
 
@@ -14,6 +15,8 @@ def _writes_nothing(command):
     return pytest.param(command, [], marks=pytest.mark.skip(reason=f"{command} writes nothing (no --out)"),
                         id=f"{command}-writes-nothing")
 
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 #: Every command of `contactvib --help`, with options that keep it otherwise valid.
 COMMANDS = [
@@ -37,6 +40,7 @@ COMMANDS = [
     pytest.param("map", ["DATASET"], id="map"),  # DATASET: the small_dataset fixture
     # animate's --out is a file (evolution.mp4); the dataset is read after --out is checked
     pytest.param("animate", ["no_such_dataset.nc"], id="animate"),
+    pytest.param("fit", ["--static", str(EXAMPLES / "fit_static.csv"), "--set", "M=0.2106"], id="fit"),
     _writes_nothing("attractors"),
     _writes_nothing("query"),
     _writes_nothing("explore"),  # a server: it writes no file

@@ -1,4 +1,4 @@
-"""Forward models of :mod:`contactvib.fit`: a stepped-sine sweep and a free decay (compiled, pure).
+"""Forward models of :mod:`contactvib.fitting`: a stepped-sine sweep and a free decay (compiled, pure).
 
 Stepped sine (:func:`stepped_sweep`). At step ``i`` the excitation is ``p[i] cos(r[i] τ)`` and the
 state at phase 0 is the one the previous step ended on (the first step starts from the static
@@ -31,8 +31,12 @@ N_NONPERIODIC = 8
 
 
 @njit(cache=True)
-def stepped_sweep(par, r, p, kmax, max_periods, detect_tol, rtol_transient, rtol, close_tol):
+def stepped_sweep(par, r, p, z_start, warm, kmax, max_periods, detect_tol, rtol_transient, rtol, close_tol):
     """One stepped-sine sweep: A_pp [y0] at each step, following the attractor reached.
+
+    With ``warm`` each step starts instead from ``z_start[i]`` (the phase-0 orbit point that a
+    sweep at nearby parameters reached at that step): the same attractors, continued, in a few
+    periods (the finite-difference Jacobian's columns).
 
     Parameters
     ----------
@@ -47,10 +51,13 @@ def stepped_sweep(par, r, p, kmax, max_periods, detect_tol, rtol_transient, rtol
         Peak-to-peak amplitude of the steady state [y0] (NaN where the integration failed).
     period : int64[n]
         Period of the attractor in excitation periods (0: non-periodic, −1: failed).
+    z_out : float64[n, 2]
+        The phase-0 point of each step's attractor (for a warm start).
     """
     n = r.shape[0]
     app = np.full(n, np.nan)
     period = np.full(n, -1, np.int64)
+    z_out = np.empty((n, 2))
     q = par.copy()
     z = np.empty(2)
     z[0] = 1.0
@@ -61,6 +68,9 @@ def stepped_sweep(par, r, p, kmax, max_periods, detect_tol, rtol_transient, rtol
     for i in range(n):
         q[3] = p[i]
         q[4] = r[i]
+        if warm:
+            z[0] = z_start[i, 0]
+            z[1] = z_start[i, 1]
         s, k, m, _res = settle(z, 0.0, q, kmax, 4, max_periods, detect_tol, rtol_transient, rtol,
                                close_tol, hist, oz, oM)
         if s == SETTLE_PERIODIC:
@@ -75,7 +85,11 @@ def stepped_sweep(par, r, p, kmax, max_periods, detect_tol, rtol_transient, rtol
         else:
             z[0] = 1.0  # the next step starts again from the static point
             z[1] = 0.0
+            z_out[i, 0] = 1.0
+            z_out[i, 1] = 0.0
             continue
+        z_out[i, 0] = z[0]
+        z_out[i, 1] = z[1]
         rec, z_end, t_flight, _ne, st = record_steps(z, 0.0, nper, q, rtol, 256, 1 << 20)
         if st != STATUS_OK:
             continue
@@ -85,33 +99,36 @@ def stepped_sweep(par, r, p, kmax, max_periods, detect_tol, rtol_transient, rtol
         if k == 0:
             z[0] = z_end[0]
             z[1] = z_end[1]
-    return app, period
+    return app, period, z_out
 
 
 @njit(cache=True, parallel=True)
-def sweeps_many(pars, r, p, seg_start, seg_len, kmax, max_periods, detect_tol, rtol_transient, rtol,
-                close_tol):
+def sweeps_many(pars, r, p, z_start, warm, seg_start, seg_len, kmax, max_periods, detect_tol, rtol_transient,
+                rtol, close_tol):
     """:func:`stepped_sweep` for every parameter vector ``pars[j]`` (float64[K, 5]) and every sweep
     (steps ``seg_start[s] .. seg_start[s] + seg_len[s]`` of ``r[j]``, ``p``), in parallel.
 
     ``r`` is float64[K, n] (the frequency ratio depends on the parameters through f_n0),
-    ``max_periods`` int64[K] the transient limit of each parameter vector.
-    Returns ``app`` float64[K, n] [y0] and ``period`` int64[K, n]."""
+    ``max_periods`` int64[K] the transient limit of each parameter vector; ``z_start``
+    float64[n, 2] and ``warm`` as in :func:`stepped_sweep` (the same starts for every vector).
+    Returns ``app`` float64[K, n] [y0], ``period`` int64[K, n] and ``z_out`` float64[K, n, 2]."""
     K = pars.shape[0]
     n_seg = seg_start.shape[0]
     n = p.shape[0]
     app = np.full((K, n), np.nan)
     period = np.full((K, n), -1, np.int64)
+    z_out = np.empty((K, n, 2))
     for task in prange(K * n_seg):
         j = task // n_seg
         s = task % n_seg
         a = seg_start[s]
         b = a + seg_len[s]
-        aj, kj = stepped_sweep(pars[j], r[j, a:b], p[a:b], kmax, max_periods[j], detect_tol,
-                               rtol_transient, rtol, close_tol)
+        aj, kj, zj = stepped_sweep(pars[j], r[j, a:b], p[a:b], z_start[a:b], warm, kmax, max_periods[j],
+                                   detect_tol, rtol_transient, rtol, close_tol)
         app[j, a:b] = aj
         period[j, a:b] = kj
-    return app, period
+        z_out[j, a:b] = zj
+    return app, period, z_out
 
 
 @njit(cache=True)

@@ -13,6 +13,7 @@ from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
 from contactvib.cli.explore import explore
 from contactvib.cli.film import animate
+from contactvib.cli.fit import fit
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.regimes import map_
 from contactvib.cli.steady import attractors, simulate
@@ -30,7 +31,7 @@ def cli():
 
 
 for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
-                 bifurcations, evolution, perturbation, hbm, map_, explore):
+                 bifurcations, evolution, perturbation, hbm, map_, explore, fit):
     cli.add_command(_command)
 
 

@@ -182,6 +182,7 @@ class FrfSet:
     data: FrfData
     kind: str = "frf"
     kmax: int = 4
+    last_states: object = None
     max_periods: int = 3000
     #: transient limit per step: this many linear decay times to 1e-4, at least ``min_periods``
     decay_times: float = 3.0
@@ -206,9 +207,13 @@ class FrfSet:
         return float(d.fe_hz[sel][np.argmax(d.app_um[sel])])
 
     def predict(self, plist: list[dict], base: ContactModel, fe_hz=None, force_n=None,
-                direction=None) -> np.ndarray:
+                direction=None, warm=None) -> np.ndarray:
         """Model A_pp [µm] along the sweeps (the data's, or of ``fe_hz``, ``force_n``,
-        ``direction`` given in sweep order) for each parameter set; NaN where refused."""
+        ``direction`` given in sweep order) for each parameter set; NaN where refused.
+
+        ``warm``: the orbit points (float64[n, 2], in the data's row order) of a sweep at nearby
+        parameters to start every step from (see :func:`contactvib._kernels.fitting.stepped_sweep`);
+        the orbit points of the first parameter set are kept in :attr:`last_states`."""
         from contactvib._kernels.fitting import sweeps_many
 
         d = self.data
@@ -235,14 +240,18 @@ class FrfSet:
             limits.append(int(min(self.max_periods, max(self.min_periods, self.decay_times * n_dec))))
         if not rows:
             return out
-        app, _per = sweeps_many(np.array(pars), np.array(rs), p_q, start.astype(np.int64), seg_len,
-                                self.kmax, np.array(limits, np.int64), 1e-4, 1e-7, 1e-9, 1e-8)
+        z_start = np.zeros((d.n, 2)) if warm is None else np.asarray(warm, float)[order]
+        app, _per, z_out = sweeps_many(np.array(pars), np.array(rs), p_q, z_start, warm is not None,
+                                       start.astype(np.int64), seg_len, self.kmax, np.array(limits, np.int64),
+                                       1e-4, 1e-7, 1e-9, 1e-8)
         for j, a, y in zip(rows, app, ys):
             out[j, order] = a * y
+        self.last_states = np.empty((d.n, 2))
+        self.last_states[order] = z_out[0]
         return out
 
-    def residuals(self, plist: list[dict], base: ContactModel) -> np.ndarray:
-        a = self.predict(plist, base)
+    def residuals(self, plist: list[dict], base: ContactModel, warm=None) -> np.ndarray:
+        a = self.predict(plist, base, warm=warm)
         with np.errstate(invalid="ignore", divide="ignore"):
             r = np.log(a) - np.log(self.data.app_um)
         return np.where(np.isfinite(r), r, math.log(PENALTY))

@@ -1,4 +1,4 @@
-"""Measurements that :func:`contactvib.fit.fit` fits: reading and validating the CSV files.
+"""Measurements that :func:`contactvib.fit` fits: reading and validating the CSV files.
 
 Every file is a CSV with one header row naming its columns (any order, extra columns ignored);
 lines starting with ``#`` are comments. Errors are :class:`~contactvib.model.ParameterError`
@@ -47,7 +47,7 @@ def _read_rows(kind: str, path) -> tuple[list[str], list[tuple[int, list[str]]]]
     try:
         with open(path, newline="", encoding="utf-8") as fh:
             lines = [(i, line) for i, line in enumerate(fh, 1) if line.strip() and not line.lstrip().startswith("#")]
-    except (OSError, UnicodeDecodeError) as e:
+    except (OSError, UnicodeDecodeError, ValueError) as e:
         raise _fail(kind, path, f"cannot read the file ({getattr(e, 'strerror', None) or type(e).__name__})") from None
     if not lines:
         raise _fail(kind, path, f"empty: expected a header {','.join(COLUMNS[kind])} and data rows")

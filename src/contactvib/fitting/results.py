@@ -1,4 +1,4 @@
-"""The result of :func:`contactvib.fit.fit`: :class:`FitResult`, with units and a JSON form."""
+"""The result of :func:`contactvib.fit`: :class:`FitResult`, with units and a JSON form."""
 
 from __future__ import annotations
 

@@ -5,9 +5,14 @@ forward model (:mod:`.forward`) and σ_k its noise level: first a guess (2 % of 
 3 % in ln A_pp), then, with more than one set, re-estimated from the set's residuals at the
 optimum and the fit run again from there, so that each set weighs by its own noise.
 
-The fitted coordinates are log10 S·c_n, m2, log10 S·h_n, l (and a decay's initial state);
-bounds are boxes in them. Multi-start: candidates on a grid around the data's own estimates
-(f_n0 from the peak or the zero crossings, ζ, the exponents) plus random ones inside the bounds
+The fit's coordinates are ln f_n0, m2, ln ζ, l (and a decay's initial state) in place of
+S·c_n, m2, S·h_n, l: dynamic data fix f_n0 and ζ first and best, and in these coordinates the
+exponents are nearly uncorrelated with them, where log S·c_n and m2 (log S·h_n and l) are
+correlated to 0.9999 and the solver crawls along the valley. Bounds are boxes in m2, l, f_n0,
+ζ. A fixed S·c_n (S·h_n) replaces ln f_n0 (ln ζ) by the fixed product.
+
+Multi-start: candidates on a grid around the data's own estimates (f_n0 from the peak or the
+zero crossings, ζ; integer exponents, so that they run on the Taylor flow) plus random ones
 are all evaluated at once (numba threads), and the best few are refined by
 :func:`scipy.optimize.least_squares` (trust-region reflective, ``x_scale='jac'``) with a
 forward-difference Jacobian whose columns are again evaluated at once.
@@ -35,9 +40,13 @@ from contactvib.model import ContactModel, ParameterError
 from .forward import CONTACT_NAMES, LOG_NAMES, UNITS, guess_contact, make_model, make_set
 from .results import FitResult
 
-#: Default bounds in the physical parameters.
-DEFAULT_BOUNDS = {"S_c_n": (1e-10, 1e60), "m2": (1.0, 5.0), "S_h_n": (1e-10, 1e60), "l": (0.0, 3.0),
+#: Default bounds, by the name a user gives them (f_n0 [Hz] and zeta stand for S_c_n and S_h_n).
+DEFAULT_BOUNDS = {"f_n0_hz": (1e-3, 1e9), "m2": (1.0, 5.0), "zeta": (1e-6, 100.0), "l": (0.0, 3.0),
                   "y_init_um": (-np.inf, np.inf), "v_init_mm_s": (-np.inf, np.inf)}
+#: The fit's coordinate of each parameter, and the name its bounds are given by.
+COORD = {"S_c_n": "ln_f_n0", "S_h_n": "ln_zeta"}
+BOUND_NAME = {"ln_f_n0": "f_n0_hz", "ln_zeta": "zeta"}
+NUISANCE = ("y_init_um", "v_init_mm_s")
 #: A set whose best residual RMS exceeds this share of its data's RMS is not reached by the model.
 UNREACHED = {"static": 0.3, "decay": 0.5, "frf": 0.4}
 #: Finite-difference step of the Jacobian in the fit's coordinates.
@@ -52,12 +61,12 @@ class FitError(RuntimeError):
         self.result = result
 
 
-def _to_u(name, v):
-    return math.log10(v) if name in LOG_NAMES else float(v)
-
-
-def _from_u(name, u):
-    return 10.0**u if name in LOG_NAMES else float(u)
+def _coords_of(p: dict, base: ContactModel) -> dict:
+    """The fit's coordinates of the physical parameters ``p``."""
+    y0 = (base.Q / p["S_c_n"]) ** (1.0 / p["m2"])
+    w = math.sqrt(p["m2"] * base.g / y0)
+    zeta = p["S_h_n"] * y0 ** p["l"] / (2.0 * base.M * w)
+    return {**p, "ln_f_n0": math.log(w / (2 * math.pi)), "ln_zeta": math.log(zeta)}
 
 
 @dataclass
@@ -73,20 +82,33 @@ class _Problem:
     n_forward: int = 0
 
     def params(self, u) -> dict:
-        p = dict(self.fixed)
-        p.update({n: _from_u(n, x) for n, x in zip(self.free, u)})
+        """Physical parameters (S_c_n, m2, S_h_n, l, nuisances) of the coordinates ``u``."""
+        c = dict(zip(self.free, (float(x) for x in u)))
+        p = {**self.fixed, **{k: v for k, v in c.items() if k not in BOUND_NAME}}
+        m2, base = p["m2"], self.base
+        if "ln_f_n0" in c:
+            w = 2.0 * math.pi * math.exp(min(c["ln_f_n0"], 700.0))
+            y0 = m2 * base.g / (w * w)
+            p["S_c_n"] = base.Q / y0**m2
+        else:
+            y0 = (base.Q / p["S_c_n"]) ** (1.0 / m2)
+            w = math.sqrt(m2 * base.g / y0)
+        if "ln_zeta" in c:
+            p["S_h_n"] = 2.0 * math.exp(min(c["ln_zeta"], 700.0)) * base.M * w / y0 ** p["l"]
         return p
 
-    def raw(self, U) -> list:
-        """Unweighted residuals of every set for each row of ``U``: list of float64[K, n_k]."""
+    def raw(self, U, warm: bool = False) -> list:
+        """Unweighted residuals of every set for each row of ``U``: list of float64[K, n_k].
+        ``warm``: sweeps start every step from the orbits of the last single-point evaluation."""
         plist = [self.params(u) for u in np.atleast_2d(U)]
         self.n_forward += len(plist)
         if self.progress is not None:
             self.progress.update(len(plist))
-        return [s.residuals(plist, self.base) for s in self.sets]
+        return [s.residuals(plist, self.base, warm=s.last_states) if warm and s.kind == "frf"
+                else s.residuals(plist, self.base) for s in self.sets]
 
-    def weighted(self, U) -> np.ndarray:
-        return np.hstack([r / self.sigma[s.kind] for r, s in zip(self.raw(U), self.sets)])
+    def weighted(self, U, warm: bool = False) -> np.ndarray:
+        return np.hstack([r / self.sigma[s.kind] for r, s in zip(self.raw(U, warm), self.sets)])
 
     def fun(self, u) -> np.ndarray:
         """Weighted residuals at one point (kept for the Jacobian at the same point)."""
@@ -95,16 +117,16 @@ class _Problem:
         return r
 
     def jac(self, u) -> np.ndarray:
-        """Forward differences, every column at once (and f(u) again unless just computed)."""
+        """Forward differences, every column at once (and f(u) again unless just computed); a
+        sweep's columns start every step from the orbit that f(u)'s sweep reached there (the
+        same attractor, continued: the derivative along the branch, in a few periods a step)."""
         u = np.asarray(u, float)
         h = np.where(u + FD_STEP <= self.hi, FD_STEP, -FD_STEP)
         steps = [u + np.eye(len(u))[j] * h[j] for j in range(len(u))]
         last = getattr(self, "_last", None)
-        if last is not None and np.array_equal(last[0], u):
-            r0, R = last[1], self.weighted(np.vstack(steps))
-        else:
-            R = self.weighted(np.vstack([u] + steps))
-            r0, R = R[0], R[1:]
+        if last is None or not np.array_equal(last[0], u):
+            self.fun(u)
+        r0, R = self._last[1], self.weighted(np.vstack(steps), warm=True)
         return ((R - r0) / h[:, None]).T
 
 
@@ -140,12 +162,13 @@ def _starts(prob: _Problem, seed: int, n_random: int) -> np.ndarray:
         p = {**g, **c}
         if "decay" in kinds:
             p.update(kinds["decay"].initial_guess({**prob.fixed, **p}, base))
-        rows.append([_to_u(n, prob.fixed.get(n, p.get(n, 0.0))) for n in prob.free])
+        c = _coords_of({**p, **{k: v for k, v in prob.fixed.items() if k in CONTACT_NAMES}}, base)
+        rows.append([c[n] for n in prob.free])
     U = np.clip(np.array(rows, float), prob.lo, prob.hi)
     if n_random > 0:
         rng = np.random.default_rng(seed)
         c = np.median(U, axis=0)
-        span = np.array([0.5 if n in LOG_NAMES else (0.0 if n in ("m2", "l") else 0.3 * abs(x) + 1e-3)
+        span = np.array([{"ln_f_n0": 0.15, "ln_zeta": 0.7, "m2": 0.0, "l": 0.0}.get(n, 0.3 * abs(x) + 1e-3)
                          for n, x in zip(prob.free, c)])
         R = c + rng.uniform(-1, 1, (n_random, len(c))) * span
         U = np.vstack([U, np.clip(R, prob.lo, prob.hi)])
@@ -156,6 +179,28 @@ def _covariance(J: np.ndarray, cost: float, n: int) -> np.ndarray:
     p = J.shape[1]
     s2 = 2.0 * cost / max(n - p, 1)
     return s2 * np.linalg.pinv(J.T @ J, rcond=1e-12)
+
+
+def _physical(prob: _Problem, u: np.ndarray, cov: np.ndarray) -> dict:
+    """The fitted physical parameters with standard errors (delta method from the coordinates)."""
+    names = [n for n in CONTACT_NAMES if COORD.get(n, n) in prob.free] + [n for n in prob.free if n in UNITS
+                                                                          and n not in CONTACT_NAMES]
+
+    def values(uu):
+        p = prob.params(uu)
+        return np.array([math.log(p[n]) if n in LOG_NAMES else p[n] for n in names])
+    v0 = values(u)
+    G = np.empty((len(names), len(u)))
+    for j in range(len(u)):
+        e = np.zeros(len(u))
+        e[j] = 1e-7 * max(1.0, abs(u[j]))
+        G[:, j] = (values(u + e) - v0) / e[j]
+    se = np.sqrt(np.maximum(np.diag(G @ cov @ G.T), 0.0))
+    out = {}
+    for n, v, s in zip(names, v0, se):
+        val = math.exp(v) if n in LOG_NAMES else float(v)
+        out[n] = {"value": val, "stderr": val * s if n in LOG_NAMES else float(s), "unit": UNITS[n]}
+    return out
 
 
 def _derived(prob: _Problem, u: np.ndarray, cov: np.ndarray) -> dict:
@@ -182,12 +227,12 @@ def _identifiability(prob: _Problem, values: dict, corr: np.ndarray) -> list:
                    f"(S = {prob.base.S:g} m^2 is taken as given: c_n = S_c_n/S, h_n = S_h_n/S).")
     for n in ("m2", "l"):
         if n in values and values[n]["stderr"] > 0.25:
-            out.append(f"{n} is not identified by these data (stderr {values[n]['stderr']:.2g}): a single "
-                       "small-amplitude test determines only f_n0 and zeta; add larger amplitudes, another force "
-                       "level or a static curve, or --fix it.")
+            out.append(f"{n} is poorly determined by these data (stderr {values[n]['stderr']:.2g}): only "
+                       "amplitude-dependent data fix m2 and l (a single small-amplitude test determines only f_n0 "
+                       "and zeta); add larger amplitudes, another force level or a static curve, or fix it.")
     for i, a in enumerate(prob.free):
         for j in range(i):
-            if abs(corr[i, j]) > 0.995 and a in CONTACT_NAMES and prob.free[j] in CONTACT_NAMES:
+            if abs(corr[i, j]) > 0.995 and {a, prob.free[j]}.isdisjoint(NUISANCE):
                 out.append(f"{prob.free[j]} and {a} are strongly correlated (rho = {corr[i, j]:.4f}): the data fix "
                            "a combination of them better than each.")
     return out
@@ -197,7 +242,7 @@ def _refine(prob: _Problem, u0: np.ndarray, max_nfev: int):
     from scipy.optimize import least_squares
 
     return least_squares(prob.fun, u0, jac=prob.jac, bounds=(prob.lo, prob.hi),
-                         x_scale="jac", method="trf", max_nfev=max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10)
+                         x_scale="jac", method="trf", max_nfev=max_nfev, xtol=1e-8, ftol=1e-8, gtol=1e-8)
 
 
 def _setup(data_sets, model, fix, bounds):
@@ -210,15 +255,19 @@ def _setup(data_sets, model, fix, bounds):
     used = [n for n in CONTACT_NAMES if any(n in s.uses for s in sets)]
     fixed = {n: fix.get(n, {"S_c_n": base.S * base.c_n, "m2": base.m2, "S_h_n": base.S * base.h_n,
                             "l": base.l}[n]) for n in CONTACT_NAMES if n not in used or n in fix}
-    free = [n for n in used if n not in fix] + [n for s in sets for n in s.nuisance if n not in fix]
+    free = [COORD.get(n, n) for n in used if n not in fix] + [n for s in sets for n in s.nuisance if n not in fix]
     fixed.update({n: v for n, v in fix.items() if n not in CONTACT_NAMES})
-    b = {**DEFAULT_BOUNDS, **(bounds or {})}
-    for n, (lo, hi) in b.items():
-        if not lo < hi or (n in LOG_NAMES and lo <= 0):
-            raise ParameterError(n, f"{lo}:{hi}", "bounds must be lower < upper"
-                                 + (" with lower > 0" if n in LOG_NAMES else ""))
-    lo = np.array([_to_u(n, b[n][0]) if np.isfinite(b[n][0]) else -np.inf for n in free])
-    hi = np.array([_to_u(n, b[n][1]) if np.isfinite(b[n][1]) else np.inf for n in free])
+    b = dict(DEFAULT_BOUNDS)
+    for n, (lo, hi) in (bounds or {}).items():
+        if n not in b:
+            raise ParameterError(n, f"{lo}:{hi}", f"no bounds for this name; bounds are given for {', '.join(b)}")
+        lo, hi = float(lo), float(hi)
+        if not lo < hi or (n in ("f_n0_hz", "zeta") and lo <= 0):
+            raise ParameterError(n, f"{lo:g}:{hi:g}", "bounds must be lower < upper"
+                                 + (" with lower > 0" if n in ("f_n0_hz", "zeta") else ""))
+        b[n] = (lo, hi)
+    lo = np.array([math.log(b[BOUND_NAME[n]][0]) if n in BOUND_NAME else b[n][0] for n in free])
+    hi = np.array([math.log(b[BOUND_NAME[n]][1]) if n in BOUND_NAME else b[n][1] for n in free])
     n_total = sum(s.n for s in sets)
     if n_total <= len(free):
         raise ParameterError("data", n_total, f"points: fewer than the {len(free) + 1} needed to fit "
@@ -236,7 +285,7 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
     ----------
     static, decay, frf : path or data object, optional
         A static load–deflection curve, a free decay, stepped-sine sweeps (files as in
-        :mod:`contactvib.fit.data`, or :class:`StaticData`, :class:`DecayData`, :class:`FrfData`).
+        :mod:`contactvib.fitting.data`, or :class:`StaticData`, :class:`DecayData`, :class:`FrfData`).
     model : ContactModel, optional
         Gives M, g, S (and the values of parameters the data do not determine); the paper's by default.
     fix : dict, optional
@@ -299,17 +348,13 @@ def _result(prob: _Problem, best, J, t0: float, n_starts: int) -> FitResult:
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se_u, se_u)
     p = prob.params(u)
-    values = {}
-    for name, x, se in zip(prob.free, u, se_u):
-        v = _from_u(name, x)
-        values[name] = {"value": v, "stderr": v * math.log(10) * se if name in LOG_NAMES else float(se),
-                        "unit": UNITS[name]}
+    values = _physical(prob, u, cov)
     raw = prob.raw(u[None, :])
     rms = {s.kind: float(np.sqrt(np.mean(r[0] ** 2))) for s, r in zip(prob.sets, raw)}
     fitted = make_model(p, prob.base)
     result = FitResult(
         parameters=values, fixed={k: v for k, v in prob.fixed.items()}, derived=_derived(prob, u, cov),
-        names=[f"log10 {n}" if n in LOG_NAMES else n for n in prob.free], correlation=corr,
+        names=[n.replace("_", " ", 1) if n in BOUND_NAME else n for n in prob.free], correlation=corr,
         residual_rms=rms, noise=dict(prob.sigma), n_forward=prob.n_forward, time_s=time.perf_counter() - t0,
         converged=bool(best.status > 0), message=str(best.message),
         identifiability=_identifiability(prob, values, corr),
