@@ -110,6 +110,8 @@ class DecaySet:
     data: DecayData
     kind: str = "decay"
     rtol: float = 1e-9
+    #: fit only the samples up to t[0] + window_ms (the solver's first stages); None: all
+    window_ms: float | None = None
     uses = CONTACT_NAMES
     nuisance = ("y_init_um", "v_init_mm_s")
 
@@ -130,9 +132,10 @@ class DecaySet:
     def initial_guess(self, p: dict, base: ContactModel) -> dict:
         """y_init, v_init from the first samples (displacement) or from the model's f_n0."""
         t, v = self.data.t_ms, self.data.values
-        if self.data.kind == "y_um":
-            j = min(3, v.size - 1)
-            return {"y_init_um": float(v[0]), "v_init_mm_s": float((v[j] - v[0]) / (t[j] - t[0]))}
+        if self.data.kind == "y_um":  # a parabola through the first samples: y and dy/dt at t[0]
+            j = min(6, v.size)
+            c = np.polyfit(t[:j] - t[0], v[:j], 2)
+            return {"y_init_um": float(c[2]), "v_init_mm_s": float(c[1])}
         m = _models([p], base)[0]
         w = m.omega_n0 if m is not None else 2 * math.pi * self.frequency_guess()
         return {"y_init_um": float(-v[0] / w**2 * 1e6), "v_init_mm_s": 0.0}
@@ -170,7 +173,9 @@ class DecaySet:
         return out
 
     def residuals(self, plist: list[dict], base: ContactModel) -> np.ndarray:
-        r = self.predict(plist, base, self.data.t_ms) - self.data.values
+        d = self.data
+        n = d.n if self.window_ms is None else max(8, int(np.searchsorted(d.t_ms, d.t_ms[0] + self.window_ms)))
+        r = self.predict(plist, base, d.t_ms[:n]) - d.values[:n]
         scale = PENALTY * float(np.max(np.abs(self.data.values)))
         return np.where(np.isfinite(r), r, scale)
 

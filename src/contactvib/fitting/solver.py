@@ -49,6 +49,8 @@ BOUND_NAME = {"ln_f_n0": "f_n0_hz", "ln_zeta": "zeta"}
 NUISANCE = ("y_init_um", "v_init_mm_s")
 #: A set whose best residual RMS exceeds this share of its data's RMS is not reached by the model.
 UNREACHED = {"static": 0.3, "decay": 0.5, "frf": 0.4}
+#: Cycles of a decay fitted in the successive stages (None: the whole record).
+DECAY_WINDOWS = (4, 10, None)
 #: Finite-difference step of the Jacobian in the fit's coordinates.
 FD_STEP = 1e-5
 
@@ -137,6 +139,11 @@ def _starts(prob: _Problem, seed: int, n_random: int) -> np.ndarray:
     g = {"S_c_n": 1e13, "m2": 2.0, "S_h_n": 1e5, "l": 1.0}
     if "static" in kinds:
         g.update(kinds["static"].log_log_guess())
+    # integer exponents where a forward solve is dear (sweeps run on the Taylor flow then);
+    # f_n0 and zeta matter most. A decay's phase wraps over its cycles: a fine grid in f_n0.
+    m2s = [prob.fixed.get("m2", g["m2"] if "static" in kinds else 2.0)]
+    ls = [prob.fixed.get("l", 1.0)]
+    zetas = (0.008, 0.02, 0.05)
     f_guesses = []
     if "static" in kinds:  # the static curve fixes y0, hence f_n0 (y0 ω_n0² = m2 g)
         y0 = (base.Q / g["S_c_n"]) ** (1.0 / g["m2"])
@@ -144,17 +151,21 @@ def _starts(prob: _Problem, seed: int, n_random: int) -> np.ndarray:
     elif "frf" in kinds:
         fp = kinds["frf"].peak_frequency()
         f_guesses = [fp * c for c in (1.05, 1.2, 1.4)]
-    elif "decay" in kinds:
-        fd = kinds["decay"].frequency_guess()
-        f_guesses = [fd * c for c in (0.95, 1.05)]
+    if "decay" in kinds and "frf" not in kinds:
+        fd = f_guesses[0] if f_guesses else kinds["decay"].frequency_guess()
+        f_guesses = [fd * c for c in (np.linspace(0.97, 1.03, 3) if "static" in kinds else np.linspace(0.85, 1.25, 17))]
+        zetas = (0.004, 0.01, 0.02, 0.04, 0.08)
+        if "m2" not in prob.fixed and "static" not in kinds:
+            m2s = [1.5, 2.0, 2.5]
+        if "l" not in prob.fixed:
+            ls = [0.5, 1.0]
     grid = []
-    # integer exponents: the candidates run on the fast Taylor flow; f_n0 and zeta matter most
-    m2 = prob.fixed.get("m2", g["m2"] if "static" in kinds else 2.0)
-    l = prob.fixed.get("l", 1.0)
     if len(kinds) > 1 or "static" not in kinds:
         for f in f_guesses:
-            for zeta in (0.008, 0.02, 0.05):
-                grid.append(guess_contact(f, m2, zeta, l, base))
+            for m2 in m2s:
+                for zeta in zetas:
+                    for l in ls:
+                        grid.append(guess_contact(f, m2, zeta, l, base))
     else:
         grid.append(dict(g))
     rows = []
@@ -322,15 +333,22 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
         raise ParameterError("data", "none", "give at least one of static, decay, frf")
     data = [load(k, v) if isinstance(v, (str, bytes)) or hasattr(v, "__fspath__") else v for k, v in given]
     prob = _setup(data, model, fix, bounds)
+    decays = [s for s in prob.sets if s.kind == "decay"]
     with tqdm(unit="solve", desc="fit", disable=not progress, leave=False) as bar:
         prob.progress = bar
         U = _starts(prob, seed, n_starts)
-        costs = [0.5 * float(np.sum(r**2)) for r in np.atleast_2d(prob.weighted(U))]
         best = None
-        for i in np.argsort(costs)[:max(1, n_refine)]:
-            res = _refine(prob, U[i], max_nfev)
-            if best is None or res.cost < best.cost:
-                best = res
+        for stage, cycles in enumerate(DECAY_WINDOWS if decays else [None]):
+            for s in decays:  # a decay's phase wraps over its cycles: fit the first few first
+                s.window_ms = None if cycles is None else cycles * 1e3 / s.frequency_guess()
+            if stage > 0:
+                best = _refine(prob, best.x, max_nfev)
+                continue
+            costs = [0.5 * float(np.sum(r**2)) for r in np.atleast_2d(prob.weighted(U))]
+            for i in np.argsort(costs)[:max(1, n_refine)]:
+                res = _refine(prob, U[i], max_nfev)
+                if best is None or res.cost < best.cost:
+                    best = res
         if len(prob.sets) > 1:  # each set weighed by its own noise level, then refit
             raw = prob.raw(best.x)
             for s, r in zip(prob.sets, raw):

@@ -1,0 +1,42 @@
+"""Free-decay fits against scipy references (tests/data/fit_*_decay.csv, 2 % additive noise): every
+parameter within two reported standard errors; the standard errors against the spread over 20
+noise realisations (slow)."""
+
+import numpy as np
+import pytest
+from reference import DATA, noisy_decay, truth, within
+
+from contactvib.fitting import fit
+
+SETS = [n for n in ("paper", "a", "b", "c") if (DATA / f"fit_{n}_decay.csv").exists()]
+
+
+@pytest.mark.parametrize("name", SETS)
+def test_decay_fit_recovers_the_parameters_within_two_stderr(name):
+    model, true = truth(name)
+    r = fit(decay=noisy_decay(name, 0.02, seed=1), model=model.replace(c_n=1e16, h_n=1e11), n_starts=4)
+    assert r.converged
+    errs = within(r, true)
+    assert set(errs) == {"S_c_n", "m2", "S_h_n", "l"}
+    assert all(e < 2.0 for e in errs.values()), errs
+    assert abs(r.value("f_n0_hz") - model.f_n0) < 2 * r.stderr("f_n0_hz")
+    assert abs(r.value("zeta") - model.zeta) < 2 * r.stderr("zeta")
+    assert r.residual_rms["decay"] == pytest.approx(0.02 * np.abs(r.sets[0].data.values).max(), rel=0.2)
+
+
+def test_decay_with_known_exponents_fits_the_products_only():
+    model, true = truth("paper")
+    r = fit(decay=noisy_decay("paper", 0.01, seed=2), model=model, fix={"m2": 2.0, "l": 1.0}, n_starts=0)
+    assert set(r.parameters) == {"S_c_n", "S_h_n", "y_init_um", "v_init_mm_s"}
+    assert all(e < 2.0 for e in within(r, true).values())
+    assert any("Only the products" in s for s in r.identifiability)
+
+
+@pytest.mark.slow
+def test_decay_stderr_agrees_with_the_spread_over_20_realisations():
+    model, true = truth("paper")
+    fits = [fit(decay=noisy_decay("paper", 0.02, seed=s), model=model, n_starts=0) for s in range(20)]
+    for name in ("m2", "l", "f_n0_hz", "zeta"):
+        vals = np.array([f.value(name) for f in fits])
+        ratio = np.median([f.stderr(name) for f in fits]) / np.std(vals, ddof=1)
+        assert 0.5 < ratio < 2.0, (name, ratio)
