@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from figure_files import assert_figure_file
 
 from contactvib.cli import main
+from figure_files import assert_figure_file
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 STATIC = str(EXAMPLES / "fit_static.csv")
