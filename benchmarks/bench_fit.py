@@ -1,0 +1,79 @@
+"""Benchmark of ``contactvib fit`` on a stepped-sine FRF at two force levels (issue 24: ≤ 60 s on
+2 cores for ~150 points).
+
+The data are ``tests/data/fit_paper_frf.csv`` (the paper's contact, up and down sweeps of 38
+steps at P_a = 0.3 Q and 0.65 Q: 152 points, made by scipy solve_ivp with located contact events)
+with 2 % reading noise (A_pp × exp(N(0, 0.02)), seed 1). The fit starts from the data alone
+(S_c_n, S_h_n, m2, l all free, the model's own values ignored) with the default starts. The
+kernels are compiled (or loaded from the cache) by a warm-up forward solve first, which is timed
+separately.
+
+    PYTHONPATH=src python benchmarks/bench_fit.py [--out benchmarks/results_fit.json] [--threads 2]
+
+Writes the time, the forward solves, the fitted parameters with their standard errors against the
+truth, and the machine's load, to the JSON file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results_fit.json"))
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--starts", type=int, default=8)
+    args = ap.parse_args(argv)
+    os.environ.setdefault("NUMBA_NUM_THREADS", str(args.threads))
+    import numba
+
+    from contactvib import ContactModel
+    from contactvib.fitting import fit, frf_data, read_frf
+    from contactvib.fitting.forward import FrfSet
+
+    numba.set_num_threads(args.threads)
+    d = read_frf(ROOT / "tests" / "data" / "fit_paper_frf.csv")
+    rng = np.random.default_rng(1)
+    data = frf_data(d.fe_hz, d.force_n, d.app_um * np.exp(rng.normal(0.0, 0.02, d.n)), d.direction)
+    truth = ContactModel()
+    t0 = time.perf_counter()
+    FrfSet(data).predict([{"S_c_n": truth.S * truth.c_n, "m2": 2.0, "S_h_n": truth.S * truth.h_n, "l": 1.0}], truth)
+    warmup = time.perf_counter() - t0
+    load0 = os.getloadavg()
+    r = fit(frf=data, model=truth.replace(c_n=1e16, h_n=1e11), n_starts=args.starts, progress=True)
+    true = {"S_c_n": truth.S * truth.c_n, "m2": 2.0, "S_h_n": truth.S * truth.h_n, "l": 1.0,
+            "f_n0_hz": truth.f_n0, "zeta": truth.zeta}
+    res = {
+        "points": int(data.n), "sweeps": len(data.sweeps), "threads": args.threads,
+        "cpu_count": os.cpu_count(), "load_average_before": load0, "load_average_after": os.getloadavg(),
+        "python": sys.version.split()[0], "machine": platform.machine(),
+        "warmup_s": warmup, "fit_s": r.time_s, "budget_s": 60.0, "ratio_to_budget": r.time_s / 60.0,
+        "n_forward": r.n_forward, "s_per_forward": r.time_s / r.n_forward, "n_starts": r.n_starts,
+        "converged": r.converged, "residual_rms_ln_app": r.residual_rms["frf"],
+        "parameters": {k: {"value": r.value(k), "stderr": r.stderr(k), "true": v,
+                           "error_in_stderr": abs(r.value(k) - v) / r.stderr(k)} for k, v in true.items()},
+    }
+    Path(args.out).write_text(json.dumps(res, indent=1))
+    print(f"{data.n} points, {len(data.sweeps)} sweeps: fit {r.time_s:.1f} s ({r.time_s / 60:.2f} of the 60 s "
+          f"budget), {r.n_forward} forward solves ({r.time_s / r.n_forward:.2f} s each), warm-up {warmup:.1f} s, "
+          f"load average {load0[0]:.1f} -> {os.getloadavg()[0]:.1f}")
+    for k, v in res["parameters"].items():
+        print(f"  {k:8s} {v['value']:.6g} +- {v['stderr']:.3g} (true {v['true']:.6g}, "
+              f"{v['error_in_stderr']:.2f} stderr)")
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
