@@ -337,18 +337,18 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
     with tqdm(unit="solve", desc="fit", disable=not progress, leave=False) as bar:
         prob.progress = bar
         U = _starts(prob, seed, n_starts)
-        best = None
+        found = []
         for stage, cycles in enumerate(DECAY_WINDOWS if decays else [None]):
             for s in decays:  # a decay's phase wraps over its cycles: fit the first few first
                 s.window_ms = None if cycles is None else cycles * 1e3 / s.frequency_guess()
-            if stage > 0:
-                best = _refine(prob, best.x, max_nfev)
-                continue
-            costs = [0.5 * float(np.sum(r**2)) for r in np.atleast_2d(prob.weighted(U))]
-            for i in np.argsort(costs)[:max(1, n_refine)]:
-                res = _refine(prob, U[i], max_nfev)
-                if best is None or res.cost < best.cost:
-                    best = res
+            if stage == 0:
+                costs = [0.5 * float(np.sum(r**2)) for r in np.atleast_2d(prob.weighted(U))]
+                # a decay is cheap: refine more candidates (its cost surface has many minima)
+                n = max(1, n_refine) if len(decays) < len(prob.sets) else max(n_refine, 4)
+                found = [_refine(prob, U[i], max_nfev) for i in np.argsort(costs)[:n]]
+            else:
+                found = [_refine(prob, res.x, max_nfev) for res in sorted(found, key=lambda r: r.cost)[:2]]
+        best = min(found, key=lambda r: r.cost)
         if len(prob.sets) > 1:  # each set weighed by its own noise level, then refit
             raw = prob.raw(best.x)
             for s, r in zip(prob.sets, raw):
