@@ -46,3 +46,27 @@ def test_decay_stderr_agrees_with_the_spread_over_20_realisations():
         spread = 1.4826 * np.median(np.abs(vals - np.median(vals)))
         ratio = np.median([f.stderr(name) for f in fits]) / spread
         assert 0.5 < ratio < 2.0, (name, ratio)
+
+
+def test_acceleration_record_gives_f_n0_and_zeta():
+    """An accelerometer's decay (t_ms, a_ms2): the acceleration of the scipy reference trajectory,
+    (W − F_c(y, ẏ))/M in contact and g in flight, + 2 % noise."""
+    import math
+
+    from scipy_contact import integrate_contact, model_ode
+
+    from contactvib.fitting import decay_data
+
+    model, true = truth("paper")
+    ode = model_ode(model, model.excitation(0.0, 1000.0))
+    t = np.linspace(0.0, 12.0 / model.f_n0, 600)
+    tr = integrate_contact(ode, 1.8 * model.y0, 0.0, 0.0, float(t[-1]), rtol=1e-11, y_scale=model.y0,
+                           v_scale=model.y0 * model.omega_n0)
+    y, v = tr.sample(t)
+    a = np.array([(ode.W - (ode.contact_force(yi, vi) if yi > 0 else 0.0)) / ode.M for yi, vi in zip(y, v)])
+    a = a + np.random.default_rng(7).normal(0.0, 0.02 * np.abs(a).max(), a.size)
+    r = fit(decay=decay_data(t * 1e3, a, kind="a_ms2"), model=model, n_starts=2)
+    assert r.converged
+    assert abs(r.value("f_n0_hz") - model.f_n0) < 2 * r.stderr("f_n0_hz")
+    assert abs(r.value("zeta") - model.zeta) < 2 * r.stderr("zeta")
+    assert math.isfinite(r.residual_rms["decay"])

@@ -87,6 +87,8 @@ def fit_figures(result, curves: dict) -> dict:
         f, xname, xlabel, rname, rlabel = draw[kind]
         fig, axs = new_figure(2, 1, figsize=(7.0, 6.0), gridspec_kw={"height_ratios": [3, 1]})
         f(c, axs[0, 0])
+        if kind == "decay":
+            rlabel = "residual [um]" if c["kind"] == "y_um" else "residual [m/s^2]"
         residual_axes(c[xname], c[rname], xlabel, rlabel, axs[1, 0])
         rms = result.residual_rms.get(kind, float("nan"))
         axs[0, 0].set_title(f"{kind}: fitted model against the data (residual RMS {rms:.3g})", fontsize=9)
