@@ -53,9 +53,8 @@ def test_acceleration_record_gives_f_n0_and_zeta():
     (W − F_c(y, ẏ))/M in contact and g in flight, + 2 % noise."""
     import math
 
-    from scipy_contact import integrate_contact, model_ode
-
     from contactvib.fitting import decay_data
+    from scipy_contact import integrate_contact, model_ode
 
     model, true = truth("paper")
     ode = model_ode(model, model.excitation(0.0, 1000.0))
