@@ -454,7 +454,8 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     folder = workdir / m.group(1) if m else None
     if cmd == "fit" and "--json" in args:
         d = json.loads(out)
-        assert FIT_KEYS <= set(d) and set(d["parameters"]) == {"S_c_n", "S_h_n", "y_init_um", "v_init_mm_s"}
+        assert FIT_KEYS <= set(d) and set(d["parameters"]) == {"S_c_n", "S_h_n", "y_init_um", "v_init_mm_s",
+                                                                  "f_n0_hz", "y0_um", "zeta"}
         assert d["fixed"]["m2"] == 2.0 and {"f_n0_hz", "y0_um", "zeta"} <= set(d["derived"])
     elif cmd == "fit":
         d = json.loads((folder / "fit.json").read_text())

@@ -26,7 +26,8 @@ def test_static_fit_json_files_and_model_round_trip(tmp_path, capsys):
                          "--out", str(tmp_path / "out")], capsys)
     assert rc == 0, err
     d = json.loads(out)
-    assert set(d["parameters"]) == {"S_c_n", "m2"} and d["converged"]
+    assert set(d["parameters"]) == {"S_c_n", "m2", "f_n0_hz", "y0_um"} and d["converged"]
+    assert d["parameters"]["f_n0_hz"]["derived"] and "derived" not in d["parameters"]["m2"]
     assert {"value", "stderr", "unit"} == set(d["parameters"]["m2"])
     assert d["correlation"]["names"] == ["ln f_n0", "m2"] and len(d["correlation"]["matrix"]) == 2
     assert d["residual_rms"]["static"] > 0 and d["n_forward"] > 0

@@ -79,12 +79,14 @@ class FitResult:
         return 0.0
 
     def to_dict(self) -> dict:
-        """JSON-able: parameters, derived, correlation, residual RMS, diagnostics, model."""
+        """JSON-able: parameters (the fitted ones, then f_n0_hz, y0_um, zeta marked ``"derived":
+        true``), derived (those three again), correlation, residual RMS, diagnostics, model."""
         def entry(d):
             return {k: {"value": _num(v["value"]), "stderr": _num(v["stderr"]), "unit": v["unit"]}
                     for k, v in d.items()}
+        derived = {k: {**v, "derived": True} for k, v in entry(self.derived).items()}
         return {
-            "parameters": entry(self.parameters),
+            "parameters": {**entry(self.parameters), **derived},
             "derived": entry(self.derived),
             "fixed": {k: _num(v) for k, v in self.fixed.items()},
             "correlation": {"names": list(self.names),
