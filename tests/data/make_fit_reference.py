@@ -32,6 +32,26 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from scipy_contact import ContactODE, integrate_contact  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+
+
+def _grazing_safe(solve_ivp):
+    """``solve_ivp`` that starts a mode switched exactly on y = 0 a hair (1e-15 m) on its own side.
+
+    At a grazing exit (contact left with ẏ ≈ 0⁻) the flight's landing event has a root at the
+    start itself; the event search returns it, the flight has zero length, the contact is left
+    again at once, and :func:`scipy_contact.integrate_contact` loops forever at one instant. A
+    start 1e-15 m inside the new mode (1e-8 of y0) moves the root off the start."""
+    def wrapped(fun, t_span, y0, *args, events=None, **kwargs):
+        y0 = np.array(y0, float)
+        if events and y0[0] == 0.0:
+            y0[0] = 1e-15 * (1.0 if events[0].direction < 0 else -1.0)
+        return solve_ivp(fun, t_span, y0, *args, events=events, **kwargs)
+    return wrapped
+
+
+import scipy.integrate  # noqa: E402
+
+scipy.integrate.solve_ivp = _grazing_safe(scipy.integrate.solve_ivp)
 M, G, S = 0.2106, 9.81, 0.0009
 Q = M * G
 MAX_PERIODS = 1000
