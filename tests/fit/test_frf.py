@@ -69,3 +69,23 @@ def test_joint_static_and_frf_weighs_each_set_by_its_noise():
     errs = within(r, true)
     assert all(e < 2.0 for e in errs.values()), errs
     assert r.stderr("m2") < 0.05  # the static curve pins m2
+
+
+@pytest.mark.parametrize("name", ["paper", *OTHER_SETS])
+def test_stepped_sine_forward_model_agrees_with_scipy(name):
+    """The forward model at the true parameters reproduces the scipy stepped-sine sweeps (each step
+    from the previous step's state, jumps included): the paper's and set a's to 1e-5 of A_pp at
+    every step; b and c at all steps but one to 1e-5, and that one (a step at a fold, where the
+    start lies near the boundary of the two basins) to 0.3 % (b) or on the other branch (c, l = 0:
+    the damping force jumps at contact, one step earlier)."""
+    from contactvib.fitting import read_frf
+    from contactvib.fitting.forward import FrfSet
+
+    model, true = truth(name)
+    d = read_frf(DATA / f"fit_{name}_frf.csv")
+    a = FrfSet(d).predict([true], model)[0]
+    rel = np.abs(a / d.app_um - 1.0)
+    if name in ("paper", "a"):
+        assert rel.max() < 1e-5, rel.max()
+    else:
+        assert np.count_nonzero(rel > 1e-5) <= 1 and (name == "b" or rel.max() < 3e-3), np.sort(rel)[-3:]
