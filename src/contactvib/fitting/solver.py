@@ -290,7 +290,7 @@ def _setup(data_sets, model, fix, bounds):
 
 
 def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None, fix: dict | None = None,
-        bounds: dict | None = None, n_starts: int = 8, n_refine: int = 2, seed: int = 0,
+        bounds: dict | None = None, n_starts: int = 8, n_refine: int | None = None, seed: int = 0,
         max_nfev: int = 60, progress: bool = False) -> FitResult:
     """Fit the contact parameters to one or more measurements by least squares.
 
@@ -307,8 +307,9 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
         name -> (lower, upper) in the physical parameter (defaults :data:`DEFAULT_BOUNDS`).
     n_starts : int
         Random candidate starts added to the grid of estimated ones.
-    n_refine : int
-        Best candidates refined by least squares.
+    n_refine : int, optional
+        Best candidates refined by least squares (default: 1 with a sweep, whose forward solve is
+        dear; 4 for a decay alone, whose cost has many minima; 2 otherwise).
     max_nfev : int
         Iterations allowed to each least-squares run.
     progress : bool
@@ -346,7 +347,9 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
             if stage == 0:
                 costs = [0.5 * float(np.sum(r**2)) for r in np.atleast_2d(prob.weighted(U))]
                 # a decay is cheap: refine more candidates (its cost surface has many minima)
-                n = max(1, n_refine) if len(decays) < len(prob.sets) else max(n_refine, 4)
+                if n_refine is None:  # a sweep's solve is dear; a decay's cost surface has many minima
+                    n_refine = 1 if any(s.kind == "frf" for s in prob.sets) else (4 if decays else 2)
+                n = max(1, n_refine)
                 found = [_refine(prob, U[i], max_nfev) for i in np.argsort(costs)[:n]]
             else:
                 found = [_refine(prob, res.x, max_nfev) for res in sorted(found, key=lambda r: r.cost)[:2]]
