@@ -69,3 +69,20 @@ def test_acceleration_record_gives_f_n0_and_zeta():
     assert abs(r.value("f_n0_hz") - model.f_n0) < 2 * r.stderr("f_n0_hz")
     assert abs(r.value("zeta") - model.zeta) < 2 * r.stderr("zeta")
     assert math.isfinite(r.residual_rms["decay"])
+
+
+def test_joint_static_and_decay_weighs_each_set_by_its_noise():
+    """A static curve (1 % of its largest deflection) and a decay (2 %) in one fit: each set's
+    noise level is estimated from its residuals, and the static curve pins m2."""
+    from contactvib.fitting import static_data
+
+    model, true = truth("paper")
+    F = np.linspace(0.0, 8.0, 20)
+    y = (F / true["S_c_n"]) ** 0.5 * 1e6
+    y = y + np.random.default_rng(4).normal(0.0, 0.01 * y.max(), y.size)
+    decay = noisy_decay("paper", 0.02, seed=6)
+    r = fit(static=static_data(F, y), decay=decay, model=model, n_starts=0)
+    assert r.noise["static"] == pytest.approx(0.01 * y.max(), rel=0.4)
+    assert r.noise["decay"] == pytest.approx(0.02 * np.abs(decay.values).max(), rel=0.3)
+    assert all(e < 2.0 for e in within(r, true).values()), within(r, true)
+    assert set(r.residual_rms) == {"static", "decay"}

@@ -58,6 +58,7 @@ def test_other_parameter_sets_recovered(name):
     assert abs(r.value("f_n0_hz") - model.f_n0) < 2 * r.stderr("f_n0_hz")
 
 
+@pytest.mark.slow
 def test_joint_static_and_frf_weighs_each_set_by_its_noise():
     model, true = truth("paper")
     F = np.linspace(0.0, 8.0, 20)
