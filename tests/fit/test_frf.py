@@ -90,3 +90,16 @@ def test_stepped_sine_forward_model_agrees_with_scipy(name):
         assert rel.max() < 1e-5, rel.max()
     else:
         assert np.count_nonzero(rel > 1e-5) <= 1 and (name == "b" or rel.max() < 3e-3), np.sort(rel)[-3:]
+
+
+@pytest.mark.slow
+def test_frf_stderr_agrees_with_the_spread_over_20_realisations():
+    """20 noise realisations of the paper's sweeps: the median reported standard error of m2 and
+    f_n0 against their spread (1.4826 × the median absolute deviation), within a factor of 2."""
+    model, _true = truth("paper")
+    fits = [fit(frf=noisy_frf("paper", 0.02, seed=100 + s), model=model, n_starts=2) for s in range(20)]
+    for name in ("m2", "f_n0_hz"):
+        vals = np.array([f.value(name) for f in fits])
+        spread = 1.4826 * np.median(np.abs(vals - np.median(vals)))
+        ratio = np.median([f.stderr(name) for f in fits]) / spread
+        assert 0.5 < ratio < 2.0, (name, ratio, vals)
