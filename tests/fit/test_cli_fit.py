@@ -98,3 +98,11 @@ def test_a_fit_that_does_not_converge_prints_the_best_point_and_exits_1(capsys, 
     rc, out, err = _run(["fit", "--static", STATIC, "--set", "M=0.2106", "--no-progress"], capsys)
     assert rc == 1 and err.startswith("contactvib: error: the fit did not converge") and "best point" in err, err
     assert "m2" in out and "NOT converged" in out
+
+
+def test_a_parameter_on_its_bound_is_reported(capsys):
+    rc, out, err = _run(["fit", "--static", STATIC, "--set", "M=0.2106", "--bounds", "m2=1.2:1.5", "--json"], capsys)
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["parameters"]["m2"]["value"] == pytest.approx(1.5)
+    assert any(s.startswith("m2 ended on its bound") for s in d["identifiability"])

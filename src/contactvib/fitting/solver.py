@@ -232,9 +232,14 @@ def _derived(prob: _Problem, u: np.ndarray, cov: np.ndarray) -> dict:
             for name, v, s, unit in zip(names, v0, se, ("Hz", "um", "1"))}
 
 
-def _identifiability(prob: _Problem, values: dict, corr: np.ndarray) -> list:
+def _identifiability(prob: _Problem, values: dict, corr: np.ndarray, u: np.ndarray) -> list:
     kinds = [s.kind for s in prob.sets]
     out = []
+    for n, x, lo, hi in zip(prob.free, u, prob.lo, prob.hi):
+        if min(abs(x - lo), abs(x - hi)) < 1e-6 * max(1.0, abs(x)):
+            name = BOUND_NAME.get(n, n)
+            out.append(f"{name} ended on its bound ({math.exp(x) if n in BOUND_NAME else x:.6g}): the data pull "
+                       "beyond it, and its standard error describes the bounded fit only; widen --bounds.")
     if any(k != "static" for k in kinds):
         out.append(f"Only the products S_c_n = S c_n and S_h_n = S h_n are identifiable from dynamic data "
                    f"(S = {prob.base.S:g} m^2 is taken as given: c_n = S_c_n/S, h_n = S_h_n/S).")
@@ -380,7 +385,7 @@ def _result(prob: _Problem, best, J, t0: float, n_starts: int) -> FitResult:
         names=[n.replace("_", " ", 1) if n in BOUND_NAME else n for n in prob.free], correlation=corr,
         residual_rms=rms, noise=dict(prob.sigma), n_forward=prob.n_forward, time_s=time.perf_counter() - t0,
         converged=bool(best.status > 0), message=str(best.message),
-        identifiability=_identifiability(prob, values, corr),
+        identifiability=_identifiability(prob, values, corr, u),
         model=fitted, n_starts=n_starts, cost=float(best.cost), sets=prob.sets, values=p)
     for s in prob.sets:
         scale = float(np.sqrt(np.mean(np.log(s.data.app_um) ** 2))) if s.kind == "frf" else float(
