@@ -79,3 +79,26 @@ def test_static_arrays_checked():
         static_data([0, -1, 2], [0, 1, 2])
     with pytest.raises(ParameterError, match="direction 'left'"):
         frf_data([1, 2, 3], [1, 1, 1], [1, 1, 1], ["up", "up", "left"])
+
+
+def test_decay_from_a_universal_file_dataset_58(tmp_path):
+    """A time response written by pyuff as dataset 58 (displacement [m], time [s]) reads back as
+    the same decay in µm and ms; a file with no dataset 58 is refused naming it."""
+    import pyuff
+
+    t = np.linspace(0.0, 5e-3, 400)
+    y = 1e-7 * np.exp(-300 * t) * np.cos(2 * np.pi * 1500 * t)
+    p = tmp_path / "tap.uff"
+    uff = pyuff.UFF(str(p))
+    uff.write_sets(pyuff.prepare_58(func_type=1, rsp_node=1, rsp_dir=3, ref_node=1, ref_dir=3, data=y, x=t,
+                                    id1="tap test", rsp_ent_name="slider", ref_ent_name="slider",
+                                    abscissa_spacing=1, abscissa_spec_data_type=17, ordinate_spec_data_type=8,
+                                    orddenom_spec_data_type=13), mode="add")
+    d = read_decay(p)
+    assert d.kind == "y_um"
+    np.testing.assert_allclose(d.t_ms, t * 1e3, rtol=1e-5, atol=2e-5)  # the UFF ASCII increment: 6 digits
+    np.testing.assert_allclose(d.values, y * 1e6, rtol=1e-5, atol=1e-9)
+    bad = tmp_path / "bad.uff"
+    bad.write_text("not a universal file\n")
+    with pytest.raises(ParameterError, match="decay"):
+        read_decay(bad)

@@ -64,7 +64,8 @@ def _read(kind: str, path):
 @click.option("--static", "static", default=None, metavar="FILE.csv",
               help="Static load-deflection curve: columns load_n,deflection_um (from first contact).")
 @click.option("--decay", default=None, metavar="FILE.csv",
-              help="Free decay (tap test): columns t_ms,y_um (about the static point) or t_ms,a_ms2.")
+              help="Free decay (tap test): columns t_ms,y_um (about the static point) or t_ms,a_ms2; or a "
+                   "universal file (.uff/.unv) dataset 58.")
 @click.option("--frf", default=None, metavar="FILE.csv",
               help="Stepped-sine sweeps: columns fe_hz,force_amplitude_n,app_um,direction (up/down).")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",

@@ -162,8 +162,39 @@ def static_data(load_n, deflection_um, source: str = "static") -> StaticData:
     return StaticData(F, y, source)
 
 
+#: UFF dataset 58 ordinate types read as a decay (SI units): displacement [m], acceleration [m/s²].
+UFF_ORDINATES = {8: ("y_um", 1e6), 12: ("a_ms2", 1.0)}
+
+
+def read_uff58(path) -> DecayData:
+    """A decay from a universal file (``.uff``/``.unv``): its first dataset 58 of function type 1
+    (a time response), abscissa time [s], ordinate displacement about the static point [m]
+    (specific data type 8) or acceleration [m/s²] (12), read with pyuff."""
+    try:
+        import pyuff
+
+        sets = pyuff.UFF(str(path)).read_sets()
+    except Exception as e:  # pyuff raises many kinds on a foreign file: all mean "not a UFF"
+        raise _fail("decay", path, f"not a readable universal file ({type(e).__name__}: {e})") from None
+    sets = sets if isinstance(sets, list) else [sets]
+    series = [d for d in sets if d.get("type") == 58 and d.get("func_type") == 1]
+    if not series:
+        raise _fail("decay", path, "no dataset 58 with a time response (function type 1)")
+    d = series[0]
+    kind = UFF_ORDINATES.get(int(d.get("ordinate_spec_data_type", -1)))
+    if kind is None:
+        raise _fail("decay", path, f"dataset 58 ordinate type {d.get('ordinate_spec_data_type')}: "
+                                   "must be 8 (displacement) or 12 (acceleration)")
+    t = np.real(np.asarray(d["x"], float)) * 1e3
+    v = np.real(np.asarray(d["data"])) * kind[1]
+    return decay_data(t, v, kind=kind[0], source=str(path))
+
+
 def read_decay(path) -> DecayData:
-    """Read and check a ``t_ms,y_um`` (or ``t_ms,a_ms2``) file."""
+    """Read and check a ``t_ms,y_um`` (or ``t_ms,a_ms2``) file, or a universal file's dataset 58
+    (``.uff``, ``.unv``: :func:`read_uff58`)."""
+    if Path(path).suffix.lower() in (".uff", ".unv"):
+        return read_uff58(path)
     header, rows = _read_rows("decay", path)
     idx = _columns("decay", path, header, COLUMNS["decay"])
     kind = header[idx[1]]
