@@ -86,3 +86,14 @@ def test_joint_static_and_decay_weighs_each_set_by_its_noise():
     assert r.noise["decay"] == pytest.approx(0.02 * np.abs(decay.values).max(), rel=0.3)
     assert all(e < 2.0 for e in within(r, true).values()), within(r, true)
     assert set(r.residual_rms) == {"static", "decay"}
+
+
+def test_the_answer_does_not_depend_on_the_model_given_or_the_seed():
+    """The starts come from the data (a grid around f_n0 from the zero crossings, ζ, m2, l, plus
+    random ones): another model's c_n, h_n, m2, l and another seed give the same optimum."""
+    model, _true = truth("paper")
+    data = noisy_decay("paper", 0.02, seed=9)
+    r1 = fit(decay=data, model=model, n_starts=4, seed=0)
+    r2 = fit(decay=data, model=model.replace(c_n=1e14, m2=1.5, h_n=1e8, l=0.5), n_starts=4, seed=5)
+    for name in ("m2", "l", "f_n0_hz", "zeta"):
+        assert r1.value(name) == pytest.approx(r2.value(name), rel=1e-4, abs=1e-5), name
