@@ -20,6 +20,10 @@ _LAZY = {
     # the model (lazy too: ``import contactvib`` stays cheap for the console script)
     **{name: ("contactvib.model", name) for name in ("ContactModel", "Excitation", "ExponentialLaw", "TableLaw",
                                                       "GreenwoodWilliamson", "ParameterError", "PAPER_DEFAULTS")},
+    # fitting to measurements
+    "fit": ("contactvib.fitting.solver", "fit"),
+    "FitResult": ("contactvib.fitting.results", "FitResult"),
+    "FitError": ("contactvib.fitting.solver", "FitError"),
     # steady states
     "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
     "simulate": ("contactvib.steady.simulate", "simulate"),

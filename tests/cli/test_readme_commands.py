@@ -57,6 +57,14 @@ _ATLAS = ["atlas", *_ATLAS_GRID, "--out", "atlas/"]
 #: The README's scheduler address: the test substitutes the address of a LocalCluster it starts.
 _SCHEDULER = "tcp://HOST:8786"
 
+_EXAMPLES = README.parent / "examples"
+#: The reduced fit of the README's worked example: the static curve only (the FRF fit is tested
+#: in tests/fit), writing fitted.json for the `resonance --model` line.
+_FIT = ["fit", "--static", str(_EXAMPLES / "fit_static.csv"), "--set", "M=0.2106", "--save-model", "fitted.json",
+        "--out", "fit/", "--starts", "2", "--no-progress"]
+FIT_KEYS = {"parameters", "derived", "fixed", "correlation", "residual_rms", "noise", "n_forward", "time_s",
+            "converged", "identifiability", "model"}
+
 #: README command line (comment stripped) -> the reduced argument list it is tested with.
 REDUCED: dict[str, list[str]] = {
     "contactvib paper": ["paper", *_PAPER_GRID],
@@ -160,6 +168,15 @@ REDUCED: dict[str, list[str]] = {
         ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--json"],
     "contactvib hbm --pa 0.65 --harmonics 32 --fmin 300 --fmax 2000 --out hbm/":
         ["hbm", "--pa", "0.65", "--harmonics", "16", "--fmin", "300", "--fmax", "340", "--out", "hbm/"],
+    # fitting (README, "Fitting a contact to measurements"): the static curve alone, few starts
+    "contactvib fit --static examples/fit_static.csv --frf examples/fit_frf.csv --set M=0.2106 "
+    "--save-model fitted.json --out fit/": _FIT,
+    "contactvib fit --decay examples/fit_decay.csv --set M=0.2106 --fix m2=2 --fix l=1 --json":
+        ["fit", "--decay", str(_EXAMPLES / "fit_decay.csv"), "--set", "M=0.2106", "--fix", "m2=2", "--fix", "l=1",
+         "--json", "--starts", "0"],
+    "contactvib resonance --model fitted.json --pa 0.3 --fmin 900 --fmax 1600 --out res_fit/":
+        ["resonance", "--model", "fitted.json", "--pa", "0.3", "--fmin", "1190", "--fmax", "1210", "--df", "10",
+         "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress", "--out", "res_fit/"],
 }
 
 #: The README lines whose reduced run is too long for the default suite (opt-in: pytest -m slow).
@@ -458,10 +475,30 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         return
     if "--curves" in args and not (workdir / "evo" / "evolution_order2.json").is_file():
         _run(REDUCED["contactvib evolution --order 2 --pa-min 0.3 --pa-max 0.9 --out evo/"], workdir, capsys)
+    if "--model" in args and not (workdir / "fitted.json").is_file():
+        _run(_FIT, workdir, capsys)
     out = _run(args, workdir, capsys)
     cmd = args[0]
     folder = workdir / m.group(1) if m else None
-    if cmd == "resonance" and "--law" in args:  # another law: its name and parameters in the dataset
+    if cmd == "fit" and "--json" in args:
+        d = json.loads(out)
+        assert FIT_KEYS <= set(d) and set(d["parameters"]) == {"S_c_n", "S_h_n", "y_init_um", "v_init_mm_s",
+                                                                  "f_n0_hz", "y0_um", "zeta"}
+        assert d["fixed"]["m2"] == 2.0 and {"f_n0_hz", "y0_um", "zeta"} <= set(d["derived"])
+    elif cmd == "fit":
+        d = json.loads((folder / "fit.json").read_text())
+        assert FIT_KEYS <= set(d) and {"S_c_n", "m2"} <= set(d["parameters"])
+        assert_figure_file(folder / "fit_static.png")
+        from contactvib import ContactModel
+
+        assert ContactModel(**json.loads((workdir / "fitted.json").read_text())).m2 == d["parameters"]["m2"]["value"]
+        assert "wrote" in out and "S_c_n" in out
+    elif cmd == "resonance" and "--model" in args:  # the fitted contact's resonance graph
+        with xr.open_dataset(folder / "resonance.nc") as d:
+            model = json.loads(d.attrs["model"])
+            assert model["m2"] == json.loads((workdir / "fitted.json").read_text())["m2"] and d.sizes["point"] >= 1
+        assert_figure_file(folder / "resonance_pa0.30.png")
+    elif cmd == "resonance" and "--law" in args:  # another law: its name and parameters in the dataset
         with xr.open_dataset(folder / "resonance.nc") as d:
             assert "exponential" in d.attrs["law"] and json.loads(d.attrs["model"])["law"] == "exponential"
             assert d.sizes["point"] >= 1

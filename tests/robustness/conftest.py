@@ -20,6 +20,7 @@ COMPUTATIONS = [
     "contactvib.frequency.perturbation.perturbation_series",
     "contactvib.sweeps.regimes.evolution_curves",
     "contactvib.sweeps.regimes.regime_maps",
+    "contactvib.fitting.solver.fit",
     "contactvib.explore.server.serve",  # the explore server: never started by these tests
 ]
 

@@ -13,6 +13,7 @@ ZeroDivisionError, OverflowError or AttributeError.
 import math
 from decimal import Decimal
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -79,13 +80,15 @@ OPTIONS = {
                  "--kt-ratio": "value", "--kt-law": "value", "--kd": "value", "--cd": "value", "--beta": "value",
                  "--fe-range": "pair", "--df": "value", "--vd-range": "pair", "--nvd": "value", "--drive": "value",
                  "--ft": "value"},
+    "fit": {"--static": "value", "--decay": "value", "--frf": "value", "--set": "set", "--fix": "value",
+            "--bounds": "value", "--starts": "value", "--seed": "value", "--save-model": "value"},
     "explore": {"--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
                 "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
 
 #: The contact-law options of every command that builds a model, and the excitation families'
 #: options of the commands at one operating point.
-LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload": "value"}
+LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload": "value", "--model": "value"}
 EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
 for _name in ("attractors", "simulate", "basins", "perturbation", "friction"):
     OPTIONS[_name].update(LAW, **EXCITATION)
@@ -98,7 +101,12 @@ for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
 #: --pa-max are a range with --parameter pa).
+#: contactvib fit needs a data set and the mass M: the example static curve.
+_FIT_NEEDS = ["--static", str(Path(__file__).resolve().parents[2] / "examples" / "fit_static.csv"), "--set", "M=0.2106"]
 NEEDS = {("simulate", "--periods"): ["--from-state", "0.1", "0"],
+         **{("fit", o): _FIT_NEEDS for o in ("--decay", "--frf", "--set", "--fix", "--bounds", "--starts",
+                                             "--seed", "--save-model")},
+         ("fit", "--static"): ["--set", "M=0.2106"],
          ("continue", "--pa-min"): ["--parameter", "pa"], ("continue", "--pa-max"): ["--parameter", "pa"],
          ("continue", "--pa"): ["--parameter", "pa"],
          ("friction", "--df"): ["--fe-range", "300", "400"], ("friction", "--nvd"): ["--vd-range", "0.01", "1"],

@@ -4,6 +4,7 @@ under 2 s with one ``contactvib: error:`` line naming ``--out``, exit status 2, 
 computed (the computations are replaced by stubs, tests/robustness/conftest.py)."""
 
 import time
+from pathlib import Path
 
 import pytest
 
@@ -14,6 +15,8 @@ def _writes_nothing(command):
     return pytest.param(command, [], marks=pytest.mark.skip(reason=f"{command} writes nothing (no --out)"),
                         id=f"{command}-writes-nothing")
 
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 #: Every command of `contactvib --help`, with options that keep it otherwise valid.
 COMMANDS = [
@@ -40,6 +43,7 @@ COMMANDS = [
     pytest.param("friction", [], id="friction"),
     pytest.param("friction", ["--fe-range", "300", "400", "--df", "50"], id="friction-fe-range"),
     pytest.param("friction", ["--vd-range", "0.01", "1", "--nvd", "3", "--json"], id="friction-vd-range"),
+    pytest.param("fit", ["--static", str(EXAMPLES / "fit_static.csv"), "--set", "M=0.2106"], id="fit"),
     _writes_nothing("attractors"),
     _writes_nothing("query"),
     _writes_nothing("explore"),  # a server: it writes no file

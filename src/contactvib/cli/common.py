@@ -149,7 +149,26 @@ def _law_family(overrides: dict) -> dict:
     return kw
 
 
+def _model_file(path) -> dict:
+    """The parameters of a model file (``--model``: ``contactvib fit --save-model``, the JSON of
+    :meth:`ContactModel.parameters`, or any JSON object with such a ``model`` entry)."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            p = json.load(fh)
+        p = p.get("model", p) if isinstance(p, dict) else p
+        if not isinstance(p, dict):
+            raise ValueError("not a JSON object")
+        ContactModel(**p)
+    except ParameterError as e:
+        raise _error("--model", e) from None
+    except (OSError, ValueError, TypeError) as e:
+        raise InputError(f"--model = {path}: not a model file ({getattr(e, 'strerror', None) or e})") from None
+    return p
+
+
 def _model(settings: tuple[str, ...]) -> ContactModel:
+    opts = _LAW.get() or {}
+    base = _model_file(opts["model_file"]) if opts.get("model_file") is not None else {}
     overrides = {}
     for item in settings:
         if "=" not in item:
@@ -164,14 +183,14 @@ def _model(settings: tuple[str, ...]) -> ContactModel:
     family = _law_family(overrides)
     for name, value in overrides.items():
         try:
-            ContactModel(**{**family, name: value})
+            ContactModel(**{**base, **family, name: value})
         except ParameterError as e:
             if e.symbol == name:  # the parameter's own range; combinations are checked below
                 raise _error(f"--set {name}", e) from None
     # a combination out of range (the damping ratio) names every --set the user gave
     given = " ".join(f"--set {k}={_show(v)}" for k, v in overrides.items()) or "the paper's parameters"
     try:
-        return ContactModel(**family, **overrides)
+        return ContactModel(**{**base, **family, **overrides})
     except ParameterError as e:
         if e.symbol in _LAW_OPTION_NAMES:
             raise _error(_LAW_OPTION_NAMES[e.symbol], e) from None
@@ -250,7 +269,9 @@ def _law_options(f):
     """--law, --law-file, --damping, --preload: the contact-law family of ``_model``."""
     from contactvib.model.laws import DAMPING_NAMES, LAW_NAMES
 
-    f = _scoped(_LAW, ("law", "law_file", "damping", "preload"), f)
+    f = _scoped(_LAW, ("law", "law_file", "damping", "preload", "model_file"), f)
+    f = click.option("--model", "model_file", default=None, metavar="FILE.json",
+                     help="Start from a saved model (contactvib fit --save-model); --set overrides it.")(f)
     f = click.option("--preload", default=None, metavar="N",
                      help="Constant normal force F_pre [N] pressing the slider down (y0, f_n0 from Q + F_pre).")(f)
     f = click.option("--damping", default="power", show_default=True, type=click.Choice(DAMPING_NAMES),

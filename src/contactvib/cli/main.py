@@ -13,6 +13,7 @@ from contactvib.cli.common import InputError, RunInterrupted, one_line
 from contactvib.cli.continuation import bifurcations, continue_, evolution
 from contactvib.cli.explore import explore
 from contactvib.cli.film import animate
+from contactvib.cli.fit import fit
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.friction import friction
 from contactvib.cli.regimes import map_
@@ -43,7 +44,7 @@ def cli():
 
 
 for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
-                 bifurcations, evolution, perturbation, hbm, map_, explore, friction):
+                 bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
     cli.add_command(_command)
 
 
