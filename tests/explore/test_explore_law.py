@@ -156,3 +156,23 @@ def test_explore_command_starts_the_page_with_its_law_options(monkeypatch, capsy
         seen.clear()
         assert main(["explore", *args, "--no-browser"]) == 2
         assert message in capsys.readouterr().err and not seen
+
+
+def test_explore_starts_from_a_saved_model(monkeypatch, capsys, tmp_path):
+    """``contactvib explore --model F`` (a ``contactvib fit --save-model`` file): the page's first
+    point is that model (equal to it, built from the page's fields); a table law's file is refused."""
+    import json
+
+    import contactvib.explore.server as server
+
+    seen = {}
+    monkeypatch.setattr(server, "serve", lambda *args: seen.update(start=args[-1]))
+    for model in (_direct(), ContactModel(m2=1.9, c_n=3.1e16, l=0.7)):
+        path = tmp_path / "model.json"
+        path.write_text(json.dumps(model.parameters()))
+        assert main(["explore", "--model", str(path), "--no-browser"]) == 0
+        assert _check(seen["start"])[0] == model
+    path.write_text(json.dumps(ContactModel(law=TableLaw.from_csv(TABLE)).parameters()))
+    seen.clear()
+    assert main(["explore", "--model", str(path), "--no-browser"]) == 2
+    assert "a table law's model" in capsys.readouterr().err and not seen

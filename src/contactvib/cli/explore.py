@@ -144,9 +144,26 @@ def _start_point():
     _model(())
     point = Point(law_file=opts.get("law_file"))
     point.fields.update(law=opts.get("law") or "power", damping=opts.get("damping") or "power")
+    if opts.get("model_file") is not None:  # a saved model (contactvib fit --save-model)
+        _model_fields(point, opts["model_file"])
     if opts.get("preload") is not None:
         point.fields["preload"] = opts["preload"].strip()
     return point
+
+
+def _model_fields(point, path) -> None:
+    """The page's fields from a model file (``--model``): its law, damping, preload and
+    parameters; a table law's rows cannot be fields (start with --law table --law-file)."""
+    from contactvib.cli.common import _model_file
+
+    p = _model_file(path)
+    if "table" in p:
+        raise InputError(f"--model = {path}: a table law's model: start explore with --law table --law-file FILE.csv")
+    point.fields.update(law=str(p.get("law", "power")), damping=str(p.get("damping", "power")),
+                        preload=repr(float(p.get("preload", 0.0))) if p.get("preload") else "0")
+    for name, value in p.items():
+        if name in point.fields and isinstance(value, (int, float)) and name != "preload":
+            point.fields[name] = repr(float(value))
 
 
 @click.command()
