@@ -168,10 +168,11 @@ def _rk_step(contact, t, y, f, h, par, rtol, atol, K, ynew, fnew):
 
 
 @njit(cache=True)
-def _dense(contact, t, y, ynew, h, par, K, F):
-    """Fill F[7, 2] with the 7th-order interpolant of x and v over the last step."""
-    _stages(contact, t, y, h, par, K, 13, 16, 2)  # the interpolant needs x and v only
-    for i in range(2):
+def interpolant(K, y, ynew, h, n, F):
+    """F[0..6, :n]: the coefficients of DOP853's 7th-order dense output over the last step from
+    ``y`` to ``ynew`` (Hairer's CONTD8), from its 16 stages ``K`` (the last three the extra ones).
+    Every DOP853 of the package (this flow, the friction kernel) fills its interpolant here."""
+    for i in range(n):
         dy = ynew[i] - y[i]
         F[0, i] = dy
         F[1, i] = h * K[0, i] - dy
@@ -181,6 +182,13 @@ def _dense(contact, t, y, ynew, h, par, K, F):
             for j in range(16):
                 acc += D[q, j] * K[j, i]
             F[3 + q, i] = h * acc
+
+
+@njit(cache=True)
+def _dense(contact, t, y, ynew, h, par, K, F):
+    """Fill F[7, 2] with the 7th-order interpolant of x and v over the last step."""
+    _stages(contact, t, y, h, par, K, 13, 16, 2)  # the interpolant needs x and v only
+    interpolant(K, y, ynew, h, 2, F)
 
 
 @njit(cache=True)

@@ -53,7 +53,7 @@ import numpy as np
 from numba import njit
 
 from .contact import contact_force, contact_partials, spring
-from .flow import E3, E5, REC_F, REC_X, A, B, C, D, acceleration, dense_value
+from .flow import E3, E5, REC_F, REC_X, A, B, C, acceleration, dense_value, interpolant
 
 #: Slots of the tangential parameter vector ``tpar`` (T_FT: a constant drive force [W]).
 T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA, T_FT = range(9)
@@ -197,16 +197,7 @@ def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, scale, K, znew):
 def dense(mode, sigma, t, z, znew, h, nstep, par, tpar, K, F):
     """F[7, 3]: the 7th-order interpolant of w, w', f_t over the last step (K from rk_step)."""
     _stages(mode, sigma, t, z, h, nstep, par, tpar, K, 13, 16)
-    for i in range(_N_DYN):
-        dz = znew[i] - z[i]
-        F[0, i] = dz
-        F[1, i] = h * K[0, i] - dz
-        F[2, i] = 2.0 * dz - h * (K[12, i] + K[0, i])
-        for q in range(4):
-            acc = 0.0
-            for j in range(16):
-                acc += D[q, j] * K[j, i]
-            F[3 + q, i] = h * acc
+    interpolant(K, z, znew, h, _N_DYN, F)
 
 
 @njit(cache=True)
