@@ -167,3 +167,33 @@ def test_non_integer_exponent_falls_back_to_dop853():
     y2, n2, _f2 = _dop853([0.5, 0.3], 0.0, T, par, 1e-10)
     assert out[5] == STATUS_OK and out[4] == n2
     assert np.array_equal(y1, y2)
+
+
+@pytest.mark.parametrize("kw, exc", [({"damping": "hunt-crossley"}, ("force", 0.65, 360.0)),
+                                     ({"damping": "hunt-crossley", "alpha": 60.0, "preload": 1.0},
+                                      ("force", 0.8, 700.0)),
+                                     ({"damping": "hunt-crossley", "m2": 3.0, "c_n": 1e23}, ("base", 0.05, 900.0))])
+def test_hunt_crossley_on_the_power_spring_takes_the_taylor_flow(kw, exc):
+    """Hunt–Crossley damping on the power spring, c f_s(x) x' = c x^m2 x', is the power damping
+    with l = m2: the Taylor flow takes it, through loss of contact and impacts, and agrees with
+    the DOP853 kernel (1e-13) to 1e-8 with the same crossings and time in flight (as the power
+    law's test above)."""
+    from contactvib import Excitation
+
+    model = ContactModel(**kw)
+    e = model.excitation(exc[1], exc[2]) if exc[0] == "force" else Excitation.base(model, exc[2], u_um=exc[1])
+    par = e.kernel_parameters()
+    assert par.size > 5 and is_polynomial_law(par)
+    T = 2.0 * math.pi / par[4]
+    crossed = 0
+    for z0 in ([1.0, 0.0], [3.0, -1.0], [-5.0, 0.5], [0.2, 2.0]):
+        yt, nt, ft = _taylor(z0, 0.0, 4 * T, par, 1e-12)
+        yd, nd, fd = _dop853(z0, 0.0, 4 * T, par, 1e-13)
+        assert nt == nd
+        assert _rel_err(yt, yd) < 1e-8
+        assert abs(ft - fd) < 1e-8 * T
+        crossed += nt
+    assert crossed > 0
+    for other in ({"law": "exponential", "damping": "hunt-crossley"}, {"damping": "hunt-crossley", "m2": 1.5,
+                                                                       "c_n": 1e13}):
+        assert not is_polynomial_law(ContactModel(**other).excitation(0.3, 900.0).kernel_parameters())

@@ -38,7 +38,18 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact import EXCITATION_BASE, P_EXCITATION, forcing_amplitude, is_paper_family, series_contact
+from .contact import (
+    DAMPING_HUNT_CROSSLEY,
+    EXCITATION_BASE,
+    P_DAMPING,
+    P_EXCITATION,
+    P_S1,
+    P_SPRING,
+    SPRING_POWER,
+    forcing_amplitude,
+    is_paper_family,
+    series_contact,
+)
 from .flow import REC_WIDTH, _crosses, advance, illinois_trial, illinois_update
 from .status import (
     STATUS_MAX_STEPS,
@@ -56,13 +67,26 @@ INV = np.array([0.0] + [1.0 / k for k in range(1, ORDER_MAX + 2)])  # 1/k withou
 
 
 @njit(cache=True)
+def damping_exponent(par):
+    """The exponent l of the damping term c x^l x' of a polynomial law: the power damping's l, or
+    for Hunt–Crossley damping on the power spring (c f_s(x) x' = c x^m2 x') l = m2; −1 for any
+    other law (no series)."""
+    if is_paper_family(par):
+        return par[1]
+    if par[P_SPRING] == SPRING_POWER and par[P_DAMPING] == DAMPING_HUNT_CROSSLEY and par[0] == par[P_S1]:
+        return par[P_S1]
+    return -1.0
+
+
+@njit(cache=True)
 def is_polynomial_law(par):
-    """True for the power law with power damping under a force or base motion at f_e (the
-    right-hand side is a polynomial plus one cosine) when m2 and l are integers ≤ MAX_EXPONENT."""
-    if not is_paper_family(par) or (par.shape[0] > P_EXCITATION and par[P_EXCITATION] > EXCITATION_BASE):
+    """True for the power spring with power or Hunt–Crossley damping under a force or base
+    motion at f_e (the right-hand side is a polynomial plus one cosine) when m2 and the damping
+    exponent (:func:`damping_exponent`) are integers ≤ MAX_EXPONENT."""
+    if par.shape[0] > P_EXCITATION and par[P_EXCITATION] > EXCITATION_BASE:
         return False
     m2 = par[0]
-    l = par[1]
+    l = damping_exponent(par)
     return (m2 == math.floor(m2) and l == math.floor(l) and 1.0 <= m2 <= MAX_EXPONENT
             and 0.0 <= l <= MAX_EXPONENT)
 
@@ -136,7 +160,7 @@ def series_prepared(contact, t, x0, v0, par, N, X, V, W):
     E = W[0]
     _excitation_series(t, par[4], N, W[FORCING_ROW], E)
     if contact:
-        series_contact(E, X, V, W, N, m2, par[1], par[2])
+        series_contact(E, X, V, W, N, m2, damping_exponent(par), par[2])
         return
     inv_m2 = 1.0 / m2
     for k in range(N):  # flight: x'' = (1 + p cos rτ)/m2
