@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from . import _dop853_coefficients as _co
-from .contact import contact_force, contact_partials, forcing
+from .contact import P_SPRING, contact_force, contact_partials, force, force_partials, forcing
 from .status import (  # noqa: F401
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -60,23 +60,31 @@ _ERR_EXP = -1.0 / 8.0
 _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the controller adapts
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def acceleration(contact, t, x, v, par):
     """x'' of the given mode at (τ, x, x') [nondimensional]: [1 + p cos rτ − f(x, x')]/m2 in
     contact, f the contact law (:func:`.contact.force`)."""
+    if par.shape[0] <= P_SPRING:  # the paper's law under a force: its own expression (fast path)
+        f = 1.0 + par[3] * math.cos(par[4] * t)
+        if contact:
+            f -= force(x, v, par[0], par[1], par[2])
+        return f / par[0]
     f = forcing(t, par)
     if contact:
         f -= contact_force(x, v, par)
     return f / par[0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def jacobian_row(contact, x, v, par):
     """(∂x''/∂x, ∂x''/∂x') of the given mode at (x, x') [nondimensional]: −(∂f/∂x, ∂f/∂v)/m2."""
     if not contact:
         return 0.0, 0.0
     m2 = par[0]
-    fx, fv = contact_partials(x, v, par)
+    if par.shape[0] <= P_SPRING:  # the paper's law: its own partials (fast path)
+        fx, fv = force_partials(x, v, m2, par[1], par[2])
+    else:
+        fx, fv = contact_partials(x, v, par)
     return -fx / m2, -fv / m2
 
 
