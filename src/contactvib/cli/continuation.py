@@ -30,8 +30,7 @@ from contactvib.cli.common import (
     _positive,
     level_kind_option,
 )
-from contactvib.continuation.diagram import LEVEL_TAGS
-from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, SHOOTING_RTOL_RANGE, check_range, level_text
+from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, LEVEL_TAGS, SHOOTING_RTOL_RANGE, check_range, level_text
 from contactvib.model.checks import PA_MAX, PA_NOTE
 
 __all__ = []

@@ -21,7 +21,7 @@ from contactvib.cli.common import (
     _positive,
     level_kind_option,
 )
-from contactvib.model import HARMONICS_MAX, PA_NOTE, check_range, excitation_at, level_text
+from contactvib.model import HARMONICS_MAX, LEVEL_TAGS, PA_NOTE, check_range, excitation_at, level_text
 from contactvib.model.checks import PA_MAX
 
 _CONV_ORDERS_MAX = 80
@@ -159,8 +159,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kin
     law = "" if model.is_paper_family else f"\n{model.describe_law()}"
     fig = hbm_figure([(f"HB (H = {H}) {name}", b) for name, b in branches], series, model.f_n0,
                      (f1, f2), f"Harmonic balance, ${sym}$ = {rest}{base} (dots: loss of contact){law}")
-    tag = {"force": "pa", "base-um": "U", "base-g": "A"}[level_kind]
-    path = save_figure(fig, outp / f"hbm_branch_{tag}{pa_q:g}_H{H}.png")
+    path = save_figure(fig, outp / f"hbm_branch_{LEVEL_TAGS[level_kind]}{pa_q:g}_H{H}.png")
     if as_json:
         _echo_json(payload)
         return

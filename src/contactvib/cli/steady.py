@@ -23,7 +23,7 @@ from contactvib.cli.common import (
     _scoped,
     _search_options,
 )
-from contactvib.model import ContactModel, ParameterError
+from contactvib.model import LEVEL_TAGS, ContactModel, ParameterError
 
 #: Options of the attractor search, by find_attractors' parameter names.
 _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
@@ -259,8 +259,7 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     from contactvib.steady.simulate import simulate as run
 
     out = _output_folder(out)
-    sym, val, _unit = exc.level
-    tag = f"{ {'P_a/Q': 'pa', 'U': 'U', 'A': 'A'}[sym]}{val:g}_fe{exc.f_e:g}"
+    tag = f"{LEVEL_TAGS[exc.level_kind]}{exc.level[1]:g}_fe{exc.f_e:g}"
     if from_state is not None:
         h = _mapped({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
         sym, rest = h.level.split(" = ", 1)

@@ -29,7 +29,7 @@ from contactvib.cli.common import (
     _positive,
     level_kind_option,
 )
-from contactvib.model import KMAX_SWEEP_MAX, WORKERS_MAX, level_text
+from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
 
 __all__: list = []
 
@@ -225,7 +225,7 @@ def query(dataset, pa, fe, as_json):
         _echo_json(res)
         return
     kind = res.get("excitation", "force")
-    unit = {"force": "Q", "base-um": "um", "base-g": "g"}[kind]
+    unit = LEVEL_KINDS[kind][1]
     click.echo(f"{level_text(res['pa_over_q'], kind, 6)}, f_e = {res['fe_hz']:g} Hz "
                f"(requested {p:g} {unit}, {f:g} Hz)")
     click.echo(f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "

@@ -21,7 +21,7 @@ from contactvib.continuation.shooting import (
     continue_orbit,
     switch_period_doubling,
 )
-from contactvib.model import ContactModel, ParameterError, check_range
+from contactvib.model import LEVEL_TAGS, ContactModel, ParameterError, check_range
 from contactvib.steady.orbits import OrbitError, refine_orbit, same_orbit, strobe_points
 
 __all__ = ["continue_attractors", "bifurcation_diagram", "on_branch", "DEFAULT_SEED_FE"]
@@ -123,10 +123,6 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
             log(f"{bid}: period {k} branch found where {b.branch} merges ({_where(st, parameter)})")
             branches.append(nb)
             queue.append(nb)
-
-
-#: Branch-name prefix of a level, by the settings' ``excitation``.
-LEVEL_TAGS = {"force": "pa", "base-um": "U", "base-g": "A"}
 
 
 def _where(point, parameter: str) -> str:

@@ -14,7 +14,7 @@ from contactvib.model.checks import PA_MAX, PA_NOTE, R_RANGE, ParameterError, ch
 if TYPE_CHECKING:  # the model module imports this one
     from contactvib.model.oscillator import ContactModel
 
-__all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX", "LEVEL_KINDS", "excitation_at", "level_text"]
+__all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX", "LEVEL_KINDS", "LEVEL_TAGS", "excitation_at", "level_text"]
 
 #: Standard gravity [m/s²]: the unit of a base acceleration given in g (``--base-g``).
 G_STANDARD = 9.80665
@@ -124,6 +124,11 @@ class Excitation:
         return "harmonics" if self.harmonics else "force"
 
     @property
+    def level_kind(self) -> str:
+        """The kind of :attr:`level` (:data:`LEVEL_KINDS`): "force", "base-um" or "base-g"."""
+        return "base-um" if self.base_um is not None else ("base-g" if self.base_g is not None else "force")
+
+    @property
     def level(self) -> tuple[str, float, str]:
         """(symbol, value, unit) of the excitation level: P_a/Q, U [um] or A [g]."""
         if self.base_um is not None:
@@ -216,6 +221,10 @@ def _check_harmonics(harmonics) -> tuple:
         ph = check_range("phase", ph, -360.0, True, "deg", upper=360.0)
         out.append((int(kf), a, ph))
     return tuple(out)
+
+
+#: Prefix of a level in file and branch names, by kind: ``pa0.65``, ``U0.05``, ``A0.3``.
+LEVEL_TAGS = {"force": "pa", "base-um": "U", "base-g": "A"}
 
 
 def check_level_kind(kind) -> str:

@@ -45,6 +45,17 @@ def set_margins(fig, left: float, right: float, bottom: float, top: float, wspac
                         wspace=wspace, hspace=hspace)
 
 
+def mark_equilibrium_and_gap(ax, t_ms, y_um, y0_um: float, gap) -> None:
+    """On a y(t) panel: the equilibrium y0 dashed, y = 0 thin, and the samples in flight
+    (``gap``, boolean) shaded down from 0 (every time-history panel of the package)."""
+    ax.axhline(y0_um, color="0.4", ls="--", lw=0.8, label="equilibrium $y_0$")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    if gap.any():
+        lo = min(float(y_um.min()), 0.0)
+        ax.fill_between(t_ms, lo, 0.0, where=gap, color="tab:red", alpha=0.15, step="mid",
+                        label="loss of contact")
+
+
 def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
     """y(t) [µm vs ms] with y0 marked and the gap (y < 0) shaded."""
     ax = _ax(ax)
@@ -53,13 +64,7 @@ def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
     if history.base_um is not None:  # base motion: the slider's absolute motion and the base's
         ax.plot(history.t_ms, history.slider_um, color="tab:blue", lw=0.9, label="slider, absolute: s = y + u")
         ax.plot(history.t_ms, history.base_um, color="tab:green", lw=0.7, ls=":", label="base u(t)")
-    ax.axhline(history.y0_um, color="0.4", ls="--", lw=0.8, label="equilibrium $y_0$")
-    ax.axhline(0.0, color="0.6", lw=0.6)
-    gap = ~history.in_contact
-    if gap.any():
-        lo = min(float(history.y_um.min()), 0.0)
-        ax.fill_between(history.t_ms, lo, 0.0, where=gap, color="tab:red", alpha=0.15,
-                        step="mid", label="loss of contact")
+    mark_equilibrium_and_gap(ax, history.t_ms, history.y_um, history.y0_um, ~history.in_contact)
     ax.set_xlabel("t [ms]")
     ax.set_ylabel("y [µm]" if history.base_um is None else "y, s, u [µm]")
     ax.legend(loc="best", fontsize=7, frameon=False)

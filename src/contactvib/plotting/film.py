@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contactvib.model import level_text
 from contactvib.plotting.figures import _order_color, new_figure
 from contactvib.plotting.paper import draw_level
 
@@ -79,7 +80,7 @@ def film_frame(ds, pa_over_q: float, limits: dict, text: FrameText, size=(1600, 
 def _counter(fig, pa_over_q: float, text: FrameText) -> None:
     """The P_a counter: the value, the frame number and a bar over the film's P_a range."""
     lo, hi = (float(x) for x in text.pa_range)
-    sym, unit = {"force": ("P_a", "Q"), "base-um": ("U", "µm"), "base-g": ("A", "g")}[text.level_kind]
+    sym, unit = level_text(1.0, text.level_kind).split(" = 1 ")
     fig.text(0.06, 0.955, f"${sym}$ = {pa_over_q:.3g} {unit}" if sym != "P_a" else f"$P_a$ = {pa_over_q:.3f} Q",
              fontsize=18, weight="bold", va="center")
     fig.text(0.24, 0.955, f"level {text.index + 1} of {text.count}", fontsize=11, va="center", color="0.3")

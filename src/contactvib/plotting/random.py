@@ -4,7 +4,7 @@ y on log axes, in one figure (``contactvib simulate --random-psd``)."""
 
 from __future__ import annotations
 
-from contactvib.plotting.figures import _ax, new_figure
+from contactvib.plotting.figures import _ax, mark_equilibrium_and_gap, new_figure
 from contactvib.steady.random_response import RandomResponse
 
 __all__ = ["plot_random_history", "plot_contact_force_pdf", "plot_response_psd", "random_figure"]
@@ -21,13 +21,7 @@ def plot_random_history(resp: RandomResponse, ax=None, span_ms: float = HISTORY_
     t = resp.t_ms
     sel = t <= t[0] + span_ms
     ax.plot(t[sel], resp.y_um[sel], color="k", lw=0.6)
-    ax.axhline(resp.y0_um, color="0.4", ls="--", lw=0.8, label="equilibrium $y_0$")
-    ax.axhline(0.0, color="0.6", lw=0.6)
-    gap = resp.y_um[sel] <= 0.0
-    if gap.any():
-        lo = min(float(resp.y_um[sel].min()), 0.0)
-        ax.fill_between(t[sel], lo, 0.0, where=gap, color="tab:red", alpha=0.15, step="mid",
-                        label="loss of contact")
+    mark_equilibrium_and_gap(ax, t[sel], resp.y_um[sel], resp.y0_um, resp.y_um[sel] <= 0.0)
     ax.set_xlabel("t [ms]")
     ax.set_ylabel("y [µm]")
     ax.set_title(f"RMS {resp.rms_um:.3g} µm about the mean {resp.mean_um:.3g} µm", fontsize=8)
