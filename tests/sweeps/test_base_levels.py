@@ -259,3 +259,19 @@ def test_sweep_points_carry_the_slider_motion(base_sweep):
         z = np.array([float(ds["state_y_um"][j]) * 1e-6 / sy, float(ds["state_ydot_mm_s"][j]) * 1e-3 / sv])
         exc = Excitation.base(PAPER, f, u_um=U_UM)
         assert s[j] == pytest.approx(slider_app_um(exc, z, int(ds["period"][j])), rel=1e-9)
+
+
+def test_level_title_names_the_level_kind_and_a_law_of_ones_own():
+    """Figure titles: the level's symbol and unit from the dataset, and a second line with the
+    law for every model outside the paper's family (law, damping or preload changed)."""
+    import xarray as xr
+
+    from contactvib.plotting.figures import level_title
+
+    def ds(model, **attrs):
+        return xr.Dataset(attrs={"model": json.dumps(model.parameters()), "law": model.describe_law(), **attrs})
+
+    assert level_title(ds(PAPER), 0.65) == "$P_a$ = 0.65 Q"
+    assert level_title(ds(PAPER, excitation="base-um"), 0.05) == "$U$ = 0.05 µm (base motion)"
+    for m in (ContactModel(law="exponential"), ContactModel(damping="hunt-crossley"), ContactModel(preload=1.0)):
+        assert level_title(ds(m), 0.3) == f"$P_a$ = 0.3 Q\n{m.describe_law()}"

@@ -130,9 +130,10 @@ def level_title(ds, level: float) -> str:
     if kind != "force":
         text += " (base motion)"
     try:
-        own_law = "law" in json.loads(ds.attrs.get("model", "{}")) or "preload" in json.loads(ds.attrs["model"])
-    except (ValueError, TypeError, KeyError):
-        own_law = False
+        params = json.loads(ds.attrs.get("model", "{}"))
+    except (ValueError, TypeError):
+        params = {}
+    own_law = bool({"law", "damping", "preload"} & set(params))  # keys only a model off the paper's family has
     return text + (f"\n{ds.attrs.get('law', '')}" if own_law else "")
 
 
