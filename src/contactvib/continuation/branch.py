@@ -25,7 +25,7 @@ class SpecialPoint:
     Attributes
     ----------
     type : str
-        One of :data:`SPECIAL_TYPES`.
+        One of ``SPECIAL_TYPES``.
     fe_hz : float
         Excitation frequency [Hz].
     pa_over_q : float
@@ -99,7 +99,7 @@ class Branch:
     floquet_multipliers : ndarray of complex (n, 2)
         Floquet multipliers.
     stable : ndarray of bool (n,)
-        All |multipliers| < 1.
+        All ``|multipliers|`` < 1.
     state : ndarray (n, 2)
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0.
     contact_loss_fraction : ndarray (n,)
@@ -142,7 +142,7 @@ class Branch:
 
     @property
     def floquet_abs_max(self) -> np.ndarray:
-        """Largest |multiplier| at each point [1]."""
+        """Largest ``|multiplier|`` at each point [1]."""
         return np.max(np.abs(self.floquet_multipliers), axis=1)
 
     def to_xarray(self):

@@ -85,7 +85,7 @@ class ContinuationSettings:
     ds0, ds_min, ds_max : float
         Initial, smallest and largest pseudo-arclength step [relative units: 0.05 ≈ 5 %].
     max_points : int
-        Points per direction, the start included (≥ :data:`BRANCH_POINTS_MIN`).
+        Points per direction, the start included (≥ ``BRANCH_POINTS_MIN``).
     app_max_um : float
         Amplitude bound [µm]; the branch stops when A_pp exceeds it.
     rtol : float
@@ -101,7 +101,7 @@ class ContinuationSettings:
     locate : bool
         Locate the special points (folds, doublings, Neimark–Sacker, grazing). False leaves them
         out and changes no branch point: for callers that need only each point's stability (the
-        sweep's post-pass, :mod:`contactvib.sweeps.unstable_parts`).
+        sweep's post-pass, ``contactvib.sweeps.unstable_parts``).
     max_failures : int
         Rejected steps per direction before the branch stops (a branch that keeps failing, e.g.
         a high-period orbit inside a chaotic band, would otherwise crawl on with tiny steps).
@@ -396,7 +396,7 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
         The oscillator and the operating point of the seed.
     state : array_like (2,)
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0, e.g.
-        :attr:`Attractor.state`; refined by Newton shooting first.
+        ``Attractor.state``; refined by Newton shooting first.
     period : int
         Period k of the orbit [excitation periods].
     parameter : {"f_e", "P_a"}

@@ -192,7 +192,7 @@ def read_uff58(path) -> DecayData:
 
 def read_decay(path) -> DecayData:
     """Read and check a ``t_ms,y_um`` (or ``t_ms,a_ms2``) file, or a universal file's dataset 58
-    (``.uff``, ``.unv``: :func:`read_uff58`)."""
+    (``.uff``, ``.unv``: ``read_uff58``)."""
     if Path(path).suffix.lower() in (".uff", ".unv"):
         return read_uff58(path)
     header, rows = _read_rows("decay", path)
@@ -204,7 +204,7 @@ def read_decay(path) -> DecayData:
 
 def decay_data(t_ms, values, kind: str = "y_um", source: str = "decay") -> DecayData:
     """:class:`DecayData` from arrays, checked: finite, strictly increasing times, at least
-    :data:`DECAY_MIN_CYCLES` cycles (zero crossings about the mean)."""
+    ``DECAY_MIN_CYCLES`` cycles (zero crossings about the mean)."""
     t = np.asarray(t_ms, float).ravel()
     v = np.asarray(values, float).ravel()
     if kind not in ("y_um", "a_ms2"):

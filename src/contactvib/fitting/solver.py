@@ -58,7 +58,7 @@ FD_STEP = 1e-3
 
 
 class FitError(RuntimeError):
-    """The fit did not converge; :attr:`result` holds the best point found."""
+    """The fit did not converge; ``result`` holds the best point found."""
 
     def __init__(self, message: str, result: FitResult):
         super().__init__(message)
@@ -303,13 +303,14 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
     ----------
     static, decay, frf : path or data object, optional
         A static load–deflection curve, a free decay, stepped-sine sweeps (files as in
-        :mod:`contactvib.fitting.data`, or :class:`StaticData`, :class:`DecayData`, :class:`FrfData`).
+        ``contactvib.fitting.data``, or :class:`~contactvib.fitting.StaticData`,
+        :class:`~contactvib.fitting.DecayData`, :class:`~contactvib.fitting.FrfData`).
     model : ContactModel, optional
         Gives M, g, S (and the values of parameters the data do not determine); the paper's by default.
     fix : dict, optional
         Parameters held at a known value (``S_c_n``, ``m2``, ``S_h_n``, ``l``).
     bounds : dict, optional
-        name -> (lower, upper) in the physical parameter (defaults :data:`DEFAULT_BOUNDS`).
+        name -> (lower, upper) in the physical parameter (defaults ``DEFAULT_BOUNDS``).
     n_starts : int
         Random candidate starts added to the grid of estimated ones.
     n_refine : int, optional

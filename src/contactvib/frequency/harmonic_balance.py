@@ -17,7 +17,7 @@ is evaluated on ``n_time`` equispaced samples and projected back on the 2H+1 har
 ``∂R̂/∂X = m2 r² D² + T[f_x] + r T[f_x'] D_θ``, where T[g] is the matrix of multiplication by g
 projected on the harmonics, built from g's Fourier coefficients (G_{j−k} ± G_{j+k}), and the
 branch is followed in f_e by the pseudo-arclength engine of
-:mod:`contactvib.continuation.engine` (:class:`HBProblem`; tangent predictor, bordered Newton
+:mod:`contactvib.continuation.engine` (``HBProblem``; tangent predictor, bordered Newton
 corrector, step-size control). Stability: the monodromy matrix of one shooting period from the
 HB orbit point (x(0), x'(0)) (:func:`contactvib._kernels.shooting.strobe_map`), its largest
 |multiplier| < 1.
@@ -336,7 +336,7 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
 
     Notes
     -----
-    :func:`contactvib.continuation.engine.continue_branch` on :class:`HBProblem`: Newton with at
+    ``contactvib.continuation.engine.continue_branch`` on ``HBProblem``: Newton with at
     least one step and at most 12 Jacobians, step ×1.5 after ≤ 4 Jacobians, halved after a
     failure, capped so that f_e moves at most ``df_max``.
     """

@@ -44,7 +44,7 @@ class HBSolution:
     floquet_multipliers : ndarray of complex
         Eigenvalues of the one-period monodromy from the HB orbit point (empty if not computed).
     closure : float
-        Relative closure |P(z) − z|∞ / max(1, |z|∞) of one shooting period from the HB point.
+        Relative closure ``|P(z) − z|∞ / max(1, |z|∞)`` of one shooting period from the HB point.
     coefficients : ndarray (2H+1,)
         [a0, a1, b1, ..., aH, bH] of x = y/y0.
     """
@@ -65,7 +65,7 @@ class HBSolution:
 
     @property
     def stable(self) -> bool | None:
-        """All |multipliers| < 1 (None if not computed)."""
+        """All ``|multipliers|`` < 1 (None if not computed)."""
         if self.floquet_multipliers.size == 0:
             return None
         return bool(is_stable(np.max(np.abs(self.floquet_multipliers))))
@@ -135,7 +135,7 @@ class HBBranch:
     fe_hz, app_um, ymin_um, ymax_um : ndarray
         Excitation frequency [Hz], peak-to-peak amplitude and extrema of y [µm] per point.
     floquet_abs_max : ndarray
-        Largest |Floquet multiplier| per point [1] (NaN if not computed).
+        Largest ``|Floquet multiplier|`` per point [1] (NaN if not computed).
     stable : ndarray of bool
     loses_contact : ndarray of bool
     top_energy_fraction : ndarray

@@ -171,7 +171,7 @@ class PerturbationResult:
     phases_rad : ndarray (order+1,)
         Phase φ_k of each component, y = y0 + Σ A_k cos(k 2π f_e t + φ_k) [rad].
     term_norms_um : ndarray (order,)
-        max_t |εⁿ uₙ| y0 for n = 1..N [µm]: the size of each term.
+        max_t ``|εⁿ uₙ|`` y0 for n = 1..N [µm]: the size of each term.
     y0_um, fn0_hz : float
         Static deflection [µm] and linear natural frequency [Hz] of the model.
     summation : str
@@ -216,8 +216,8 @@ class PerturbationResult:
                 order: int | None = None) -> TimeHistory:
         """Time history of the series (order N, or a lower ``order``) from phase 0.
 
-        Returns a :class:`~contactvib.results.TimeHistory` (t [ms], y [µm], ẏ [mm/s]); plot it
-        only after checking :attr:`valid`.
+        Returns a :class:`contactvib.TimeHistory` (t [ms], y [µm], ẏ [mm/s]); plot it
+        only after checking ``valid``.
         """
         n_periods = int(check_range("n_periods", n_periods, 1, True))
         samples_per_period = int(check_range("samples_per_period", samples_per_period, 2, True))
@@ -444,7 +444,7 @@ def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, order: int 
     """The series' A_pp along frequencies (for the resonance graphs' small-amplitude parts).
 
     Returns ``(fe_hz, app_um, valid)`` arrays [Hz, µm, bool]; ``valid`` as
-    :attr:`PerturbationResult.valid` (contact kept and converged to 1e-3 of A_pp at ``order``).
+    ``PerturbationResult.valid`` (contact kept and converged to 1e-3 of A_pp at ``order``).
     """
     model.require_paper_family("the perturbation series")
     fe = np.asarray(fe_hz, float)

@@ -103,7 +103,7 @@ class FrictionModel:
         return asdict(self)
 
     def kernel_parameters(self, model) -> np.ndarray:
-        """``tpar`` of :mod:`contactvib._kernels.friction` for ``model``: μ, β, kt_ratio, the
+        """``tpar`` of ``contactvib._kernels.friction`` for ``model``: μ, β, kt_ratio, the
         constant-k_t flag, k_d y0/W, c_d y0 ω_n0/W, v_d/(y0 ω_n0), κ, F_T/W (k_d = v_d = 0 under a
         force drive, F_T = 0 under the velocity drive)."""
         y0, w, W = model.y0, model.omega_n0, model.W

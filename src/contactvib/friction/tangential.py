@@ -291,7 +291,7 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     friction : FrictionModel
         Tangential parameters (default ``FrictionModel()``).
     max_periods : int or None
-        Limit of normal periods to reach the steady state (None: :func:`auto_max_periods`).
+        Limit of normal periods to reach the steady state (None: ``auto_max_periods``).
         An unsettled run (a tangential motion that is not periodic with a period ≤ 8 normal
         periods, e.g. quasi-periodic stick–slip beating with the drive) is returned with
         ``settled = False`` and the means over the second half of its periods.

@@ -1,9 +1,9 @@
-"""Input checks of the library, one place: :class:`ParameterError`, the checks, and the ranges.
+"""Input checks of the library, one place: :class:`~contactvib.ParameterError`, the checks, and the ranges.
 
 Every public function and settings object checks its inputs with these functions, naming each
 value by its paper symbol (``"f_e"``, ``"P_a/Q"``, ``"kmax"``); the command line calls the same
 checks and only maps the symbols onto its option names (:mod:`contactvib.cli.common`). A check
-returns the checked value (a ``float`` or an ``int``) or raises :class:`ParameterError` with the
+returns the checked value (a ``float`` or an ``int``) or raises :class:`~contactvib.ParameterError` with the
 allowed range in words, e.g. ``f_e = -5: must be > 0 Hz``.
 
 The ranges that more than one caller enforces are the constants below (``*_MAX``, ``*_RANGE``).
@@ -73,7 +73,7 @@ class ParameterError(ValueError):
         super().__init__(f"{symbol} = {_fmt(value)}: {allowed}")
 
     def allowed_with(self, names: dict[str, str]) -> str:
-        """:attr:`allowed` with the names in :attr:`bounds` replaced by ``names[name]``."""
+        """``allowed`` with the names in ``bounds`` replaced by ``names[name]``."""
         text = self.allowed
         for b in self.bounds:
             if b in names:
@@ -113,7 +113,7 @@ def _to_float(value) -> float:
 
 
 def check_finite(symbol: str, value) -> float:
-    """Return ``value`` as a float; raise :class:`ParameterError` for non-numbers, NaN and ±inf.
+    """Return ``value`` as a float; raise :class:`~contactvib.ParameterError` for non-numbers, NaN and ±inf.
 
     Text must be plain ASCII decimal or scientific notation (``"1.5e-3"``); ``-0.0`` is returned
     as ``0.0``."""
@@ -163,7 +163,7 @@ def check_range(symbol: str, value, lower: float | None = None, inclusive: bool 
         Unit of the value and the bounds, for the message ("1": none).
     lower_name, upper_name : str or None
         Names of the parameters that set the bounds, if any (``"must be > f_min = 300 Hz"``);
-        they are listed in :attr:`ParameterError.bounds`.
+        they are listed in ``ParameterError.bounds``.
     """
     v = check_finite(symbol, value)
     ok = True

@@ -73,7 +73,7 @@ class PowerLaw:
 
         ``f = x^m2 + c x^l v``, ``∂f/∂x = m2 x^(m2−1) + c l x^(l−1) v``, ``∂f/∂v = c x^l`` for
         ``x > 0``; all three are 0 for ``x ≤ 0`` (flight). Evaluated by the compiled definition
-        (:func:`contactvib._kernels.contact.force`), element by element.
+        (``contactvib._kernels.contact.force``), element by element.
 
         Parameters
         ----------

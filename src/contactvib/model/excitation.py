@@ -125,7 +125,7 @@ class Excitation:
 
     @property
     def level_kind(self) -> str:
-        """The kind of :attr:`level` (:data:`LEVEL_KINDS`): "force", "base-um" or "base-g"."""
+        """The kind of :attr:`level` (:data:`~contactvib.model.LEVEL_KINDS`): "force", "base-um" or "base-g"."""
         return "base-um" if self.base_um is not None else ("base-g" if self.base_g is not None else "force")
 
     @property
@@ -178,7 +178,7 @@ class Excitation:
         return 2.0 * math.pi / self.r
 
     def kernel_parameters(self) -> np.ndarray:
-        """Parameter vector of the nondimensional kernels (:mod:`contactvib._kernels.contact`):
+        """Parameter vector of the nondimensional kernels (``contactvib._kernels.contact``):
         ``[m2, l, c, p, r]`` for the paper's law under a force, else the full layout
         ``[κ, l, c, p, r, spring, damping, excitation, s1, s2, n_exc, off_exc, data…]``."""
         m = self.model
@@ -228,7 +228,7 @@ LEVEL_TAGS = {"force": "pa", "base-um": "U", "base-g": "A"}
 
 
 def check_level_kind(kind) -> str:
-    """``kind`` if it is one of :data:`LEVEL_KINDS`, else a ParameterError naming the choices."""
+    """``kind`` if it is one of :data:`~contactvib.model.LEVEL_KINDS`, else a ParameterError naming the choices."""
     if kind not in LEVEL_KINDS:
         raise ParameterError("excitation", kind, "must be one of " + ", ".join(LEVEL_KINDS))
     return kind
@@ -236,7 +236,7 @@ def check_level_kind(kind) -> str:
 
 def excitation_at(model: ContactModel, level: float, f_e: float, kind: str = "force") -> Excitation:
     """The excitation at f_e [Hz] of a sweep held at ``level``: P_a/Q (``kind`` "force"), U [µm]
-    ("base-um") or A [g] ("base-g"); see :data:`LEVEL_KINDS`."""
+    ("base-um") or A [g] ("base-g"); see :data:`~contactvib.model.LEVEL_KINDS`."""
     kind = check_level_kind(kind)
     if kind == "force":
         return Excitation(model, level, f_e)

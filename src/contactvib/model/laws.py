@@ -132,7 +132,7 @@ class TableLaw:
     """A static load–deflection curve F_s(y) from rows (deflection [m], load [N]).
 
     The first row is (0, 0); deflections and loads increase strictly; at least
-    :data:`TABLE_ROWS_MIN` rows. Interpolated by PCHIP (monotone, C¹); linear beyond the last
+    ``TABLE_ROWS_MIN`` rows. Interpolated by PCHIP (monotone, C¹); linear beyond the last
     row with the last stiffness (refused by :meth:`check_deflection` in results).
     """
 

@@ -294,7 +294,7 @@ class ContactModel:
 
     @property
     def spring_law(self):
-        """The spring family as an object (:mod:`contactvib.model.laws`)."""
+        """The spring family as an object (``contactvib.model.laws``)."""
         if self.law == "exponential":
             return ExponentialLaw(self.c_e, self.lam)
         if self.law == "table":
@@ -365,7 +365,7 @@ class ContactModel:
     @property
     def power_law(self) -> PowerLaw:
         """The nondimensional power law ``f(x, v) = x^m2 + c x^l v`` of this model's m2 and l
-        (:class:`PowerLaw`; the contact law when ``law == "power"`` and ``damping == "power"``)."""
+        (:class:`~contactvib.model.PowerLaw`; the contact law when ``law == "power"`` and ``damping == "power"``)."""
         return PowerLaw(self.m2, self.l)
 
     def spring_force(self, y):

@@ -94,7 +94,7 @@ def history_figure(history: TimeHistory, title: str):
 
 
 def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | None = None):
-    """:func:`history_figure` of one attractor, titled with its period, minima and A_pp."""
+    """``history_figure`` of one attractor, titled with its period, minima and A_pp."""
     k = "non-periodic" if attractor.period is None else f"period {attractor.period}"
     n = attractor.minima_per_period
     mins = "" if n is None else f", {n} {'minimum' if n == 1 else 'minima'} per period"
@@ -153,7 +153,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     = non-resonant (quasistatic) motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; red
     dots = non-periodic attractors; gold underlay = branches no laboratory sweep reaches
     (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6). ``perturbation``:
-    ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation.perturbation_curve`, drawn as
+    ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation_curve`, drawn as
     red crosses where the series is valid. ``marks_um``: the height of the f_n0/m marks (default:
     just above the level's smallest amplitude).
     """

@@ -17,7 +17,7 @@ Procedure
    default long enough for the linear decay in contact, :func:`.transients.transient_periods`)
    is a non-periodic attractor only if its strobe cloud is recurrent and its largest Lyapunov
    exponent is not negative (:func:`.transients.cloud_verdict`); otherwise it is *unsettled*:
-   counted in ``n_unsettled``, with an :class:`UnsettledWarning`, never reported as an
+   counted in ``n_unsettled``, with an ``UnsettledWarning``, never reported as an
    attractor. Non-periodic attractors are de-duplicated by the overlap of their clouds.
 4. Two waves: the first ``FIRST_WAVE`` box starts and the seeds run to the end (step 2); the
    other box starts are stopped as soon as a stroboscopic point comes within ``capture_tol``
@@ -239,7 +239,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
         Transient limit per start [excitation periods] (≥ 4 kmax; a non-periodic attractor needs
         ≥ 128 to be proven one); None: twice the
         linear decay time in contact from the box to ``detect_tol``, at least 400
-        (:func:`.transients.transient_periods`). A start that finds no period by then is a
+        (``contactvib.steady.transients.transient_periods``). A start that finds no period by then is a
         non-periodic attractor if its strobe cloud proves one, else it is counted as unsettled.
     seeds : bool
         Add the ballistic seeds.
@@ -258,7 +258,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     Returns
     -------
     AttractorSet
-        With ``n_unsettled`` starts that did not settle (an :class:`UnsettledWarning` says so).
+        With ``n_unsettled`` starts that did not settle (an ``UnsettledWarning`` says so).
     """
     _check_pair(model, excitation)
     check_damped(model, "the attractor search")

@@ -211,7 +211,7 @@ def basins(model: ContactModel, excitation: Excitation, grid=(400, 400), box=Non
         Grid points in y and in ẏ (each ≥ 2).
     box : ((float, float), (float, float)) or None
         ``((y_min, y_max), (ydot_min, ydot_max))`` [µm, mm/s], ends included; None: the attractor
-        search's start box (:func:`default_box`).
+        search's start box (``default_box``).
     kmax, max_periods, n_starts, seed
         Of the attractor search (:func:`find_attractors`), whose transient limit and tolerances
         the grid starts use too.

@@ -68,7 +68,7 @@ class Attractor:
         Minimal period in excitation periods (None: non-periodic).
     kind : str
         ``"periodic"``, or for a proven non-periodic attractor ``"chaotic"`` (λ > 0.02) or
-        ``"quasi-periodic"`` (|λ| ≤ 0.02); ``"non-periodic"`` when not classified.
+        ``"quasi-periodic"`` (``|λ|`` ≤ 0.02); ``"non-periodic"`` when not classified.
     minima_per_period : int or None
         Local minima of y(t) over the whole period-k orbit, counted cyclically.
     app_um, ymin_um, ymax_um : float
@@ -87,7 +87,7 @@ class Attractor:
     extrema_t_ms, extrema_y_um, extrema_is_min : ndarray
         Local extrema over one orbit period (non-periodic: over the recorded span).
     closure : float
-        Relative closure |P^k(z) − z|∞ / max(1, |z|∞) of the refined orbit (inf if non-periodic).
+        Relative closure ``|P^k(z) − z|∞ / max(1, |z|∞)`` of the refined orbit (inf if non-periodic).
     hits : int
         Number of starts (box and seeds) that reached it.
     state : ndarray
@@ -124,7 +124,7 @@ class Attractor:
 
     @property
     def floquet_abs_max(self) -> float | None:
-        """Largest |Floquet multiplier| [1] (None if non-periodic)."""
+        """Largest ``|Floquet multiplier|`` [1] (None if non-periodic)."""
         if self.floquet_multipliers.size == 0:
             return None
         return float(np.max(np.abs(self.floquet_multipliers)))

@@ -8,7 +8,7 @@ system ffmpeg needed); GIF through imageio's pillow plugin. Files are written un
 name and renamed when complete.
 
 :func:`open_levels` reads a dataset file, or a folder holding exactly one dataset
-(:data:`DATASET_NAMES`); what it returns, :class:`LevelSource`, hands the film one level at a time,
+(``DATASET_NAMES``); what it returns, ``LevelSource``, hands the film one level at a time,
 so that a store that can load one level without the rest (the atlas) extends it by overriding
 :meth:`LevelSource.level`.
 """
@@ -72,8 +72,8 @@ def _dataset_file(path: Path) -> Path:
 
 def open_levels(path) -> LevelSource:
     """The levels of a resonance dataset: a ``.nc`` file written by ``paper``/``resonance`` (or
-    the atlas), or a folder holding exactly one of :data:`DATASET_NAMES`. Raises
-    :class:`DatasetError` (one line) when it cannot be read or holds no level."""
+    the atlas), or a folder holding exactly one of ``DATASET_NAMES``. Raises
+    ``DatasetError`` (one line) when it cannot be read or holds no level."""
     import xarray as xr
 
     from contactvib.sweeps.dataset import FORMAT
@@ -206,7 +206,7 @@ def _write_gif(frames, path: Path, fps: float) -> dict:
 
 
 def animate(dataset, out, fps: float = 2.0, size=(1600, 800), gif: bool | None = None) -> FilmResult:
-    """Write the film of ``dataset`` (a path for :func:`open_levels`, or a :class:`LevelSource`)
+    """Write the film of ``dataset`` (a path for :func:`open_levels`, or a ``LevelSource``)
     to ``out``: MP4 (H.264) or, with ``gif`` (default: from the suffix of ``out``), GIF; one frame
     of ``size = (width, height)`` pixels per level at ``fps`` frames per second. Returns a
     :class:`FilmResult`."""

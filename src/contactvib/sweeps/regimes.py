@@ -92,12 +92,12 @@ def regime_maps(ds):
     Parameters
     ----------
     ds : xarray.Dataset
-        A resonance dataset (:mod:`contactvib.sweeps.dataset` layout).
+        A resonance dataset (``contactvib.sweeps.dataset`` layout).
 
     Returns
     -------
     xarray.Dataset
-        Dimensions ``pa_over_q`` [Q] × ``fe_hz`` [Hz]; the variables of :data:`MAP_VARIABLES`
+        Dimensions ``pa_over_q`` [Q] × ``fe_hz`` [Hz]; the variables of ``MAP_VARIABLES``
         with ``units`` and ``long_name``; attributes ``df_hz``, ``fn0_hz`` and the dataset's
         ``model``.
     """

@@ -2,7 +2,7 @@
 
 Each P_a level is one task (:func:`contactvib.sweep.trace_level`); tasks run in a process pool
 (one numba thread per process: the only level of parallelism) or on a Dask cluster
-(:mod:`contactvib.sweeps.backends`), and each finished level is written
+(``contactvib.sweeps.backends``), and each finished level is written
 atomically to ``OUT/.chunks/`` as NetCDF, so an interrupted run loses at most the levels in
 progress and ``resume=True`` recomputes nothing that was finished. The merged dataset is written
 atomically to ``OUT/<name>.nc``.
@@ -86,7 +86,7 @@ _HELD: dict[str, list] = {}  # resolved folder -> [open lock file, depth] held b
 @contextmanager
 def output_lock(out):
     """Hold the exclusive lock ``OUT/.lock`` while writing into ``out`` (re-entrant within this
-    process); raise :class:`OutputLocked` at once if another run holds it. On entry (outermost)
+    process); raise ``OutputLocked`` at once if another run holds it. On entry (outermost)
     the temporary files ``.*.tmp<pid>`` of dead processes in ``OUT`` and ``OUT/.chunks`` are
     removed."""
     out = Path(out)
@@ -188,7 +188,7 @@ def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -
     """Whether the chunk at ``path`` is the finished level ``pa`` of this model and settings.
 
     False for an unreadable or foreign file, another layout version or another level (these are
-    recomputed); :class:`ResumeMismatch` naming the first difference for another model or
+    recomputed); ``ResumeMismatch`` naming the first difference for another model or
     other settings.
     """
     import xarray as xr
@@ -236,7 +236,7 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
     resume : bool
         Reuse finished chunks of the same model and settings; a finished chunk of a requested
         level made with another model or settings raises ParameterError ``resume``
-        (:class:`ResumeMismatch`) before anything is computed. Without resume, chunks are
+        (``ResumeMismatch``) before anything is computed. Without resume, chunks are
         recomputed and overwritten.
     workers : int or None
         Processes, 1..``WORKERS_MAX`` (default: ``min(levels, CPU count)``); 1 runs in this
@@ -246,21 +246,21 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         (in this process for resumed levels), e.g. to draw the level's figures while other
         levels are still sweeping; its return values go into ``level_results[P_a]``.
     backend : LocalPool, DaskBackend or None
-        Where the levels run (:mod:`contactvib.sweeps.backends`); default ``LocalPool(workers)``.
+        Where the levels run (``contactvib.sweeps.backends``); default ``LocalPool(workers)``.
         Every backend writes the same chunks and the same dataset.
     compress : bool
         Write the chunks and ``OUT/<name>.nc`` as NetCDF4 with zlib compression (level 4,
-        chunked along ``point``; :func:`contactvib.sweeps.dataset.write_atomic`): the atlas.
+        chunked along ``point``; ``contactvib.sweeps.dataset.write_atomic``): the atlas.
 
     Returns
     -------
     xarray.Dataset
-        Layout in :mod:`contactvib.dataset`.
+        Layout in ``contactvib.sweeps.dataset`` (the documentation's data formats page).
 
     Raises
     ------
     ParameterError
-        ``out`` (:class:`OutputLocked`) when another run is writing into ``out``; ``scheduler``
+        ``out`` (``OutputLocked``) when another run is writing into ``out``; ``scheduler``
         when no Dask scheduler answers at the backend's address.
     Interrupted
         (a KeyboardInterrupt) on SIGINT / Ctrl-C, raised within about a second of the running

@@ -62,7 +62,7 @@ def check_damage(ds) -> str | None:
 
 
 def _refuse_damaged(ds) -> None:
-    """LookupError for another format; :class:`DamagedDataset` where :func:`check_damage` finds damage."""
+    """LookupError for another format; ``DamagedDataset`` where ``check_damage`` finds damage."""
     if ds.attrs.get("format") != FORMAT:
         raise LookupError(f"dataset format {ds.attrs.get('format')!r} is not {FORMAT!r} "
                           "(written by another contactvib version): recompute it")
@@ -75,8 +75,8 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
     """The attractors stored at the grid point nearest (P_a, f_e), in the attractors JSON contract.
 
     P_a must match a stored level within 1e-6, f_e the nearest grid frequency within half a
-    grid step. Raises ``LookupError`` with a one-line message otherwise, :class:`DamagedDataset`
-    if the dataset is damaged (:func:`check_damage`).
+    grid step. Raises ``LookupError`` with a one-line message otherwise, ``DamagedDataset``
+    if the dataset is damaged (``check_damage``).
     """
     _refuse_damaged(ds)
     levels = np.unique(ds["pa_over_q"].values)

@@ -338,7 +338,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
     As the level goes on it reports the frequency points done so far
-    (:func:`contactvib.sweeps.backends.report_points`, a no-op unless a run listens): two fifths
+    (``contactvib.sweeps.backends.report_points``, a no-op unless a run listens): two fifths
     of the grid once the sweeps (and their reverse traces) are done, four fifths once the
     multi-start frequencies are (the last fifth is the level's dataset: descriptions, Lyapunov
     exponents). It changes nothing computed.
@@ -347,7 +347,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     -------
     LevelTrace
         The rows (per-row arrays, nondimensional), their basin fractions and the trace root that
-        found them, the links between rows, the grid and one :class:`TraceStop` per trace.
+        found them, the links between rows, the grid and one ``TraceStop`` per trace.
     """
     from contactvib.sweeps.unstable_parts import continue_unstable_parts
 

@@ -1,0 +1,115 @@
+"""Pages written when the documentation is built (called from ``docs/conf.py``).
+
+- ``api/generated/<package>.rst``: one autodoc entry per name of the package's ``__all__``, so a
+  new public name appears by itself and a removed one disappears;
+- ``benchmarks.md``: one table per committed ``benchmarks/results_*.json``, flattened to
+  (quantity, value) rows — the current numbers, not a dated log.
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import json
+from pathlib import Path
+
+#: the public packages, in the order of the API reference; a name documented under an earlier
+#: package (``contactvib`` first) is only listed under a later one
+API_PACKAGES = ("contactvib", "contactvib.model", "contactvib.plotting", "contactvib.fitting",
+                "contactvib.friction", "contactvib.cli")
+
+
+def _directive(module: str, name: str, obj) -> str:
+    if inspect.isclass(obj):
+        return f".. autoclass:: {module}.{name}\n   :members:\n"
+    if callable(obj):
+        return f".. autofunction:: {module}.{name}\n"
+    return f".. autodata:: {module}.{name}\n   :no-value:\n"
+
+
+def api_entries() -> dict[str, list[tuple[str, str | None]]]:
+    """package -> [(name, None) for names documented there, (name, home) for names documented
+    under an earlier package ``home``]."""
+    seen: dict[int, str] = {}
+    out: dict[str, list[tuple[str, str | None]]] = {}
+    for package in API_PACKAGES:
+        mod = importlib.import_module(package)
+        rows = []
+        for name in mod.__all__:
+            if name.startswith("__"):
+                continue
+            obj = getattr(mod, name)
+            key = id(obj) if (inspect.isclass(obj) or callable(obj)) else id((package, name))
+            rows.append((name, seen.get(key)))
+            seen.setdefault(key, package)
+        out[package] = rows
+    return out
+
+
+def write_api_pages(folder: Path) -> list[Path]:
+    gen = folder / "generated"
+    gen.mkdir(parents=True, exist_ok=True)
+    written = []
+    for package, rows in api_entries().items():
+        mod = importlib.import_module(package)
+        title = f"``{package}``"
+        lines = [title, "=" * len(title), "", f".. module:: {package}", "   :no-index:", ""]
+        doc = inspect.getdoc(mod) or ""
+        lines += [doc.split("\n\n", 1)[0], ""]
+        again = [(n, home) for n, home in rows if home is not None]
+        if again:
+            lines += ["Also importable from here: "
+                      + ", ".join(f":py:obj:`{n} <{home}.{n}>`" for n, home in again) + ".", ""]
+        for name, home in rows:
+            if home is None:
+                lines.append(_directive(package, name, getattr(mod, name)))
+        path = gen / f"{package}.rst"
+        text = "\n".join(lines) + "\n"
+        if not path.is_file() or path.read_text() != text:  # unchanged pages keep Sphinx's cache
+            path.write_text(text)
+        written.append(path)
+    return written
+
+
+def _flatten(value, prefix: str = ""):
+    """(dotted key, value) rows of a JSON value; lists of numbers or strings stay one row."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _flatten(v, f"{prefix}.{k}" if prefix else str(k))
+    elif isinstance(value, list) and any(isinstance(v, (dict, list)) for v in value):
+        for i, v in enumerate(value):
+            yield from _flatten(v, f"{prefix}[{i}]")
+    else:
+        yield prefix, value
+
+
+def _cell(value) -> str:
+    if isinstance(value, list):
+        text = ", ".join(_cell(v) for v in value[:12]) + (f", … ({len(value)} values)" if len(value) > 12 else "")
+    elif isinstance(value, float):
+        text = f"{value:.6g}"
+    else:
+        text = str(value)
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def benchmarks_markdown(folder: Path) -> str:
+    files = sorted(folder.glob("results_*.json"))
+    out = ["# Benchmarks", "",
+           "The current result of each benchmark, read from the result files committed in "
+           "`benchmarks/` when this page was built (one table per file; nested keys are joined "
+           "with dots). Each file is written by the benchmark script of the same name; the "
+           "machine and load are in the file when the script records them.", ""]
+    for f in files:
+        name = f.stem.removeprefix("results_")
+        out += [f"## `{name}`", "", f"`benchmarks/{f.name}`", "", "| quantity | value |", "|---|---|"]
+        out += [f"| `{k}` | {_cell(v)} |" for k, v in _flatten(json.loads(f.read_text()))]
+        out.append("")
+    return "\n".join(out)
+
+
+def write_benchmarks_page(folder: Path, page: Path) -> Path:
+    text = benchmarks_markdown(folder)
+    if not page.is_file() or page.read_text() != text:
+        page.write_text(text)
+    return page
