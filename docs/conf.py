@@ -16,7 +16,7 @@ DOCS = Path(__file__).resolve().parent
 sys.path.insert(0, str(DOCS / "_ext"))
 sys.path.insert(0, str(DOCS.parent / "src"))  # the package of this checkout, installed or not
 
-from generate import write_api_pages, write_benchmarks_page  # noqa: E402
+from generate import write_api_pages, write_benchmarks_page, write_statements_page  # noqa: E402
 
 import contactvib  # noqa: E402
 
@@ -35,7 +35,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "examples/README.rst", "friction/*.md", "**/GALLERY_HEADER.rst"]
+exclude_patterns = ["_build", "_ext", "generated", "examples/README.rst", "friction/*.md", "**/GALLERY_HEADER.rst"]
 myst_enable_extensions = ["dollarmath", "colon_fence"]
 myst_heading_anchors = 3
 
@@ -74,3 +74,4 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 def setup(app):
     write_api_pages(DOCS / "api")
     write_benchmarks_page(DOCS.parent / "benchmarks", DOCS / "benchmarks.md")
+    write_statements_page(DOCS.parent, DOCS / "generated" / "paper_statements.md")

@@ -2,6 +2,8 @@
 
 - ``api/generated/<package>.rst``: one autodoc entry per name of the package's ``__all__``, so a
   new public name appears by itself and a removed one disappears;
+- ``generated/paper_statements.md``: the paper's statements S2.1–S4.7, where ``contactvib paper``
+  shows each and which tests and modules name it;
 - ``benchmarks.md``: one table per committed ``benchmarks/results_*.json``, flattened to
   (quantity, value) rows — the current numbers, not a dated log.
 """
@@ -99,7 +101,8 @@ def benchmarks_markdown(folder: Path) -> str:
            "The current result of each benchmark, read from the result files committed in "
            "`benchmarks/` when this page was built (one table per file; nested keys are joined "
            "with dots). Each file is written by the benchmark script of the same name; the "
-           "machine and load are in the file when the script records them.", ""]
+           "machine and load are in the file when the script records them.", "",
+           (Path(__file__).parent / "benchmarks_intro.md").read_text(), ""]
     for f in files:
         name = f.stem.removeprefix("results_")
         out += [f"## `{name}`", "", f"`benchmarks/{f.name}`", "", "| quantity | value |", "|---|---|"]
@@ -110,6 +113,57 @@ def benchmarks_markdown(folder: Path) -> str:
 
 def write_benchmarks_page(folder: Path, page: Path) -> Path:
     text = benchmarks_markdown(folder)
+    if not page.is_file() or page.read_text() != text:
+        page.write_text(text)
+    return page
+
+
+def statements(path: Path) -> dict[str, str]:
+    """The paper's statements by id (``"S3.2"`` → text) from ``data/paper_statements.md``."""
+    out: dict[str, str] = {}
+    current = None
+    for line in path.read_text().splitlines():
+        if line.startswith("- S"):
+            current, text = line[2:].split(" ", 1)
+            out[current] = text
+        elif current and line.startswith("  ") and line.strip():
+            out[current] += " " + line.strip()
+        else:
+            current = None
+    return out
+
+
+def _where_shown(sid: str, text: str) -> str:
+    """Where ``contactvib paper`` shows statement ``sid``: ``index.md`` always, and the figures
+    of its level (S3) or its figure number (S4)."""
+    import re
+
+    if sid.startswith("S4."):
+        m = re.match(r"\(Fig\. (\d+)", text)
+        return f"`fig{m.group(1)}_*.png`, `index.md`" if m else "`index.md`"
+    if sid in ("S3.8", "S3.9"):
+        return "`fig2*.png`, `fig3*.png` (all levels), `index.md`"
+    if sid.startswith("S3."):
+        return "`fig2*`/`fig3*` of the level(s) named, `index.md`"
+    return "`index.md` (model line)"
+
+
+def statements_markdown(src: Path, tests: Path) -> str:
+    """A table of the paper's statements S2.1–S4.7, where ``contactvib paper`` shows each and
+    which test files and modules name it (found by searching the sources for its id)."""
+    files = sorted([*tests.rglob("*.py"), *src.rglob("*.py")])
+    texts = {f: f.read_text(encoding="utf-8") for f in files}
+    rows = ["| id | the paper says | shown in `paper/` | named by |", "|---|---|---|---|"]
+    for sid, text in statements(src / "data" / "paper_statements.md").items():
+        named = [f.relative_to(src.parents[1]).as_posix() for f in files if sid in texts[f]]
+        cell = ", ".join(f"`{n}`" for n in named) or "—"
+        rows.append(f"| {sid} | {_cell(text)} | {_where_shown(sid, text)} | {cell} |")
+    return "\n".join(rows) + "\n"
+
+
+def write_statements_page(root: Path, page: Path) -> Path:
+    page.parent.mkdir(parents=True, exist_ok=True)
+    text = statements_markdown(root / "src" / "contactvib", root / "tests")
     if not page.is_file() or page.read_text() != text:
         page.write_text(text)
     return page

@@ -1,23 +1,16 @@
-"""The README's printed examples are what the commands print today (so its numbers cannot drift)."""
+"""The README's printed examples are what the commands print today (so its numbers cannot drift);
+the attractors tutorial prints the same table."""
 
 from __future__ import annotations
 
-import re
-from pathlib import Path
-
 from contactvib.cli import main
+from doc_pages import DOCS, README, block_after
 
-README = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-
-
-def _block_after(heading: str) -> str:
-    """The first fenced block after a heading line of the README."""
-    i = README.index(heading)
-    m = re.search(r"```\n(.*?)```", README[i:], re.S)
-    return m.group(1)
+HEADING = "Output of `contactvib attractors --pa 0.65 --fe 360`"
 
 
 def test_attractors_table_at_360_hz_is_the_commands_output(capsys):
-    expected = _block_after("### Output of `contactvib attractors --pa 0.65 --fe 360`")
+    expected = block_after("### " + HEADING, README)
+    assert block_after("## " + HEADING, DOCS / "tutorials" / "attractors.md") == expected
     assert main(["attractors", "--pa", "0.65", "--fe", "360"]) == 0
     assert capsys.readouterr().out == expected

@@ -1,7 +1,9 @@
-"""Every command line of the README runs (at a reduced size) and writes what the README says.
+"""Every command line of the README and of the documentation's tutorials runs (at a reduced
+size) and writes what the page says.
 
-The command lines are read from the README's ```bash blocks, so a new line is picked up by
-itself: :data:`REDUCED` must then map it to a reduced form (fewer levels, a narrower range, fewer
+The command lines are read from the ```bash blocks of the README, docs/getting-started.md and
+docs/tutorials/*.md (:data:`doc_pages.PAGES`), so a new line is picked up by itself:
+:data:`REDUCED` must then map it to a reduced form (fewer levels, a narrower range, fewer
 starts, fewer points), or :func:`test_every_readme_command_has_a_reduced_form` fails and says so.
 Each reduced form keeps the README line's options otherwise, runs in-process through
 :func:`contactvib.cli.main` with the working directory in a temporary folder (so ``--out X/``
@@ -23,15 +25,16 @@ import pytest
 import xarray as xr
 
 from contactvib.cli import main
+from doc_pages import PAGES, README
 from figure_files import assert_figure_file
-
-README = Path(__file__).resolve().parents[2] / "README.md"
 
 
 def readme_commands(text: str | None = None) -> list[str]:
-    """The ``contactvib ...`` command lines of the README's ```bash blocks, without their
-    trailing comments (for ``pip install . && contactvib paper``: ``contactvib paper``)."""
-    text = README.read_text() if text is None else text
+    """The ``contactvib ...`` command lines of the ```bash blocks of ``text`` (default: of every
+    page of :data:`doc_pages.PAGES`, each line once, in page order), without their trailing
+    comments (for ``pip install . && contactvib paper``: ``contactvib paper``)."""
+    if text is None:
+        return list(dict.fromkeys(c for page in PAGES for c in readme_commands(page.read_text())))
     lines = []
     for block in re.findall(r"^```bash\n(.*?)^```", text, re.S | re.M):
         for line in block.splitlines():
@@ -168,7 +171,7 @@ REDUCED: dict[str, list[str]] = {
         ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--json"],
     "contactvib hbm --pa 0.65 --harmonics 32 --fmin 300 --fmax 2000 --out hbm/":
         ["hbm", "--pa", "0.65", "--harmonics", "16", "--fmin", "300", "--fmax", "340", "--out", "hbm/"],
-    # fitting (README, "Fitting a contact to measurements"): the static curve alone, few starts
+    # fitting (docs/tutorials/fitting.md): the static curve alone, few starts
     "contactvib fit --static examples/fit_static.csv --frf examples/fit_frf.csv --set M=0.2106 "
     "--save-model fitted.json --out fit/": _FIT,
     "contactvib fit --decay examples/fit_decay.csv --set M=0.2106 --fix m2=2 --fix l=1 --json":
@@ -194,18 +197,18 @@ SERVERS: set[str] = {"contactvib explore", "contactvib explore --port 8765 --no-
 
 # ------------------------------------------------------------------ documented contents
 
-#: `attractors --json` (README, "JSON contract").
+#: `attractors --json` (docs/formats.md, "JSON contract").
 ATTRACTORS_KEYS = {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "n_box", "n_seeds", "n_failed", "units",
                    "attractors"}
 ATTRACTOR_KEYS = {"period", "minima_per_period", "app_um", "ymin_um", "ymax_um", "loses_contact",
                   "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_multipliers",
                   "closure", "hits", "strobe_points", "extrema"}
-#: `query --json`: the attractors contract plus the dataset's labels (README, "Dataset layout");
+#: `query --json`: the attractors contract plus the dataset's labels (docs/formats.md, "Dataset layout");
 #: the dataset stores no start counts and no `hits`.
 QUERY_TOP_KEYS = {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "requested", "units", "attractors"}
 QUERY_KEYS = (ATTRACTOR_KEYS - {"hits"}) | {"resonance", "branch", "branch_label", "attractor_type",
                                "lyapunov_per_period", "found_by", "reached_by_sweep", "origin"}
-#: The resonance dataset (`paper.nc`, `resonance.nc`), README "Dataset layout".
+#: The resonance dataset (`paper.nc`, `resonance.nc`), docs/formats.md "Dataset layout".
 DATASET_VARS = {"pa_over_q", "fe_hz", "kind", "period", "minima_per_period", "app_um", "ymin_um",
                 "ymax_um", "loses_contact", "contact_loss_fraction", "basin_fraction", "floquet_re",
                 "floquet_im", "floquet_abs_max", "closure", "lyapunov_per_period", "attractor_type",
@@ -217,14 +220,14 @@ DATASET_VARS = {"pa_over_q", "fe_hz", "kind", "period", "minima_per_period", "ap
                 "branch_app_max_um", "branch_reached_by_sweep", "trace_label", "trace_root",
                 "trace_direction", "trace_f_start_hz", "trace_f_stop_hz", "trace_stop"}
 DATASET_ATTRS = {"model", "settings", "fn0_hz", "y0_um", "levels_pa_over_q"}
-#: A branch file `branch_<id>.nc` (README, "Continuation and bifurcations").
+#: A branch file `branch_<id>.nc` (docs/tutorials/continuation.md).
 BRANCH_VARS = {"fe_hz", "pa_over_q", "app_um", "ymin_um", "ymax_um", "floquet_re", "floquet_im",
                "stable", "state_x", "state_xdot", "minima_per_period", "contact_loss_fraction",
                "arclength"}
 #: `continue/bifurcations --json` and `special_points_<tag>.json`.
 SPECIAL_KEYS = {"type", "fe_hz", "pa_over_q", "app_um", "period", "branch"}
 STOP_KEYS = {"fe_hz", "pa_over_q", "reason", "branch"}
-#: `basins --json`: each entry of "fractions" (README, "Basins").
+#: `basins --json`: each entry of "fractions" (docs/tutorials/attractors.md, "Basins").
 BASIN_FRACTION_KEYS = {"label", "period", "minima_per_period", "app_um", "fraction", "stderr"}
 #: `perturbation --json`.
 PERTURBATION_KEYS = {"app_um", "ymin_um", "ymax_um", "valid", "order", "error_estimate", "fe_hz",
@@ -399,9 +402,23 @@ def paper_run(workdir):
 def test_readme_commands_are_found():
     cmds = readme_commands()
     assert "contactvib paper" in cmds  # from `pip install . && contactvib paper`
-    assert len(cmds) == len(set(cmds)) >= 15
+    assert len(cmds) >= 15
+    # each tutorial page is read: its commands are among the tested lines
+    tutorials = [p for p in PAGES if p.parent.name == "tutorials"]
+    assert len(tutorials) >= 9
+    for page in tutorials:
+        own = readme_commands(page.read_text())
+        assert own and set(own) <= set(cmds), page.name
     text = "```bash\npip install . && contactvib paper   # x\ncontactvib a --b 1\n```\n```\ncontactvib no\n```\n"
     assert readme_commands(text) == ["contactvib paper", "contactvib a --b 1"]
+
+
+def test_documented_names_are_on_the_formats_page():
+    """The keys and variables these tests check are the ones docs/formats.md documents."""
+    text = (PAGES[0].parent / "docs" / "formats.md").read_text()
+    names = ATTRACTORS_KEYS | ATTRACTOR_KEYS | QUERY_TOP_KEYS | QUERY_KEYS | DATASET_VARS | DATASET_ATTRS
+    missing = sorted(n for n in names if f"`{n}`" not in text and f'"{n}"' not in text)
+    assert not missing, f"docs/formats.md does not name: {missing}"
 
 
 def _uncovered(commands: list[str]) -> str:

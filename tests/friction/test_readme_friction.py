@@ -1,15 +1,10 @@
-"""The README's printed friction table is what `contactvib friction --pa 0.65 --fe 360` prints."""
-
-import re
-from pathlib import Path
+"""The friction tutorial's printed table is what `contactvib friction --pa 0.65 --fe 360` prints."""
 
 from contactvib.cli import main
-
-README = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+from doc_pages import block_after
 
 
 def test_friction_table_is_the_commands_output(capsys):
-    i = README.index("`contactvib friction --pa 0.65 --fe 360` (")
-    expected = re.search(r"```\n(.*?)```", README[i:], re.S).group(1)
+    expected = block_after("`contactvib friction --pa 0.65 --fe 360` (")
     assert main(["friction", "--pa", "0.65", "--fe", "360"]) == 0
     assert capsys.readouterr().out == expected

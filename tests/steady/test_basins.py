@@ -181,13 +181,10 @@ def test_cli_writes_the_dataset_and_the_figure(tmp_path, capsys, monkeypatch):
 
 @pytest.mark.slow
 def test_readme_basins_output_is_the_commands_output(capsys, tmp_path, monkeypatch):
-    """The README's 400 × 400 table (about 30–60 s)."""
-    import re
-    from pathlib import Path
+    """The attractors tutorial's 400 × 400 table (about 30–60 s)."""
+    from doc_pages import block_after
 
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-    i = readme.index("### Basins (`contactvib basins`)")
-    expected = re.search(r"```\n(.*?)```", readme[i:], re.S).group(1)
+    expected = block_after("## Basins (`contactvib basins`)")
     rc, out, err = _cli(["--pa", "0.65", "--fe", "360", "--grid", "400x400", "--out", "basins/"],
                         capsys, tmp_path, monkeypatch)
     assert rc == 0, err

@@ -1,17 +1,18 @@
 """Issue 14, Acceptance: basin fractions converge as the grid is refined (100², 200², 400² at the
 paper's Fig. 4 point, 0.65 Q, 360 Hz) and agree with the attractor search's basin fractions within
-their standard errors. The 400² fractions are the README's table, which the slow test
+their standard errors. The 400² fractions are the attractors tutorial's table
+(docs/tutorials/attractors.md), which the slow test
 ``test_basins.py::test_readme_basins_output_is_the_commands_output`` ties to the command's output,
 so the 400² map is not computed twice."""
 
 import math
 import re
-from pathlib import Path
 
 import pytest
 
 from contactvib import ContactModel
 from contactvib.steady.basins import basins
+from doc_pages import block_after
 
 #: Agreement within two combined standard errors (sqrt(p(1 - p)/N) each; grid points are
 #: correlated, so these are lower bounds).
@@ -19,9 +20,7 @@ SIGMAS = 2.0
 
 
 def _readme_400():
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-    i = readme.index("### Basins (`contactvib basins`)")
-    table = re.search(r"```\n(.*?)```", readme[i:], re.S).group(1)
+    table = block_after("## Basins (`contactvib basins`)")
     assert "400x400 starts" in table
     rows = re.findall(r"^\s+(-?\d+)\s+(\d+)\s+\d+\s+[\d.]+\s+([\d.]+)%\s+([\d.]+)%$", table, re.M)
     return {int(lab): (int(k), float(f) / 100, float(se) / 100) for lab, k, f, se in rows}
