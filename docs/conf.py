@@ -64,7 +64,7 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
-    "image_scrapers": ("matplotlib",),
+    "image_scrapers": ("gallery_scraper", "matplotlib"),
     "matplotlib_animations": False,
     "reset_modules": ("matplotlib",),
 }

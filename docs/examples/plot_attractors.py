@@ -16,4 +16,4 @@ for a in found:
     print(a.period, a.minima_per_period, round(a.app_um, 3), a.loses_contact)
 
 main = max(found, key=lambda a: a.app_um if a.period == 1 else 0.0)
-attractor_figure(attractor_history(model, exc, main), main)
+fig = attractor_figure(attractor_history(model, exc, main), main)
