@@ -16,7 +16,7 @@ DOCS = Path(__file__).resolve().parent
 sys.path.insert(0, str(DOCS / "_ext"))
 sys.path.insert(0, str(DOCS.parent / "src"))  # the package of this checkout, installed or not
 
-from generate import write_api_pages, write_benchmarks_page, write_statements_page  # noqa: E402
+from generate import write_api_pages, write_benchmarks_page, write_dataset_page, write_statements_page  # noqa: E402
 
 import contactvib  # noqa: E402
 
@@ -75,3 +75,4 @@ def setup(app):
     write_api_pages(DOCS / "api")
     write_benchmarks_page(DOCS.parent / "benchmarks", DOCS / "benchmarks.md")
     write_statements_page(DOCS.parent, DOCS / "generated" / "paper_statements.md")
+    write_dataset_page(DOCS / "generated" / "dataset_variables.md")

@@ -167,3 +167,28 @@ def write_statements_page(root: Path, page: Path) -> Path:
     if not page.is_file() or page.read_text() != text:
         page.write_text(text)
     return page
+
+
+def dataset_variables_markdown() -> str:
+    """The variables of a resonance dataset (``paper.nc``, ``resonance.nc``, ``atlas.nc``) with
+    their dimensions, type, units and description, read from a small dataset computed here (one
+    level, three frequencies), so the table is the one the code writes."""
+    from contactvib import ContactModel, SweepSettings, resonance_dataset
+
+    settings = SweepSettings(fmin_hz=355.0, fmax_hz=365.0, df_hz=5.0, multistart_per_octave=0)
+    ds = resonance_dataset(ContactModel(), [0.65], settings, workers=1, progress=False)
+    rows = ["| variable | dimensions | type | units | description |", "|---|---|---|---|---|"]
+    for name, var in ds.variables.items():
+        text = " ".join(str(var.attrs[k]) for k in ("long_name", "comment") if k in var.attrs)
+        rows.append(f"| `{name}` | {', '.join(var.dims)} | {var.dtype} | {_cell(var.attrs.get('units', ''))} "
+                    f"| {_cell(text)} |")
+    rows += ["", "Attributes of the dataset: " + ", ".join(f"`{k}`" for k in ds.attrs) + "."]
+    return "\n".join(rows) + "\n"
+
+
+def write_dataset_page(page: Path) -> Path:
+    page.parent.mkdir(parents=True, exist_ok=True)
+    text = dataset_variables_markdown()
+    if not page.is_file() or page.read_text() != text:
+        page.write_text(text)
+    return page

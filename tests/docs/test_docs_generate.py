@@ -63,3 +63,11 @@ def test_statements_table_has_every_statement():
     assert [r.split(" | ")[0][2:] for r in rows] == ids
     fig4 = next(r for r in rows if r.startswith("| S4.1 "))
     assert "`fig4_*.png`" in fig4 and "tests/steady/test_attractors_paper.py" in fig4
+
+
+def test_dataset_table_lists_every_variable_with_its_units():
+    text = generate.dataset_variables_markdown()
+    for name, units in [("pa_over_q", "Q"), ("fe_hz", "Hz"), ("app_um", "um"), ("strobe_ydot_mm_s", "mm/s"),
+                        ("branch_reached_by_sweep", "1"), ("trace_stop", "")]:
+        assert any(r.startswith(f"| `{name}` |") and r.split(" | ")[3] == units for r in text.splitlines()), name
+    assert "`levels_pa_over_q`" in text and "`model`" in text

@@ -99,7 +99,7 @@ def force_array(x, v, m2, l, c, f, fx, fv):
 
 
 # ----------------------------------------------------------------------------------- families
-# The parameter vector of every kernel (built by ``contactvib.model.kernel_parameters``)::
+# The parameter vector of every kernel (built by ``contactvib.model.Excitation.kernel_parameters``)::
 #
 #     par = [kappa, l, c, p, r, spring, damping, excitation, s1, s2, n_exc, off_exc, <data>]
 #

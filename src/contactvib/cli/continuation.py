@@ -1,6 +1,6 @@
 """CLI commands ``continue``, ``bifurcations`` and ``evolution`` (periodic-orbit continuation).
 
-Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.periodic`, write NetCDF
+Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.continuation`, write NetCDF
 branch files and figures, print a summary or the JSON contract
 ``{"special_points": [...], "stops": [{"fe_hz", "reason"}, ...]}``.
 """

@@ -1,7 +1,7 @@
 """CLI commands ``resonance``, ``query`` and ``paper`` (frequency sweeps and the paper's figures).
 
-Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.resonance` /
-:mod:`contactvib.paper` / :func:`contactvib.dataset.attractors_at`, print and write.
+Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.sweeps.resonance` /
+:mod:`contactvib.sweeps.paper` / :func:`contactvib.attractors_at`, print and write.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Branch results with units: points of a continued branch, special points, stops.
 
-Conventions as :mod:`contactvib.results`: y [µm] positive downwards (contact deflection; y < 0 is
+Conventions as :mod:`contactvib.steady.results`: y [µm] positive downwards (contact deflection; y < 0 is
 a gap), f_e [Hz], P_a in multiples of Q = M g. Stored column by column (as BifurcationKit's
 ``ContResult``) and convertible to an :class:`xarray.Dataset` (NetCDF).
 """

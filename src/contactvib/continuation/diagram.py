@@ -4,7 +4,7 @@ At each seed frequency the multi-start search (:func:`contactvib.find_attractors
 stable orbits; each periodic one that lies on no branch computed so far is continued in f_e both
 ways (:func:`.continuation.continue_orbit`). A seed lies on a known branch when Newton shooting at
 the seed's f_e, started from the branch interpolated there, lands on the same orbit (sameness rule
-of :func:`contactvib.steady.same_orbit`). Isolas (closed branches unreachable from the others)
+of :func:`contactvib.steady.orbits.same_orbit`). Isolas (closed branches unreachable from the others)
 are found this way as long as one of their stable orbits is an attractor at a seed frequency.
 At every period-doubling point the period-2k branch is entered (:func:`.switch_period_doubling`)
 unless a branch already ends there.

@@ -38,8 +38,8 @@ Summation
 The plain partial sum converges slowly near the 1/m resonances (oscillating at 360 Hz, 0.65 Q:
 complex singularities in ε close to the circle |ε| = P_a/Q) and is only asymptotic at 50 Hz,
 0.90 Q (the terms of harmonic ≈ f_n0/f_e grow beyond N ≈ 45). Summing each harmonic's series in
-ε² by its diagonal Padé approximant converges in all three paper cases (measured tables in the
-README), so it is the default; ``summation="plain"`` keeps the partial sum.
+ε² by its diagonal Padé approximant converges in all three paper cases (measured tables in
+docs/tutorials/perturbation.md), so it is the default; ``summation="plain"`` keeps the partial sum.
 
 References
 ----------
@@ -464,7 +464,7 @@ def linear_response(model: ContactModel, excitation: Excitation) -> tuple[float,
 
 
 def steady_counterpart(model: ContactModel, excitation: Excitation, result: PerturbationResult):
-    """The numerical steady state the series describes (an :class:`~contactvib.results.Attractor`).
+    """The numerical steady state the series describes (an :class:`~contactvib.Attractor`).
 
     Newton shooting is started from the series' orbit point; if that fails or lands on an orbit
     that loses contact, the multi-start search is used and the period-1 attractor without loss of

@@ -13,7 +13,7 @@ Dimension ``point`` — one row per attractor at one (P_a, f_e):
     ``attractor_type`` (periodic / chaotic / quasi-periodic / long-period, :func:`attractor_type`),
     ``branch_index`` (into the ``branch`` dimension), ``origin`` ("newton" / "jump" / "start"),
     ``found_by`` ("sweep" / "perturbation seed" / "multi-start" / "continuation": how the trace that first reached
-    the point was started; see :mod:`contactvib.sweep`),
+    the point was started; see :mod:`contactvib.sweeps.sweep`),
     ``state_y_um`` [µm], ``state_ydot_mm_s`` [mm/s] (orbit point at phase 0),
     ``harmonics_um`` (point, harmonic) [µm] one-sided amplitudes at j·f_e/period, j = 1…,
     ``extrema_start``/``extrema_count`` and ``strobe_start``/``strobe_count`` (ragged indices).

@@ -67,7 +67,7 @@ PAPER_TIME_FIGURES = (
 #: Frequency step [Hz] of the perturbation series overlaid on the resonance graphs.
 PERTURBATION_STEP_HZ = 20.0
 #: Order of the perturbation series overlaid on Figs. 4–9 (Padé-summed; converged to < 1e-5 at
-#: the paper's in-contact orbits, see the README's convergence tables).
+#: the paper's in-contact orbits, see the perturbation tutorial, docs/tutorials/perturbation.md).
 PERTURBATION_ORDER = 80
 
 

@@ -92,7 +92,7 @@ def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spe
     L.append(f"Wall time: {timing['sweeps_and_figures_s']:.1f} s for the sweeps and figures "
              "(figures drawn in the sweep workers as each level finishes).")
     L.append("")
-    L.append("Every 'dataset' line below is computed from `paper.nc` by `contactvib.paper.resonance_facts`; "
+    L.append("Every 'dataset' line below is computed from `paper.nc` by `contactvib.sweeps.facts.resonance_facts`; "
              "stages follow S3.8 (grows → bent → period doubling → chaos → divided). Bouncing "
              "sub-/ultrasubharmonic orbits (dotted in the graphs) are not drawn in the paper.")
     L.append("")
@@ -153,7 +153,7 @@ def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spe
     L.append("")
     L.append("Dataset: in the tables above the minima per period equal m for the 1/m orbits except the "
              "early 1/5 at 287 Hz (two minima, S4.2), which is why contactvib names resonances by the "
-             "dominant amplified harmonic (README, 'Resonance labels').")
+             "dominant amplified harmonic (documentation: tutorials/resonance, 'Resonance labels').")
     path = out / "index.md"
     tmp = out / ".index.md.tmp"
     tmp.write_text("\n".join(L) + "\n")

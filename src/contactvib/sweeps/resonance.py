@@ -1,6 +1,6 @@
 """Resonance graphs of several P_a levels: parallel level sweeps, resumable chunks, one dataset.
 
-Each P_a level is one task (:func:`contactvib.sweep.trace_level`); tasks run in a process pool
+Each P_a level is one task (:func:`contactvib.trace_level`); tasks run in a process pool
 (one numba thread per process: the only level of parallelism) or on a Dask cluster
 (``contactvib.sweeps.backends``), and each finished level is written
 atomically to ``OUT/.chunks/`` as NetCDF, so an interrupted run loses at most the levels in

@@ -11,14 +11,14 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    in the opposite direction is started from it, so the branch it landed on is followed back to
    where it ends (e.g. the upper 1/2 branch down to low frequencies).
 3. **Small-amplitude seeds.** At every multi-start frequency (below) the perturbation solution
-   (:mod:`contactvib.perturbation`) is corrected by Newton shooting; a stable orbit no trace has
+   (:mod:`contactvib.frequency.perturbation`) is corrected by Newton shooting; a stable orbit no trace has
    met is traced up and down. This reaches the in-contact parts of superharmonic peaks that are
    cut off from the sweeps and have tiny basins (the 1/2 near 800 Hz at 0.90 Q: 0.4–4 % of the
    box).
 4. **Multi-start seeds.** At ``multistart_per_octave`` frequencies per octave (geometric
    spacing: the resonance structure is self-similar, f_n0/m, and densest at low f_e) a
    multi-start search (random box scaled by
-   y0 and P_a, plus ballistic seeds, :func:`contactvib.attractors.find_attractors`' procedure)
+   y0 and P_a, plus ballistic seeds, :func:`contactvib.find_attractors`' procedure)
    looks for attractors no sweep has met; each new one is traced up and down. This is how the
    isolated parts of the 1/2 and 1/3 resonances (Kostek 2013, Sec. 3: "cannot be found with a
    sweeping signal") are found.
@@ -254,7 +254,7 @@ def _settle_from(level: _Level, i: int, z, phase: float = 0.0):
 def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     """Orbit point from the perturbation solution, corrected by Newton; None if not a stable orbit.
 
-    The series (order 24, Padé-summed, :mod:`contactvib.perturbation`) is the small-amplitude
+    The series (order 24, Padé-summed, :mod:`contactvib.frequency.perturbation`) is the small-amplitude
     solution continued to this frequency; used only as a Newton start, valid or not.
     """
     from contactvib._kernels.settle import _refine
