@@ -1,4 +1,4 @@
-"""The example measurements of ``contactvib fit`` (README, "Fitting a contact to measurements").
+"""The example measurements of ``contactvib fit`` (docs/tutorials/fitting.md).
 
 Synthetic measurements of the paper's contact (Kostek 2013: M = 0.2106 kg, S = 0.0009 m²,
 c_n = 4.52e16, m2 = 2, h_n = 3.5e11, l = 1) with seeded noise:

@@ -1,5 +1,5 @@
 """Write ``power_law_table.csv``: the paper's power law S c_n y^m2 sampled as a load-deflection
-table (0 to 3 µm, 301 rows), the example of ``--law table`` (README) and its test.
+table (0 to 3 µm, 301 rows), the example of ``--law table`` (docs/tutorials/laws.md) and its test.
 
     python examples/make_power_law_table.py
 """
