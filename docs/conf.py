@@ -41,7 +41,7 @@ myst_heading_anchors = 3
 
 html_theme = "pydata_sphinx_theme"
 html_title = f"contactvib {version}"
-html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2}
+html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2, "header_links_before_dropdown": 4}
 
 # numpydoc: the docstrings are numpydoc; no class members table (each class documents its own)
 numpydoc_show_class_members = False
