@@ -357,7 +357,11 @@ class ContactModel:
         return Units.of(self.y0, self.omega_n0)
 
     def superharmonic_frequencies(self, m_max: int = 6) -> np.ndarray:
-        """Estimates f_n0/m [Hz] of the 1/m resonances, m = 1..m_max (Eq. 2.6)."""
+        """Estimates f_n0/m [Hz] of the 1/m resonances, m = 1..m_max (Eq. 2.6).
+
+        >>> ContactModel().superharmonic_frequencies(4).round(1).tolist()
+        [1485.0, 742.5, 495.0, 371.3]
+        """
         m = np.arange(1, int(m_max) + 1)
         return self.f_n0 / m
 
@@ -414,5 +418,10 @@ class ContactModel:
     # ----------------------------------------------------------------- kernel interface
     def excitation(self, pa_over_q: float, f_e: float, harmonics=()) -> Excitation:
         """A validated excitation P_a = ``pa_over_q`` Q at ``f_e`` Hz for this model (plus
-        ``harmonics``, ``(k, P_k/Q, phase_deg)`` triples: a multi-harmonic force)."""
+        ``harmonics``, ``(k, P_k/Q, phase_deg)`` triples: a multi-harmonic force).
+
+        >>> exc = ContactModel().excitation(0.65, 360.0)
+        >>> round(exc.P_a, 4), round(exc.r, 4)  # P_a [N], f_e/f_n0
+        (1.3429, 0.2424)
+        """
         return Excitation(self, pa_over_q, f_e, harmonics=harmonics)

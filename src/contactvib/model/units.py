@@ -41,5 +41,12 @@ class Units:
         return cls(y_um=y0 * 1e6, ydot_mm_s=y0 * omega_n0 * 1e3, t_ms=1e3 / omega_n0)
 
     def state(self, y_um: float, ydot_mm_s: float) -> tuple[float, float]:
-        """Nondimensional state (x, x') of y = ``y_um`` µm, ẏ = ``ydot_mm_s`` mm/s."""
+        """Nondimensional state (x, x') of y = ``y_um`` µm, ẏ = ``ydot_mm_s`` mm/s.
+
+        >>> from contactvib import ContactModel
+        >>> u = ContactModel().units
+        >>> x, xdot = u.state(2 * u.y_um, 0.0)  # twice the static deflection, at rest
+        >>> round(x, 12), xdot
+        (2.0, 0.0)
+        """
         return y_um / self.y_um, ydot_mm_s / self.ydot_mm_s
