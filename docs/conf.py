@@ -35,7 +35,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "_ext", "generated", "examples/README.rst", "friction/*.md", "**/GALLERY_HEADER.rst"]
+exclude_patterns = ["_build", "_ext", "generated", "**/GALLERY_HEADER.rst"]
 myst_enable_extensions = ["dollarmath", "colon_fence"]
 myst_heading_anchors = 3
 
