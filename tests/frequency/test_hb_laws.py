@@ -2,7 +2,7 @@
 one harmonic force).
 
 References: the HB orbit's state at phase 0 integrated by scipy's DOP853 over one period (rtol
-1e-12, located contact events, the forces written in tests/scipy_contact.py from the model's
+1e-12, located contact events, the forces written in contactvib.testing from the model's
 parameters) must come back (rel 1e-9 of the state scale), and its A_pp must equal the shooting
 attractor of :func:`find_attractors` (rel 1e-7: 32 harmonics of an orbit that stays in contact,
 whose spectrum decays geometrically). The paper's law keeps its own residual (rel 1e-12 against
@@ -16,7 +16,7 @@ import pytest
 from contactvib import ContactModel, Excitation, find_attractors
 from contactvib.frequency.harmonic_balance import HBSettings, _residual, hb_continuation, hb_solve
 from contactvib.model import ParameterError
-from scipy_contact import integrate_contact, model_ode
+from contactvib.testing import integrate_contact, model_ode
 
 F_E = 700.0
 

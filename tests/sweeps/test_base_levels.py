@@ -20,7 +20,7 @@ from contactvib import ContactModel, Excitation
 from contactvib.model import ParameterError, level_text
 from contactvib.sweeps.resonance import ResumeMismatch, resonance_dataset
 from contactvib.sweeps.sweep import SweepSettings
-from scipy_contact import integrate_contact, model_ode
+from contactvib.testing import integrate_contact, model_ode
 
 PAPER = ContactModel()
 U_UM = 0.05
