@@ -78,8 +78,8 @@ class ModeTrajectory:
     n_switches: int = 0
 
 
-def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12, atol=1e-12,
-                    method="DOP853", events=(), dense_output=False, max_step=np.inf, graze=1e-15):
+def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12, atol=1e-12, events=(),
+                    dense_output=False, graze=1e-15, **options):
     """Integrate ``s' = f(t, s)`` from ``y0`` at ``t0`` to ``t1``, with ``f = f_contact`` while
     s[0] > 0 and ``f_flight`` while s[0] < 0, switching at every located crossing of s[0] = 0.
 
@@ -95,17 +95,16 @@ def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12
         Initial mode; by default :func:`initial_mode` of ``y0[0], y0[1]``.
     rtol, atol : float or array_like
         solve_ivp tolerances.
-    method : str
-        solve_ivp method.
     events : sequence of callable
         Extra non-terminal events, recorded in :attr:`ModeTrajectory.events`.
     dense_output : bool
         Keep each segment's dense output.
-    max_step : float
-        solve_ivp's largest step.
     graze : float
         Offset of s[0] from 0 (on the mode's own side) with which a mode whose event fires at its
         own start is started again: a grazing switch.
+    **options
+        Further options of :func:`scipy.integrate.solve_ivp` (``method``, default ``"DOP853"``;
+        ``max_step``, ...).
 
     Returns
     -------
@@ -114,14 +113,15 @@ def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12
     from scipy.integrate import solve_ivp
 
     leave, land = _crossing(-1.0), _crossing(1.0)
+    options.setdefault("method", "DOP853")
     s = np.array(y0, float)
     tr = ModeTrajectory(s, initial_mode(s[0], s[1]) if contact is None else bool(contact),
                         events=[[] for _ in events])
     t, stuck = float(t0), 0
     while t < t1:
         fun = f_contact if tr.contact else f_flight
-        sol = solve_ivp(fun, (t, t1), s, method=method, rtol=rtol, atol=atol, max_step=max_step,
-                        events=(leave if tr.contact else land, *events), dense_output=dense_output)
+        sol = solve_ivp(fun, (t, t1), s, rtol=rtol, atol=atol, events=(leave if tr.contact else land, *events),
+                        dense_output=dense_output, **options)
         if sol.status < 0:
             raise RuntimeError(f"solve_ivp failed: {sol.message}")
         tr.nfev += sol.nfev
