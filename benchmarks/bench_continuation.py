@@ -25,6 +25,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from benchmarks import result_path  # noqa: E402
 from contactvib import ContactModel, ContinuationSettings, continue_orbit, find_attractors  # noqa: E402  # noqa: E402
 from contactvib._kernels.continuation import orbit_range  # noqa: E402
 from contactvib.steady.orbits import refine_orbit  # noqa: E402
@@ -54,11 +55,11 @@ def app_reference(model, branch, rtol=1e-14):
     return ref
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--out", default=str(Path(__file__).with_name("results_continuation.json")))
-    args = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
     model = ContactModel()
     fn0 = model.f_n0
     res = {"machine": f"{platform.machine()}, Python {platform.python_version()}, numpy {np.__version__}",
