@@ -90,6 +90,7 @@ def test_maps_of_the_small_fixture_agree_with_its_rows(small_dataset):
             assert m["contact_loss_share"].values[0, j] == pytest.approx(ds["loses_contact"].values[sel].mean())
 
 
+@pytest.mark.timing
 def test_regime_maps_is_fast_on_a_paper_sized_dataset():
     """72k rows, 8 levels × 1971 frequencies, well under a second (vectorised)."""
     import time
