@@ -129,7 +129,7 @@ def base_branches():
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.continuation.shooting import ContinuationSettings
 
-    s = ContinuationSettings(fmin=900.0, fmax=1600.0, excitation="base-um", max_points=300)
+    s = ContinuationSettings(fmin_hz=900.0, fmax_hz=1600.0, excitation="base-um", max_points=300)
     return continue_attractors(PAPER, U_UM, 1200.0, None, s)
 
 
