@@ -13,10 +13,9 @@
 
 Run from the repository root::
 
-    PYTHONPATH=src python benchmarks/bench_atlas.py             # writes benchmarks/results_atlas.json
-    PYTHONPATH=src python benchmarks/bench_atlas.py --levels 4  # a smaller slice
-    PYTHONPATH=src python benchmarks/bench_atlas.py --full-atlas --no-dask --paper-runs 3 \
-        --out results_atlas_final.json  # also the whole 96-level atlas (~6 min), paper cold 3x
+    python -m benchmarks atlas             # writes benchmarks/results_atlas.json
+    python -m benchmarks atlas --levels 4  # a smaller slice
+    python -m benchmarks atlas --full-atlas --paper-runs 3  # also the whole 96-level atlas (~6 min), paper cold 3x
 
 ``--full-atlas`` runs the issue's own command, ``contactvib atlas --pa-min 0.05 --pa-max 1.0
 --npa 96 --fmin 30 --fmax 2000 --df 1`` (local pool, 2 workers, warm cache): its wall time is the
@@ -39,6 +38,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from benchmarks import result_path
 
 HERE = Path(__file__).resolve().parent
 
@@ -80,14 +81,14 @@ def _full_atlas(tmp) -> dict:
     return r
 
 
-def main() -> None:
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--levels", type=int, default=12)
     ap.add_argument("--no-dask", action="store_true")
     ap.add_argument("--full-atlas", action="store_true", help="also the 96-level atlas")
     ap.add_argument("--paper-runs", type=int, default=1)
-    ap.add_argument("--out", default="results_atlas.json", help="file name in benchmarks/")
-    args = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
     levels = [f"{p:.4g}" for p in np.linspace(0.05, 1.0, args.levels)]
     res = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
            "load_average_at_start": os.getloadavg(), "slice_pa_over_q": levels}
@@ -119,7 +120,7 @@ def main() -> None:
         print("basins", res["basins_400x400"], flush=True)
     res["targets"] = {"atlas_96_levels_min": 6.0, "dask_efficiency": 0.9, "paper_first_run_s": 60.0,
                       "basins_400_s": 30.0}
-    (HERE / args.out).write_text(json.dumps(res, indent=1) + "\n")
+    Path(args.out).write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))
 
 

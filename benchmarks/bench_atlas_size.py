@@ -16,13 +16,15 @@ character arrays: :func:`contactvib.sweeps.dataset.compressed_encoding` now; los
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from benchmarks import result_path
 
 HERE = Path(__file__).resolve().parent
 
@@ -52,7 +54,12 @@ def _levels(paths):
         yield float(ds["pa_over_q"].values[0]), ds
 
 
-def main(paths) -> None:
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("paths", nargs="+", help="level files (.chunks/level_pa*.nc)")
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
+    paths = args.paths
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for pa, lvl in _levels(paths):
@@ -71,8 +78,8 @@ def main(paths) -> None:
         mb = points96 * per_point / 1e6
         result["extrapolated_96_levels_mb"][name] = round(mb, 1)
         print(f"{name}: {per_point:.0f} B/point, 96 levels ≈ {mb:.0f} MB")
-    (HERE / "results_atlas_size.json").write_text(json.dumps(result, indent=1) + "\n")
+    Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    main()

@@ -45,20 +45,18 @@ import tempfile
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
+import scipy
+from numba import njit, prange
+
+from benchmarks import result_path
+from contactvib.model import ContactModel
+from contactvib.testing import integrate_modes, power_law_rhs
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 SRC = ROOT / "src"
-if str(SRC) not in sys.path:
-    sys.path.insert(0, str(SRC))
-
-import numba  # noqa: E402
-import scipy  # noqa: E402
-from numba import njit, prange  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
-
-from contactvib.model import ContactModel  # noqa: E402
 
 PA, FE = 0.65, 360.0
 ORBIT_GUESS = np.array([[-45.6107, 0.5061], [1.3016, -0.1249], [3.3857, -1.2839], [-0.2552, 0.5431]])
@@ -130,61 +128,19 @@ def strobe_error(z_from, z_to, ref_map):
 # --------------------------------------------------------------------------------------------
 # scipy mode-by-mode DOP853
 # --------------------------------------------------------------------------------------------
-def _pow_ext(x, a):
-    if x > 0.0:
-        return x**a
-    if a == 0.0:
-        return 1.0
-    return -((-x) ** a)
-
-
 def make_scipy(par):
-    m2, l, c, p, r = (float(v) for v in par)
-
-    def f_contact(t, y):
-        x, v = y
-        return [v, (1.0 - _pow_ext(x, m2) - c * _pow_ext(x, l) * v + p * math.cos(r * t)) / m2]
-
-    def f_flight(t, y):
-        return [y[1], (1.0 + p * math.cos(r * t)) / m2]
-
-    def ev_leave(t, y):  # contact -> flight when x falls through 0
-        return y[0]
-    ev_leave.terminal = True
-    ev_leave.direction = -1
-
-    def ev_land(t, y):  # flight -> contact when x rises through 0
-        return y[0]
-    ev_land.terminal = True
-    ev_land.direction = 1
-
-    T = 2.0 * math.pi / r
+    """The reference one-period map: :func:`contactvib.testing.integrate_modes` (DOP853, mode by
+    mode, terminal events at x = 0) on the paper's equation, counting evaluations and segments."""
+    f_contact, f_flight = power_law_rhs(par)
+    T = 2.0 * math.pi / float(par[4])
 
     def one_period(z, rtol, atol, counters):
         """Stroboscopic map over one period [0, T] (phase 0 at t = 0), mode by mode."""
-        x, v = float(z[0]), float(z[1])
-        contact = x > 0.0 or (x == 0.0 and v > 0.0)
-        t = 0.0
-        y = np.array([x, v])
-        while t < T:
-            fun, ev = (f_contact, ev_leave) if contact else (f_flight, ev_land)
-            sol = solve_ivp(fun, (t, T), y, method="DOP853", rtol=rtol, atol=atol, events=ev)
-            counters["nfev"] += sol.nfev
-            counters["segments"] += 1
-            if sol.status == 1:  # terminal event: switch mode exactly on x = 0
-                t = float(sol.t_events[0][0])
-                y = np.array(sol.y_events[0][0], dtype=float)
-                y[0] = 0.0
-                contact = not contact
-                counters["events"] += 1
-                if counters["events"] > 10_000_000:
-                    raise RuntimeError("too many events")
-            elif sol.status == 0:
-                y = sol.y[:, -1].copy()
-                t = T
-            else:
-                raise RuntimeError(f"solve_ivp failed: {sol.message}")
-        return y
+        run = integrate_modes(f_contact, f_flight, np.asarray(z, float), 0.0, T, rtol=rtol, atol=atol)
+        counters["nfev"] += run.nfev
+        counters["segments"] += len(run.segments)
+        counters["events"] += run.n_switches
+        return run.y
 
     return one_period, T
 
@@ -288,7 +244,7 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=None, help="numba threads (default: all)")
     ap.add_argument("--no-cli", action="store_true")
     ap.add_argument("--no-cold", action="store_true", help="skip the cold-compile subprocess")
-    ap.add_argument("--out", default=str(HERE / "results_attractors.json"))
+    ap.add_argument("--out", default=str(result_path(__name__)))
     a = ap.parse_args(argv)
     if a.quick:
         a.starts, a.periods, a.scipy_starts, a.scipy_periods, a.scipy_long = 16, 5, 1, 2, 30

@@ -25,6 +25,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from benchmarks import result_path  # noqa: E402
 from contactvib import ContactModel, ContinuationSettings, continue_orbit, find_attractors  # noqa: E402  # noqa: E402
 from contactvib._kernels.continuation import orbit_range  # noqa: E402
 from contactvib.steady.orbits import refine_orbit  # noqa: E402
@@ -54,11 +55,11 @@ def app_reference(model, branch, rtol=1e-14):
     return ref
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--out", default=str(Path(__file__).with_name("results_continuation.json")))
-    args = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
     model = ContactModel()
     fn0 = model.f_n0
     res = {"machine": f"{platform.machine()}, Python {platform.python_version()}, numpy {np.__version__}",
@@ -73,7 +74,7 @@ def main():
     # ---------------------------------------------------------------- 1. upper branch
     res["upper"] = {}
     for rtol in (1e-10, 1e-12):
-        s = ContinuationSettings(fmin=297.0, fmax=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-11))
+        s = ContinuationSettings(fmin_hz=297.0, fmax_hz=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-11))
         run = lambda s=s: continue_orbit(model, e_hi, seed_hi.state, 1, direction="down", settings=s)  # noqa: E731
         run()  # compile / warm
         b, tmin, tmed = timed(run, args.repeat)
@@ -96,7 +97,7 @@ def main():
     seed_lo = None
     for a in sorted(lows, key=lambda a: a.app_um):
         b = continue_orbit(model, e_lo, a.state, 1, direction="up",
-                           settings=ContinuationSettings(fmin=297.0, fmax=2000.0))
+                           settings=ContinuationSettings(fmin_hz=297.0, fmax_hz=2000.0))
         if any(sp.type == "fold" and sp.fe_hz > 900 for sp in b.special):
             seed_lo = a
             break
@@ -104,7 +105,7 @@ def main():
     rows = []
     ref_fold = None
     for rtol in (1e-14, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13):
-        s = ContinuationSettings(fmin=297.0, fmax=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-12))
+        s = ContinuationSettings(fmin_hz=297.0, fmax_hz=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-12))
         run = lambda s=s: continue_orbit(model, e_lo, seed_lo.state, 1, direction="up", settings=s)  # noqa: E731
         b, tmin, tmed = timed(run, 1 if rtol == 1e-14 else args.repeat)
         folds = [sp for sp in b.special if sp.type == "fold" and sp.fe_hz > 900]

@@ -28,20 +28,19 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests" / "explore"))
+from benchmarks import result_path
 
 
-def main() -> None:
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--changes", type=int, default=10, help="number of f_e changes measured")
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results_explore.json"))
-    args = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
     chromium = shutil.which("chromium") or shutil.which("chromium-browser")
     if chromium is None:
         sys.exit("bench_explore: no chromium binary (apt-get install chromium)")
     from playwright.sync_api import sync_playwright
-    from test_explore_browser import _table, _wait_done, served
+    from tests.explore.test_explore_browser import _table, _wait_done, served
 
     load = os.getloadavg()[0]
     walls, searches, servers = [], [], []

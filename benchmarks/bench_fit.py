@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import result_path
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -40,7 +42,7 @@ def _error(name, value, stderr, true):
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results_fit.json"))
+    ap.add_argument("--out", default=str(result_path(__name__)))
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--starts", type=int, default=8)
     ap.add_argument("--points", type=int, default=38, help="steps per sweep")

@@ -12,10 +12,13 @@ stability by one shooting period per point. Shooting: at the same frequencies, N
 from __future__ import annotations
 
 import argparse
+import json
 import time
+from pathlib import Path
 
 import numpy as np
 
+from benchmarks import result_path
 from contactvib import ContactModel
 from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 from contactvib.steady.orbits import describe_orbit, refine_orbit
@@ -31,13 +34,14 @@ def _best(fn, repeats: int = 5):
     return best, out
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--harmonics", type=int, default=32)
     ap.add_argument("--pa", type=float, default=0.65)
     ap.add_argument("--fmin", type=float, default=300.0)
     ap.add_argument("--fmax", type=float, default=440.0)
-    a = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    a = ap.parse_args(argv)
     model = ContactModel()
     hb_continuation(model, a.pa, a.fmin, a.fmin + 5, harmonics=a.harmonics)  # JIT warm-up
     t_hb, br = _best(lambda: hb_continuation(model, a.pa, a.fmin, a.fmax, harmonics=a.harmonics))
@@ -66,6 +70,10 @@ def main():
     print(f"  HB continuation, no stability: {t_hb_ns:7.3f} s  ({1e3 * t_hb_ns / len(br_ns):.2f} ms/point)")
     print(f"  shooting (Newton + describe)  : {t_sh:7.3f} s  ({1e3 * t_sh / n:.2f} ms/point)")
     print(f"  max relative A_pp difference HB vs shooting: {dev:.2e}")
+    res = {"pa_over_q": a.pa, "fmin_hz": a.fmin, "fmax_hz": a.fmax, "harmonics": a.harmonics, "points": n,
+           "hb_continuation_stability_s": t_hb, "hb_continuation_no_stability_s": t_hb_ns,
+           "shooting_s": t_sh, "max_relative_app_difference": float(dev)}
+    Path(a.out).write_text(json.dumps(res, indent=1) + "\n")
 
 
 if __name__ == "__main__":

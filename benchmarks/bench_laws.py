@@ -26,11 +26,12 @@ import time
 import numba
 import numpy as np
 from numba import njit, prange
-from scipy.integrate import solve_ivp
 
+from benchmarks import result_path
 from contactvib import ContactModel, ExponentialLaw, TableLaw, find_attractors
 from contactvib._kernels.flow import acceleration
 from contactvib._kernels.taylor import advance_state
+from contactvib.testing import integrate_modes
 
 
 def laws():
@@ -44,26 +45,13 @@ def laws():
 
 
 def scipy_flow(z, t0, t1, par, rtol):
-    """(x, x') at t1 from z at t0: scipy DOP853 per mode, switching at located crossings of x = 0."""
+    """(x, x') at t1 from z at t0: scipy DOP853 per mode, switching at located crossings of x = 0
+    (:func:`contactvib.testing.integrate_modes` on the kernels' acceleration of each law)."""
+    def f(contact):
+        return lambda tt, s: [s[1], acceleration(contact, tt, s[0], s[1], par)]
+
     y = np.array(z, float)
-    t = t0
-    contact = y[0] > 0.0
-    while t < t1:
-        def f(tt, s, c=contact):
-            return [s[1], acceleration(c, tt, s[0], s[1], par)]
-
-        def hit(tt, s):
-            return s[0]
-
-        hit.terminal = True
-        hit.direction = -1.0 if contact else 1.0
-        sol = solve_ivp(f, (t, t1), y, method="DOP853", rtol=rtol, atol=rtol, events=hit)
-        y = sol.y[:, -1].copy()
-        t = sol.t[-1]
-        if sol.status == 1:
-            y[0] = 0.0
-            contact = not contact
-    return y
+    return integrate_modes(f(True), f(False), y, t0, t1, contact=bool(y[0] > 0.0), rtol=rtol, atol=rtol).y
 
 
 @njit(parallel=True, cache=True)
@@ -120,10 +108,10 @@ def bench(model, n_starts=16, periods=20, tol=1e-8, seed=0):
             "trajectory_periods": n_starts * periods}
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=None)
-    args = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
     rows = {}
     for name, model in laws().items():
         rows[name] = r = bench(model)

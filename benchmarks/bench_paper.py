@@ -15,6 +15,7 @@ Run from the repository root after ``pip install .``::
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import platform
@@ -23,6 +24,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from benchmarks import result_path
 
 HERE = Path(__file__).resolve().parent
 
@@ -34,8 +37,12 @@ def _run(args, env=None) -> float:
     return time.perf_counter() - t
 
 
-def main() -> None:
+def main(argv=None) -> None:
     import xarray as xr
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
 
     small = ["resonance", "--pa", "0.65", "--fmin", "300", "--fmax", "340", "--df", "1",
              "--workers", "1", "--no-progress"]
@@ -64,7 +71,7 @@ def main() -> None:
         "growth_1hz_over_4hz": round(runs[-1]["wall_s"] / runs[0]["wall_s"], 3),
         "target_s": 60.0,
     }
-    (HERE / "results_paper.json").write_text(json.dumps(res, indent=1) + "\n")
+    Path(args.out).write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))
 
 

@@ -77,26 +77,23 @@ import sys
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
+import scipy
+from numba import njit
+
+from benchmarks import result_path
+from contactvib._kernels.flow import REC_WIDTH, advance, initial_mode
+from contactvib._kernels.settle import SETTLE_FAILED, SETTLE_PERIODIC, settle
+from contactvib._kernels.shooting import MAX_STEPS_PER_PERIOD, strobe_map
+from contactvib._kernels.status import STATUS_OK
+from contactvib._kernels.taylor import advance_state
+from contactvib.model import ContactModel
+from contactvib.steady.attractors import ballistic_seeds, start_box
+from contactvib.sweeps.sweep import SweepSettings, frequency_grid, multistart_indices
+from contactvib.testing import integrate_modes, power_law_rhs
 
 HERE = Path(__file__).resolve().parent
-SRC = HERE.parent / "src"
-if str(SRC) not in sys.path:
-    sys.path.insert(0, str(SRC))
-
-import numba  # noqa: E402
-import scipy  # noqa: E402
-from numba import njit  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
-
-from contactvib._kernels.flow import REC_WIDTH, advance, initial_mode  # noqa: E402
-from contactvib._kernels.settle import SETTLE_FAILED, SETTLE_PERIODIC, settle  # noqa: E402
-from contactvib._kernels.shooting import MAX_STEPS_PER_PERIOD, strobe_map  # noqa: E402
-from contactvib._kernels.status import STATUS_OK  # noqa: E402
-from contactvib._kernels.taylor import advance_state  # noqa: E402
-from contactvib.model import ContactModel  # noqa: E402
-from contactvib.steady.attractors import ballistic_seeds, start_box  # noqa: E402
-from contactvib.sweeps.sweep import SweepSettings, frequency_grid, multistart_indices  # noqa: E402
 
 ORBIT_LEVELS = ("0.05", "0.4818", "0.9136", "1")
 ORBIT_FREQS = (60.0, 200.0, 360.0, 800.0, 1200.0, 1500.0)
@@ -298,41 +295,14 @@ def strobe_orbits(model, st, budget_s) -> dict:
 
 
 def make_scipy(par):
-    m2, l, c, p, r = (float(v) for v in par)
-
-    def pw(x, a):  # the kernels' odd continuation x^a -> -|x|^a below 0 (used only at x <= 0 steps)
-        return x ** a if x > 0.0 else (1.0 if a == 0.0 else -((-x) ** a))
-
-    def f_contact(t, y):
-        return [y[1], (1.0 - pw(y[0], m2) - c * pw(y[0], l) * y[1] + p * math.cos(r * t)) / m2]
-
-    def f_flight(t, y):
-        return [y[1], (1.0 + p * math.cos(r * t)) / m2]
-
-    def ev(t, y):
-        return y[0]
-    ev.terminal = True
-
-    T = 2.0 * math.pi / r
+    """Span from τ = t to T of the paper's equation, switching mode at every x = 0
+    (:func:`contactvib.testing.integrate_modes`, DOP853, rtol = atol = 1e-8)."""
+    f_contact, f_flight = power_law_rhs(par)
+    T = 2.0 * math.pi / float(par[4])
 
     def span(y, t, contact):
-        """Integrate from τ = t to T, switching mode at every x = 0."""
-        y = np.array(y, float)
-        while t < T:
-            ev.direction = -1 if contact else 1
-            sol = solve_ivp(f_contact if contact else f_flight, (t, T), y, method="DOP853", rtol=1e-8,
-                            atol=1e-8, events=ev)
-            if sol.status == 1:
-                t = float(sol.t_events[0][0])
-                y = np.array(sol.y_events[0][0], float)
-                y[0] = 0.0
-                contact = not contact
-            elif sol.status == 0:
-                y = sol.y[:, -1].copy()
-                t = T
-            else:
-                raise RuntimeError(sol.message)
-        return y, contact
+        run = integrate_modes(f_contact, f_flight, y, t, T, contact=contact, rtol=1e-8, atol=1e-8)
+        return run.y, run.contact
 
     return span, T
 
@@ -381,13 +351,13 @@ def _git(*a) -> str:
         return ""
 
 
-def main() -> None:
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--every", type=int, default=1, help="use every N-th multi-start frequency")
     ap.add_argument("--scipy-starts", type=int, default=20)
     ap.add_argument("--quick", action="store_true", help="3 levels, every 8th frequency, 4 scipy starts")
-    ap.add_argument("--out", default=str(HERE / "results_trajectory_rate.json"))
-    args = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    args = ap.parse_args(argv)
     numba.set_num_threads(1)
     wall0, cpu0 = time.perf_counter(), time.process_time()
     st = SweepSettings()

@@ -1,6 +1,6 @@
-"""Shared test setup: ``tests/`` is on ``sys.path`` (for the helper modules :mod:`scipy_contact`,
-:mod:`figure_files` and :mod:`chunks_wait`), figures are drawn without a display, and the
-fixtures more than one test folder uses (:func:`small_dataset`)."""
+"""Shared test setup: ``tests/`` is on ``sys.path`` (for the helper modules :mod:`figure_files`
+and :mod:`chunks_wait`; the scipy reference integrator is :mod:`contactvib.testing`), figures are
+drawn without a display, and the fixtures more than one test folder uses (:func:`small_dataset`)."""
 
 import matplotlib
 import pytest

@@ -44,6 +44,7 @@ OUT_COMMANDS = [
 ]
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("args", OUT_COMMANDS, ids=lambda a: a[0])
 def test_unwritable_out_refused_before_computing(args):
     """--out /proc/x (a folder that cannot be created): one line, exit 2, before any work."""
@@ -158,6 +159,7 @@ def test_extreme_ranges_of_sweeps_and_continuation(capsys, args, message):
 
 # ------------------------------------------------------------------ memory
 
+@pytest.mark.timing
 @pytest.mark.parametrize("args, message", [
     (["attractors", "--starts", "1e9"], "--starts (n_starts) = 1e+9: must be <= "),
     (["attractors", "--max-periods", "1e9"], "--max-periods (max_periods) = 1e+9: must be <= "),

@@ -54,7 +54,7 @@ def test_shooting_matches_long_time_integration(primary_1930):
     """The converged first point equals the end of 600 periods of plain time integration."""
     exc, a = primary_1930
     b = continue_orbit(MODEL, exc, a.state * 1.001, 1, direction="up",
-                       settings=ContinuationSettings(fmin=1900, fmax=1940, max_points=3))
+                       settings=ContinuationSettings(fmin_hz=1900, fmax_hz=1940, max_points=3))
     z_shoot = b.state[0]
     assert b.fe_hz[0] == pytest.approx(1930.0, rel=1e-14)
     z_long = _iterate(exc, a.state + np.array([1e-3, -1e-3]), 600)  # |mu| = 0.92: 0.92^600 ~ 1e-22
@@ -68,7 +68,7 @@ def test_multipliers_match_finite_difference_monodromy():
     found = find_attractors(MODEL, exc, n_starts=64)
     seed = min((a for a in found if a.period == 1), key=lambda a: a.app_um)
     b = continue_orbit(MODEL, exc, seed.state, 1, direction="up",
-                       settings=ContinuationSettings(fmin=990, fmax=1100, max_points=60))
+                       settings=ContinuationSettings(fmin_hz=990, fmax_hz=1100, max_points=60))
     unstable = np.nonzero(~b.stable & (b.ymin_um < 0))[0]
     assert unstable.size > 0, "the branch should pass the fold onto its unstable part"
     i = unstable[unstable.size // 2]
@@ -96,7 +96,7 @@ def test_linear_limit_resonance_curve_and_multipliers():
     p = 1e-5
     exc = MODEL.excitation(p, 1800.0)
     b = continue_orbit(MODEL, exc, [1.0, 0.0], 1, direction="down",
-                       settings=ContinuationSettings(fmin=1000, fmax=2000, ds_max=0.05))
+                       settings=ContinuationSettings(fmin_hz=1000, fmax_hz=2000, ds_max=0.05))
     assert "range reached" in b.stops[0].reason
     assert b.fe_hz.min() == pytest.approx(1000.0)
     r = b.fe_hz / MODEL.f_n0
@@ -122,7 +122,7 @@ def lower_branch_065():
 
 
 def _fold(exc, seed, rtol):
-    s = ContinuationSettings(fmin=990, fmax=1100, rtol=rtol, tol=max(100 * rtol, 1e-11), max_points=80)
+    s = ContinuationSettings(fmin_hz=990, fmax_hz=1100, rtol=rtol, tol=max(100 * rtol, 1e-11), max_points=80)
     b = continue_orbit(MODEL, exc, seed.state, 1, direction="up", settings=s)
     folds = [sp for sp in b.special if sp.type == "fold"]
     assert len(folds) == 1
@@ -175,7 +175,7 @@ def test_period_doubling_of_the_half_resonance_at_070():
     known = []
     found470 = find_attractors(MODEL, MODEL.excitation(0.70, 470.0), n_starts=128)
     assert any(a.period == 2 for a in found470)
-    s = ContinuationSettings(fmin=100, fmax=1200)
+    s = ContinuationSettings(fmin_hz=100, fmax_hz=1200)
     bs = continue_attractors(MODEL, 0.70, 470.0, settings=s, known=known, attractors=found470)
     pds = [sp for sp in bs.special_points if sp.type == "period-doubling" and sp.period == 1]
     assert pds, "period doubling of the 1/2 resonance not found"
@@ -217,7 +217,7 @@ def test_branch_netcdf_roundtrip(tmp_path, primary_1930):
 
     exc, a = primary_1930
     b = continue_orbit(MODEL, exc, a.state, 1, direction="down",
-                       settings=ContinuationSettings(fmin=1500, fmax=2000))
+                       settings=ContinuationSettings(fmin_hz=1500, fmax_hz=2000))
     assert isinstance(b, Branch) and len(b) > 3
     p = tmp_path / "b.nc"
     b.to_netcdf(p)
@@ -236,7 +236,7 @@ def test_locate_off_changes_no_branch_point(lower_branch_065):
     """``locate=False`` (the sweep's post-pass) leaves the special points out and nothing else:
     the same points, multipliers and stability, bit for bit."""
     exc, seed = lower_branch_065
-    kw = dict(fmin=990, fmax=1100, rtol=1e-10, tol=1e-9, max_points=80)
+    kw = dict(fmin_hz=990, fmax_hz=1100, rtol=1e-10, tol=1e-9, max_points=80)
     on = continue_orbit(MODEL, exc, seed.state, 1, direction="up", settings=ContinuationSettings(**kw))
     off = continue_orbit(MODEL, exc, seed.state, 1, direction="up",
                          settings=ContinuationSettings(**kw, locate=False))
@@ -248,7 +248,7 @@ def test_locate_off_changes_no_branch_point(lower_branch_065):
 
 @pytest.mark.parametrize("kwargs, symbol", [
     ({"locate": "no"}, "locate"),
-    ({"fmin": -1.0}, "fmin"), ({"fmin": 100.0, "fmax": 50.0}, "fmax"), ({"ds_min": 0.0}, "ds_min"),
+    ({"fmin_hz": -1.0}, "fmin_hz"), ({"fmin_hz": 100.0, "fmax_hz": 50.0}, "fmax_hz"), ({"ds_min": 0.0}, "ds_min"),
     ({"max_points": 0}, "max_points"), ({"rtol": 1e-3}, "rtol"), ({"app_max_um": -5.0}, "app_max_um"),
 ])
 def test_bad_settings(kwargs, symbol):
@@ -266,7 +266,7 @@ def test_bad_continuation_input(primary_1930):
     with pytest.raises(ParameterError, match="parameter"):
         continue_orbit(MODEL, exc, a.state, 1, parameter="c_n")
     with pytest.raises(ParameterError, match="continuation range"):
-        continue_orbit(MODEL, exc, a.state, 1, settings=ContinuationSettings(fmin=30, fmax=1000))
+        continue_orbit(MODEL, exc, a.state, 1, settings=ContinuationSettings(fmin_hz=30, fmax_hz=1000))
     with pytest.raises(ContinuationError):
         continue_orbit(MODEL, exc, [1e4, 1e4], 1, settings=ContinuationSettings(max_iter=2))
     with pytest.raises(ParameterError, match="attractor"):
@@ -320,7 +320,7 @@ def test_continuation_in_pa_meets_the_attractors_and_the_fe_period_doubling(attr
     assert 0.40 < fold.pa_over_q < 0.50 < 0.65 < pd.pa_over_q < 0.70  # born, then doubles (S3.3)
     e = MODEL.excitation(pd.pa_over_q, 360.0)
     bf = continue_orbit(MODEL, e, pd.state, 1,
-                        settings=ContinuationSettings(fmin=350, fmax=370, ds0=0.005, ds_max=0.01))
+                        settings=ContinuationSettings(fmin_hz=350, fmax_hz=370, ds=0.005, ds_max=0.01))
     pds = [sp.fe_hz for sp in bf.special if sp.type == "period-doubling"]
     assert len(pds) == 1 and abs(pds[0] - 360.0) < 1e-6
 
@@ -349,7 +349,7 @@ def test_fold_curve_passes_through_one_parameter_folds():
         return _fold(exc, seed, 1e-12)[1]
 
     f65, f70 = fold_at(0.65), fold_at(0.70)
-    c = continue_codim1(MODEL, "fold", f65.fe_hz, 0.65, f65.state, (0.6, 0.75), ds_max=0.02)
+    c = continue_codim1(MODEL, "fold", f65.fe_hz, 0.65, f65.state, pa_range=(0.6, 0.75), ds_max=0.02)
     assert c.stops == ["P_a range reached", "P_a range reached"]
     o = np.argsort(c.pa_over_q)
     f_curve = np.interp(0.70, c.pa_over_q[o], c.fe_hz[o])
@@ -365,7 +365,7 @@ def test_isola_closes_after_one_loop():
     exc = MODEL.excitation(0.65, 1500.0)
     found = find_attractors(MODEL, exc, n_starts=64)
     seed = min((a for a in found if a.period == 3), key=lambda a: a.app_um)
-    b = continue_orbit(MODEL, exc, seed.state, 3, settings=ContinuationSettings(fmin=30, fmax=2000))
+    b = continue_orbit(MODEL, exc, seed.state, 3, settings=ContinuationSettings(fmin_hz=30, fmax_hz=2000))
     assert [s.reason for s in b.stops] == [ISOLA_STOP]
     assert 850 < b.fe_hz.min() < 950 and 1900 < b.fe_hz.max() < 2000
     assert len(b) < 500

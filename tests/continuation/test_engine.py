@@ -74,7 +74,7 @@ def test_fold_of_the_parabola_located_inside_its_bracket():
     tolerance, between the two accepted points that bracket it; the 'sign' test at x = 0.5
     (no turning point) is located too; the branch stops at the λ bound."""
     prob = Analytic(**PARABOLA, bounds=(Bound(1, -2.0, 2.0, "lambda"),))
-    sc = StepControl(ds0=0.05, ds_max=0.2, locate_tol=1e-13)
+    sc = StepControl(ds=0.05, ds_max=0.2, locate_tol=1e-13)
     run = continue_branch(prob, _start(prob, [-1.0, -1.0]), [0.0, 1.0], CS, sc)
     assert run.stop.code == "bound" and run.stop.detail == ("lambda", "lower")
     folds = [e for e in run.events if e.kind == "fold"]
@@ -105,7 +105,7 @@ def test_two_folds_of_the_cubic():
                     dF=lambda u: np.array([3.0 * u[0] ** 2 - 1.0, -1.0]),
                     bounds=(Bound(0, -1.5, 1.5, "x"),))
     run = continue_branch(prob, _start(prob, [-1.5, -1.875]), [1.0, 0.0], CS,
-                          StepControl(ds0=0.05, ds_max=0.1, locate_tol=1e-13))
+                          StepControl(ds=0.05, ds_max=0.1, locate_tol=1e-13))
     folds = sorted(e.point.u[0] for e in run.events if e.kind == "fold")
     assert np.allclose(folds, [-1 / math.sqrt(3), 1 / math.sqrt(3)], atol=1e-12)
     assert run.stop.code == "bound" and run.stop.detail == ("x", "upper")
@@ -115,7 +115,7 @@ def test_circle_closes_after_one_loop_and_problem_stops():
     circle = dict(F=lambda u: u[0] ** 2 + u[1] ** 2 - 1.0,
                   dF=lambda u: np.array([2.0 * u[0], 2.0 * u[1]]))
     prob = Analytic(**circle)
-    sc = StepControl(ds0=0.1, ds_max=0.2, detect_loop=True)
+    sc = StepControl(ds=0.1, ds_max=0.2, detect_loop=True)
     run = continue_branch(prob, _start(prob, [1.0, 0.0]), [0.0, 1.0], CS, sc)
     assert run.stop.code == "loop"
     ang = np.unwrap([math.atan2(p.u[1], p.u[0]) for p in run.points])
@@ -125,21 +125,21 @@ def test_circle_closes_after_one_loop_and_problem_stops():
     folds = sorted((e.point.u[1], e.point.u[0]) for e in run.events if e.kind == "fold")
     np.testing.assert_allclose(folds, [(-1.0, 0.0), (1.0, 0.0)], atol=1e-9)
     run2 = continue_branch(Analytic(**circle, stop_at=0.9), _start(prob, [0.0, -1.0]),
-                           [1.0, 0.0], CS, StepControl(ds0=0.1))
+                           [1.0, 0.0], CS, StepControl(ds=0.1))
     assert run2.stop.code == "problem" and run2.stop.detail == "past the stop"
     assert run2.points[-1].u[0] > 0.9
 
 
 def test_step_control_and_max_points():
-    sc = StepControl(ds0=0.02, ds_min=1e-7, ds_max=0.15)  # the shooting engine's rule
+    sc = StepControl(ds=0.02, ds_min=1e-7, ds_max=0.15)  # the shooting engine's rule
     assert sc.next_ds(0.02, 2) == 0.04 and sc.next_ds(0.02, 3) == pytest.approx(0.03)
     assert sc.next_ds(0.02, 5) == pytest.approx(0.024) and sc.next_ds(0.02, 6) == 0.02 / 1.5
     assert sc.next_ds(0.14, 1) == 0.15 and sc.next_ds(1e-7, 9) == 1e-7
-    hb = StepControl(ds0=0.02, ds_max=0.5, growth=((4, 1.5),), shrink=1.0)
+    hb = StepControl(ds=0.02, ds_max=0.5, growth=((4, 1.5),), shrink=1.0)
     assert hb.next_ds(0.02, 4) == pytest.approx(0.03) and hb.next_ds(0.02, 5) == 0.02
     prob = Analytic(**PARABOLA)
     run = continue_branch(prob, _start(prob, [-1.0, -1.0]), [0.0, 1.0], CS,
-                          StepControl(ds0=0.01, growth=(), shrink=1.0, max_points=7))
+                          StepControl(ds=0.01, growth=(), shrink=1.0, max_points=7))
     assert run.stop.code == "max_points" and len(run.points) == 7
     arc = np.linalg.norm(np.diff([p.u for p in run.points], axis=0), axis=1)
     np.testing.assert_allclose(arc, 0.01, rtol=1e-3)  # constant step, chord ≈ arclength
@@ -148,7 +148,7 @@ def test_step_control_and_max_points():
 def test_dq_max_caps_the_parameter_step():
     prob = Analytic(F=lambda u: u[0] - 2.0 * u[1], dF=lambda u: np.array([1.0, -2.0]))
     run = continue_branch(prob, _start(prob, [0.0, 0.0]), [0.0, 1.0], CS,
-                          StepControl(ds0=1.0, ds_max=1.0, dq_max=0.01, max_points=5))
+                          StepControl(ds=1.0, ds_max=1.0, dq_max=0.01, max_points=5))
     dlam = np.diff([p.u[1] for p in run.points])
     np.testing.assert_allclose(dlam, 0.01, rtol=1e-12)
 
@@ -224,7 +224,7 @@ def test_branch_file_roundtrip_new_and_old_names(tmp_path):
     exc = MODEL.excitation(0.65, 1930.0)
     a = [a for a in find_attractors(MODEL, exc) if a.period == 1][0]
     b = continue_orbit(MODEL, exc, a.state, 1, direction="down",
-                       settings=ContinuationSettings(fmin=1500, fmax=2000))
+                       settings=ContinuationSettings(fmin_hz=1500, fmax_hz=2000))
     ds = b.to_xarray()
     assert set(_OLD_NAMES) <= set(ds.data_vars) and not set(_OLD_NAMES.values()) & set(ds.data_vars)
     b.to_netcdf(tmp_path / "new.nc")

@@ -1,9 +1,10 @@
 """Independent reference data for the contactvib tests: numpy + scipy only.
 
 Regenerate with ``python tests/data/make_reference.py`` (writes ``reference.json`` next to this
-file). Nothing from ``contactvib`` is imported: the model parameters are recomputed here from the
-paper's SI values (Kostek 2013, Section 2) and the flow is integrated with
-``scipy.integrate.solve_ivp`` (DOP853), mode by mode, with terminal events at x = 0.
+file). Nothing from ``contactvib`` but its kernel-free :mod:`contactvib.testing` is imported: the
+model parameters are recomputed here from the paper's SI values (Kostek 2013, Section 2) and the
+flow is integrated with ``scipy.integrate.solve_ivp`` (DOP853), mode by mode, with terminal events
+at x = 0 (:func:`contactvib.testing.integrate_modes`).
 
 Nondimensional equation (x = y/y0, τ = ω_n0 t, p = P_a/Q, r = f_e/f_n0, c = 2 m2 ζ)::
 
@@ -32,8 +33,9 @@ import sys
 
 import numpy as np
 import scipy
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
+
+from contactvib.testing import initial_mode, integrate_modes, power_law_rhs
 
 RTOL = 1e-12
 ATOL = 1e-12
@@ -62,59 +64,14 @@ def par_of(pa_over_q, f_e):
     return (M2, L, DER["c"], float(pa_over_q), float(f_e) / DER["f_n0"])
 
 
-def pow_ext(x, a):
-    if a == 0.0:
-        return 1.0
-    return math.copysign(abs(x) ** a, x)
-
-
-def rhs_contact(t, y, par):
-    m2, l, c, p, r = par
-    x, v = y
-    return [v, (1.0 - pow_ext(x, m2) - c * pow_ext(x, l) * v + p * math.cos(r * t)) / m2]
-
-
-def rhs_flight(t, y, par):
-    m2, _l, _c, p, r = par
-    return [y[1], (1.0 + p * math.cos(r * t)) / m2]
-
-
-def ev_x(t, y, par):
-    return y[0]
-
-
-def initial_mode(x, v):
-    return x > 0.0 or (x == 0.0 and v > 0.0)
-
-
 def one_period(y, contact, par, dense=False):
     """Integrate from τ = 0 to T = 2π/r, switching at x = 0. Returns state, mode, pieces."""
     T = 2.0 * math.pi / par[4]
-    t = 0.0
-    y = list(y)
-    pieces = []
-    while t < T:
-        fun = rhs_contact if contact else rhs_flight
-
-        def event(tt, yy, par=par):
-            return yy[0]
-
-        event.terminal = True
-        event.direction = -1.0 if contact else 1.0
-        sol = solve_ivp(fun, (t, T), y, method=METHOD, rtol=RTOL, atol=ATOL, args=(par,),
-                        events=event, dense_output=dense, max_step=T / 20)
-        if sol.status < 0:
-            raise RuntimeError(sol.message)
-        if dense:
-            pieces.append((sol.t.copy(), sol.sol))
-        if sol.status == 1:  # event: switch mode exactly at x = 0
-            t = float(sol.t_events[0][0])
-            y = [0.0, float(sol.y_events[0][0][1])]
-            contact = not contact
-        else:
-            t = T
-            y = [float(sol.y[0, -1]), float(sol.y[1, -1])]
-    return y, contact, pieces
+    f_contact, f_flight = power_law_rhs(par)
+    run = integrate_modes(f_contact, f_flight, y, 0.0, T, contact=contact, rtol=RTOL, atol=ATOL,
+                          method=METHOD, dense_output=dense, max_step=T / 20)
+    pieces = [(ts, sol) for ts, (_, _, sol) in zip(run.steps, run.segments)] if dense else []
+    return [float(v) for v in run.y], run.contact, pieces
 
 
 def run_periods(z, n, par):

@@ -44,6 +44,7 @@ def test_background_level_equals_the_resonance_command(tmp_path):
         assert np.array_equal(getattr(got, name), getattr(stored, name)), name
 
 
+@pytest.mark.timing
 def test_a_stopped_level_ends_at_once_and_the_time_limit_stops_it():
     run = _run(grid=("30", "2000", "1"))
     box = {}
@@ -98,6 +99,16 @@ def _no_search(point):
     raise BadInput("contactvib: error: (no search in this test)")
 
 
+async def _until(condition, timeout=30.0):
+    """Return once ``condition()`` holds (checked every 20 ms), fail after ``timeout`` s."""
+    for _ in range(int(timeout / 0.02)):
+        if condition():
+            return
+        await asyncio.sleep(0.02)
+    pytest.fail("the page did not reach the expected state")
+
+
+@pytest.mark.timing
 def test_page_button_draws_the_level_and_a_new_pa_or_model_stops_it():
     page = Page(Point(), (_no_search, None, None, partial(_level_inputs, grid=_graph_grid(*SMALL))))
     assert page.graph_button.visible and not page.graph[:]
@@ -109,18 +120,18 @@ def test_page_button_draws_the_level_and_a_new_pa_or_model_stops_it():
         assert 'class="graph-done"' in page.graph_status.object and not page.graph_button.visible
         assert page.graph_progress.value == page.graph_progress.max == 21
         page.fields["fe"].value = "372"  # a new f_e keeps the graph
-        await asyncio.sleep(0.3)
+        await asyncio.sleep(0.3)  # nothing to wait for: the graph must still be there after a while
         assert page.graph_level is not None and page.graph[:]
         page.fields["pa"].value = "0.7"  # a new P_a drops it
-        await asyncio.sleep(0.3)
-        assert page.graph_level is None and not page.graph[:] and page.graph_button.visible
+        await _until(lambda: page.graph_level is None)
+        assert not page.graph[:] and page.graph_button.visible
         clicked = asyncio.ensure_future(page._graph_clicked())
-        await asyncio.sleep(0.1)
+        await _until(lambda: page.graph_run is not None)
         run = page.graph_run
-        assert run is not None and run.pa_over_q == 0.7 and not run.flag[0]
+        assert run.pa_over_q == 0.7 and not run.flag[0]
         page.fields["h_n"].value = "3e11"  # a new model stops the run under way
-        await asyncio.sleep(0.3)
-        assert run.flag[0] == 1 and page.graph_run is None
+        await _until(lambda: page.graph_run is None)
+        assert run.flag[0] == 1
         await clicked
         assert page.graph_level is None and not page.graph[:] and page.graph_status.object == ""
 

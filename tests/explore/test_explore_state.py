@@ -40,6 +40,7 @@ def test_the_page_search_is_the_cli_search():
     assert seconds > 0
 
 
+@pytest.mark.timing
 def test_time_limit_stops_the_kernels():
     model, exc = _check(Point({**DEFAULTS, "pa": "2", "fe": "150"}))
     t0 = time.perf_counter()

@@ -54,7 +54,7 @@ def test_acceleration_record_gives_f_n0_and_zeta():
     import math
 
     from contactvib.fitting import decay_data
-    from scipy_contact import integrate_contact, model_ode
+    from contactvib.testing import integrate_contact, model_ode
 
     model, true = truth("paper")
     ode = model_ode(model, model.excitation(0.0, 1000.0))

@@ -2,7 +2,7 @@
 one harmonic force).
 
 References: the HB orbit's state at phase 0 integrated by scipy's DOP853 over one period (rtol
-1e-12, located contact events, the forces written in tests/scipy_contact.py from the model's
+1e-12, located contact events, the forces written in contactvib.testing from the model's
 parameters) must come back (rel 1e-9 of the state scale), and its A_pp must equal the shooting
 attractor of :func:`find_attractors` (rel 1e-7: 32 harmonics of an orbit that stays in contact,
 whose spectrum decays geometrically). The paper's law keeps its own residual (rel 1e-12 against
@@ -16,7 +16,7 @@ import pytest
 from contactvib import ContactModel, Excitation, find_attractors
 from contactvib.frequency.harmonic_balance import HBSettings, _residual, hb_continuation, hb_solve
 from contactvib.model import ParameterError
-from scipy_contact import integrate_contact, model_ode
+from contactvib.testing import integrate_contact, model_ode
 
 F_E = 700.0
 
@@ -82,7 +82,8 @@ def test_base_continuation_points_close_under_scipy():
     the base-excited oscillator (scipy closure rel 1e-8 where the truncation is fine)."""
     m = ContactModel()
     U = 0.03
-    b = hb_continuation(m, U, 900.0, 1400.0, 32, HBSettings(stability=False), level_kind="base-um")
+    b = hb_continuation(m, U, 900.0, 1400.0, harmonics=32, settings=HBSettings(stability=False),
+                        level_kind="base-um")
     assert b.pa_over_q == U and len(b) > 50
     sy, sv = m.y0, m.y0 * m.omega_n0
     checked = 0
@@ -107,7 +108,7 @@ def test_force_harmonic_beyond_the_truncation_is_refused():
     with pytest.raises(ParameterError, match="harmonic 5"):
         hb_solve(m, m.excitation(0.1, F_E, harmonics=((5, 0.01, 0.0),)), 4)
     with pytest.raises(ParameterError, match="base motion"):
-        hb_continuation(m, 0.03, 900.0, 1000.0, 8, level_kind="base-um", force_harmonics=((2, 0.1, 0.0),))
+        hb_continuation(m, 0.03, 900.0, 1000.0, harmonics=8, level_kind="base-um", force_harmonics=((2, 0.1, 0.0),))
 
 
 def test_table_law_sampled_from_the_power_law_gives_its_hb_orbit():

@@ -21,7 +21,7 @@ import pytest
 from contactvib import ContactModel
 from contactvib._kernels.flow import REC_H, REC_MODE, REC_T, REC_WIDTH, STATUS_OK, advance, initial_mode
 from contactvib._kernels.shooting import newton_orbit, strobe_map
-from scipy_contact import scipy_in_contact
+from contactvib.testing import scipy_in_contact
 
 MODEL = ContactModel()
 NOREC = np.zeros((0, REC_WIDTH))

@@ -23,7 +23,7 @@ from contactvib._kernels.taylor import (
     is_polynomial_law,
     order_for,
 )
-from scipy_contact import scipy_in_contact
+from contactvib.testing import scipy_in_contact
 
 REFERENCE = json.loads((Path(__file__).parents[1] / "data" / "reference.json").read_text())
 MODEL = ContactModel()

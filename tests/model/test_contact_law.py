@@ -19,7 +19,7 @@ from contactvib._kernels.taylor import is_polynomial_law, series
 from contactvib.frequency.harmonic_balance import hb_solve
 from contactvib.frequency.perturbation import perturbation_series
 from contactvib.model import ContactModel, PowerLaw
-from scipy_contact import scipy_in_contact
+from contactvib.testing import scipy_in_contact
 
 M2S = [1.0, 1.5, 2.0, 3.0]
 LS = [0.0, 0.5, 1.0]

@@ -159,7 +159,7 @@ def test_branches_stable_solid_unstable_dashed(model):
     exc = model.excitation(0.65, 1100.0)
     att = [a for a in find_attractors(model, exc, n_starts=32) if a.period == 1][0]
     b = continue_orbit(model, exc, att.state, 1, direction="down",
-                       settings=ContinuationSettings(fmin=900.0, fmax=1100.0, max_points=80))
+                       settings=ContinuationSettings(fmin_hz=900.0, fmax_hz=1100.0, max_points=80))
     ax = plot_branches([b], _axes())
     styles = {ln.get_linestyle() for ln in ax.lines if len(ln.get_xdata()) > 1}
     stable = np.asarray(b.stable)

@@ -165,6 +165,7 @@ def test_work_beyond_reach_is_refused_naming_f_n0():
         check_work(exc, 1, int(WORK_MAX_STEPS), "the periods (n_periods, --periods)")
 
 
+@pytest.mark.timing
 def test_cli_refuses_unreachable_work_at_once(capsys):
     t0 = time.perf_counter()
     rc = main(["attractors", "--set", "m2=1"])
@@ -197,6 +198,7 @@ def _first_line(p, timeout: float) -> str:
     return p.stdout.readline()
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("into_search", [0.0, 2.0])
 def test_sigint_interrupts_a_long_search_within_a_second(into_search):
     """SIGINT when the search starts (its header line) and 2 s into it ends the run within
@@ -217,7 +219,11 @@ def test_sigint_interrupts_a_long_search_within_a_second(into_search):
             p.kill()
             p.communicate()
     assert p.returncode == 130
-    assert err == "contactvib: interrupted\n"
+    # the search is long: its progress bar (once drawn) is cleared before the line (text mode
+    # reads the bar's carriage returns as line ends)
+    lines = err.splitlines()
+    assert lines[-1] == "contactvib: interrupted" and err.endswith("\n")
+    assert all("attractor search, about" in line or not line.strip() for line in lines[:-1]), err
     assert out == ""  # no table
     assert waited < 1.5
 

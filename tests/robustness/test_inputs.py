@@ -335,13 +335,13 @@ def test_sweep_settings_accept_or_name_the_parameter(kw):
 
 
 @API
-@given(kw=st.dictionaries(st.sampled_from(["fmin", "fmax", "pa_min", "pa_max", "max_points", "app_max_um",
-                                           "rtol", "tol", "ds0", "ds_min", "ds_max"]),
+@given(kw=st.dictionaries(st.sampled_from(["fmin_hz", "fmax_hz", "pa_min", "pa_max", "max_points", "app_max_um",
+                                           "rtol", "tol", "ds", "ds_min", "ds_max"]),
                           SETTING, max_size=4))
 def test_continuation_settings_accept_or_name_the_parameter(kw):
     from contactvib.continuation.shooting import ContinuationSettings
 
-    symbols = {"fmin": "f_min", "fmax": "f_max"}
+    symbols = {"fmin_hz": "f_min", "fmax_hz": "f_max"}
     try:
         ContinuationSettings(**kw)
     except Exception as e:
@@ -382,12 +382,12 @@ def test_settings_store_their_checked_values():
     s = SweepSettings(fmin_hz="30", fmax_hz=Decimal("400"), df_hz="5", kmax=3.0, multistart_starts="8")
     assert (s.fmin_hz, s.fmax_hz, s.df_hz, s.kmax, s.multistart_starts) == (30.0, 400.0, 5.0, 3, 8)
     assert type(s.fmax_hz) is float and type(s.kmax) is int and type(s.multistart_starts) is int
-    c = ContinuationSettings(fmin="30", pa_min="0.1", ds_min="1e-7", max_points=16.0)
-    assert (c.fmin, c.pa_min, c.ds_min, c.max_points) == (30.0, 0.1, 1e-7, 16) and type(c.max_points) is int
+    c = ContinuationSettings(fmin_hz="30", pa_min="0.1", ds_min="1e-7", max_points=16.0)
+    assert (c.fmin_hz, c.pa_min, c.ds_min, c.max_points) == (30.0, 0.1, 1e-7, 16) and type(c.max_points) is int
     h = HBSettings(ds_min="1e-6", max_points="10")
     assert (h.ds_min, h.max_points) == (1e-6, 10)
     for make, symbol in ((lambda: ContinuationSettings(max_points=16.7), "max_points"),
-                         (lambda: ContinuationSettings(fmin=100, fmax=50), "fmax"),
+                         (lambda: ContinuationSettings(fmin_hz=100, fmax_hz=50), "fmax_hz"),
                          (lambda: HBSettings(ds_min=1.0, ds_max=0.5), "ds_max")):
         with pytest.raises(ParameterError) as e:
             make()

@@ -95,6 +95,7 @@ def _resumed_equals(reference, out: Path):
     assert xr.load_dataset(out / "resonance.nc").identical(reference)
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("workers", ["1", "2"])
 def test_sigint_one_line_130_no_process_and_resume(tmp_path, reference, workers):
     out = tmp_path / "out"
@@ -208,6 +209,7 @@ def test_library_interrupted_keeps_finished_levels_and_releases_lock(tmp_path):
         pass
 
 
+@pytest.mark.timing
 def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
     """SIGINT while ``settle_known_many`` runs in this thread is honoured as the call returns,
     not in it: that parallel kernel calls back into Python (``_numba_unpickle``), and a KeyboardInterrupt

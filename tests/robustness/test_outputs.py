@@ -71,6 +71,7 @@ def _unwritable(kind, tmp_path):
     return str(blocker / "x")
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("kind", ["proc", "under-a-file"])
 @pytest.mark.parametrize("command, args", COMMANDS)
 def test_unwritable_out_refused_before_computing(no_computation, capsys, tmp_path, command, args, kind,

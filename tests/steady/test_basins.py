@@ -83,6 +83,7 @@ def test_row_blocks_are_independent(bmap, model, exc):
         merge_blocks(model, exc, bmap.search, grid, box, blocks[:1])
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("kwargs, symbol", [
     ({"grid": (0, 5)}, "n_y"), ({"grid": (5, 1)}, "n_ydot"), ({"grid": (2.5, 5)}, "n_y"),
     ({"box": ((1.0, 1.0), (-1.0, 1.0))}, "y_max"), ({"box": ((0.0, 1.0), (2.0, -2.0))}, "ydot_max"),
@@ -106,6 +107,7 @@ def _cli(args, capsys, cwd=None, monkeypatch=None):
     return rc, out.out, out.err
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("args, message", [
     (["--grid", "0x5"], "contactvib: error: --grid (n_y) = 0: must be an integer >= 2"),
     (["--grid", "5x1"], "contactvib: error: --grid (n_ydot) = 1: must be an integer >= 2"),
@@ -132,6 +134,7 @@ def test_cli_bad_input_one_line(args, message, capsys):
     assert time.perf_counter() - t < 5.0
 
 
+@pytest.mark.timing
 def test_cli_unwritable_out_is_refused_before_computing(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("x")

@@ -2,7 +2,7 @@
 
 Every periodic attractor that :func:`find_attractors` reports for a law × excitation pair is
 integrated again by scipy's DOP853 (rtol 1e-12) in SI units, with the contact events located and
-the right-hand side switched there (:func:`scipy_contact.integrate_contact`; the forces are
+the right-hand side switched there (:func:`contactvib.testing.integrate_contact`; the forces are
 written in the helper from the model's parameters, the table law through scipy's own PCHIP), and
 checked against exact identities of periodic motion:
 
@@ -34,7 +34,7 @@ import pytest
 from contactvib import ContactModel, Excitation, attractor_history, find_attractors
 from contactvib.model.laws import TableLaw
 from contactvib.steady.attractors import UnsettledWarning
-from scipy_contact import integrate_contact, model_ode
+from contactvib.testing import integrate_contact, model_ode
 
 PAPER = ContactModel()
 G_N = 9.80665

@@ -144,6 +144,7 @@ def test_bad_input_one_line(args, option, tmp_path, capsys):
     assert rc == 2 and err.count("\n") == 1 and err.startswith(f"contactvib: error: {option}"), err
 
 
+@pytest.mark.timing
 def test_unreachable_scheduler_one_line_quickly(tmp_path, capsys):
     address = f"tcp://127.0.0.1:{_free_port()}"
     t0 = time.perf_counter()
@@ -223,6 +224,7 @@ def _session(sid: int) -> set:
     return found
 
 
+@pytest.mark.timing
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc (Linux)")
 def test_sigkill_on_a_local_cluster_leaves_no_process(tmp_path):
     out = tmp_path / "out"

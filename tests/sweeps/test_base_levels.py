@@ -20,7 +20,7 @@ from contactvib import ContactModel, Excitation
 from contactvib.model import ParameterError, level_text
 from contactvib.sweeps.resonance import ResumeMismatch, resonance_dataset
 from contactvib.sweeps.sweep import SweepSettings
-from scipy_contact import integrate_contact, model_ode
+from contactvib.testing import integrate_contact, model_ode
 
 PAPER = ContactModel()
 U_UM = 0.05
@@ -129,7 +129,7 @@ def base_branches():
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.continuation.shooting import ContinuationSettings
 
-    s = ContinuationSettings(fmin=900.0, fmax=1600.0, excitation="base-um", max_points=300)
+    s = ContinuationSettings(fmin_hz=900.0, fmax_hz=1600.0, excitation="base-um", max_points=300)
     return continue_attractors(PAPER, U_UM, 1200.0, None, s)
 
 

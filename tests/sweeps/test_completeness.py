@@ -145,7 +145,7 @@ def test_period5_newton_seeds_find_the_bouncing_orbit():
 
 #: Attractors of the full search below this basin fraction may still be missed by the sweep's
 #: 24-start multi-start, unless they are periodic of period 1–5 (:data:`NEWTON_KINDS`). At the 41
-#: points of benchmarks/sweep_completeness.py one is: the "chaotic attractor" at 0.80 Q/360 Hz
+#: points of benchmarks/bench_sweep_completeness.py one is: the "chaotic attractor" at 0.80 Q/360 Hz
 #: (basin 0.78 %), which is transient chaos — perturbed by 1e-6, 10 of 10 starts on it leave for
 #: the period-1 orbit (12.0 µm) after 224–2795 periods; the search's verdict window is shorter.
 SMALL_BASIN = 0.01
@@ -161,14 +161,11 @@ NEWTON_KINDS = (1, 2, 3, 4, 5)
 def test_every_attractor_of_the_full_search_with_a_basin_over_1_percent_or_of_period_1_to_5_is_in_the_paper_dataset(
         tmp_path):
     import json
-    import sys
-    from pathlib import Path
+
+    from benchmarks.bench_sweep_completeness import default_points, missing_at
 
     from contactvib.sweeps.paper import PAPER_LEVELS
     from contactvib.sweeps.resonance import resonance_dataset
-
-    sys.path.insert(0, str(Path(__file__).parents[2] / "benchmarks"))
-    from sweep_completeness import default_points, missing_at
 
     m = ContactModel()
     import xarray as xr

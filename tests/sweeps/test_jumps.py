@@ -29,8 +29,8 @@ def _explain(pa, f_a, f_b, z, k):
     """The reason the period-k orbit through z at f_a is lost on the way to f_b, or None."""
     up = f_b > f_a
     lo, hi = min(f_a, f_b) - DF, max(f_a, f_b) + DF
-    s = ContinuationSettings(fmin=f_a - 1e-9 if up else lo, fmax=hi if up else f_a + 1e-9,
-                             ds0=0.002, ds_max=0.01, max_points=400)
+    s = ContinuationSettings(fmin_hz=f_a - 1e-9 if up else lo, fmax_hz=hi if up else f_a + 1e-9,
+                             ds=0.002, ds_max=0.01, max_points=400)
     b = continue_orbit(MODEL, MODEL.excitation(pa, f_a), z, k, direction="up" if up else "down",
                        settings=s)
     for sp in b.special:

@@ -90,6 +90,7 @@ def test_maps_of_the_small_fixture_agree_with_its_rows(small_dataset):
             assert m["contact_loss_share"].values[0, j] == pytest.approx(ds["loses_contact"].values[sel].mean())
 
 
+@pytest.mark.timing
 def test_regime_maps_is_fast_on_a_paper_sized_dataset():
     """72k rows, 8 levels × 1971 frequencies, well under a second (vectorised)."""
     import time
@@ -145,11 +146,11 @@ def fold_cases(tmp_path_factory):
         st = SweepSettings(fmin_hz=lo, fmax_hz=hi, df_hz=DF, multistart_per_octave=40)
         ds = resonance_dataset(model, LEVELS, st, out=tmp_path_factory.mktemp(f"fold{m}"), workers=1,
                                progress=False)
-        cs = ContinuationSettings(fmin=lo - 60, fmax=hi + 60, max_points=200)
+        cs = ContinuationSettings(fmin_hz=lo - 60, fmax_hz=hi + 60, max_points=200)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # unsettled starts of the seeds' attractor searches
-            res = evolution(model, m, LEVELS[0], LEVELS[-1], 2, seed_fe=[lo - 30, 0.5 * (lo + hi), hi + 20],
-                            settings=cs)
+            res = evolution(model, m, pa_min=LEVELS[0], pa_max=LEVELS[-1], n_levels=2,
+                            seed_fe=[lo - 30, 0.5 * (lo + hi), hi + 20], settings=cs)
         curves = [MapCurve(m, c.type, c.fe_hz, c.pa_over_q) for c in res.curves if c.fe_hz.size > 1]
         cases[m] = (regime_maps(ds), curves)
     return cases

@@ -215,7 +215,7 @@ def test_sweep_branches_coincide_with_continuation_and_jump_at_the_fold(ds):
     up = [a for a in attractors_at(ds, 0.65, 1202.0)["attractors"] if a["resonance"] == "main"]
     assert len(up) == 1
     b = continue_orbit(model, model.excitation(0.65, 1202.0), state(up[0]), 1, direction="down",
-                       settings=ContinuationSettings(fmin=290.0, fmax=1300.0))
+                       settings=ContinuationSettings(fmin_hz=290.0, fmax_hz=1300.0))
     assert np.all(b.stable) and np.all(np.diff(b.fe_hz) < 0)  # no fold: open branch
     spline = CubicSpline(np.log(b.fe_hz[::-1]), np.log(b.app_um[::-1]))  # A_pp ~ power of f_e
     fe, app = _branch_points(ds, up[0])
@@ -226,7 +226,7 @@ def test_sweep_branches_coincide_with_continuation_and_jump_at_the_fold(ds):
     low = min((a for a in attractors_at(ds, 0.65, 902.0)["attractors"] if a["resonance"] == "main"),
               key=lambda a: a["app_um"])
     b = continue_orbit(model, model.excitation(0.65, 902.0), state(low), 1, direction="up",
-                       settings=ContinuationSettings(fmin=800.0, fmax=1100.0, ds0=0.002, ds_max=0.004,
+                       settings=ContinuationSettings(fmin_hz=800.0, fmax_hz=1100.0, ds=0.002, ds_max=0.004,
                                                                max_points=2000))
     folds = [sp.fe_hz for sp in b.special if sp.type == "fold"]
     assert len(folds) == 1

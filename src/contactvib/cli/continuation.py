@@ -36,7 +36,7 @@ from contactvib.model.checks import PA_MAX, PA_NOTE
 __all__ = []
 
 #: Options of the continuation, by ContinuationSettings' symbols (and the range's bound names).
-_CONTINUATION_OPTIONS = {"fmin": "--fmin", "fmax": "--fmax", "f_min": "--fmin", "f_max": "--fmax",
+_CONTINUATION_OPTIONS = {"fmin_hz": "--fmin", "fmax_hz": "--fmax", "f_min": "--fmin", "f_max": "--fmax",
                          "max_points": "--max-points", "app_max_um": "--app-max", "rtol": "--rtol",
                          "pa_min": "--pa-min", "pa_max": "--pa-max"}
 
@@ -51,7 +51,7 @@ def _settings(cont: dict, pa_range=(0.0, 2.0)):
     a = _number("--app-max", "app_max_um", cont["app_max"])
     r = _checked("--rtol", check_range, "rtol", cont["rtol"], SHOOTING_RTOL_RANGE[0], True,
                  upper=SHOOTING_RTOL_RANGE[1])
-    return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin=lo, fmax=hi,
+    return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin_hz=lo, fmax_hz=hi,
                    pa_min=pa_range[0], pa_max=pa_range[1], max_points=n, app_max_um=a, rtol=r,
                    tol=max(100 * r, 1e-11), excitation=cont.get("level_kind", "force"))
 
@@ -219,9 +219,9 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
         _in_range("--pa", "P_a/Q", p, lo, hi, ("pa_min", "pa_max"))
     s = _settings(cont, (lo, hi) if by_pa else (0.0, 2.0))
     if not by_pa:
-        _in_range("--from-fe", "f_e", fe, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
+        _in_range("--from-fe", "f_e", fe, s.fmin_hz, s.fmax_hz, ("f_min", "f_max"), "Hz")
     n = None if attractor is None else _int("--attractor", attractor, 0)
-    _feasible_frequencies(model, s.fmin, s.fmax)
+    _feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
     exc = _checked("--from-fe" if kind == "force" else "--pa", s.excitation_at, model, p, fe)
     _output_folder(out)
     from contactvib.continuation.diagram import continue_attractors
@@ -269,13 +269,13 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
     from contactvib.continuation.diagram import DEFAULT_SEED_FE
 
     if seed_fe is None:
-        seeds = [f for f in DEFAULT_SEED_FE if s.fmin <= f <= s.fmax]
+        seeds = [f for f in DEFAULT_SEED_FE if s.fmin_hz <= f <= s.fmax_hz]
     else:
-        seeds = [_in_range("--seed-fe", "f_e", t, s.fmin, s.fmax, ("f_min", "f_max"), "Hz")
+        seeds = [_in_range("--seed-fe", "f_e", t, s.fmin_hz, s.fmax_hz, ("f_min", "f_max"), "Hz")
                  for t in seed_fe.split(",") if t.strip()]
     if not seeds:
         raise InputError("--seed-fe: no seed frequency inside [--fmin, --fmax]")
-    _feasible_frequencies(model, s.fmin, s.fmax)
+    _feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
     _output_folder(out)
     from contactvib.continuation.branch import BranchSet
     from contactvib.continuation.diagram import bifurcation_diagram

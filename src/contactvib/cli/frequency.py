@@ -141,8 +141,9 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kin
 
     hs = HBSettings(energy_tol=etol)
     kw = {"level_kind": level_kind}
-    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, H, hs, **kw)),
-                ("from fmax", hb_continuation(model, pa_q, f1, f2, H, hs, from_fmax=True, **kw))]
+    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, harmonics=H, settings=hs, **kw)),
+                ("from fmax", hb_continuation(model, pa_q, f1, f2, harmonics=H, settings=hs, from_fmax=True,
+                                                **kw))]
     # the perturbation series seeds the small-amplitude parts: the paper's law under a force
     series = _series_points(model, pa_q, f1, f2) if model.is_paper_family and level_kind == "force" else ([], [])
     branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
@@ -231,6 +232,6 @@ def _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches):
         start = hb_solve(model, model.excitation(pa_q, f), H, start=X, stability=False)
         for down in (False, True):
             new.append((f"from {f:.0f} Hz {'down' if down else 'up'}",
-                        hb_continuation(model, pa_q, f1, f2, H, HBSettings(energy_tol=etol), start=start,
-                                        from_fmax=down, f_start=f)))
+                        hb_continuation(model, pa_q, f1, f2, harmonics=H, settings=HBSettings(energy_tol=etol),
+                                        start=start, from_fmax=down, f_start=f)))
     return new

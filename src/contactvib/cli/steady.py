@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextvars
+import sys
 
 import click
 
@@ -53,6 +54,8 @@ def _find(model, exc, starts, seed, kmax, max_periods, no_seeds, progress=None):
         except ParameterError as e:
             blamed = _model_blamed(model, e, _work_within_reach(exc, kw, no_seeds))
             raise (blamed or _error(names.get(e.symbol, e.symbol), e, names)) from None
+        finally:
+            getattr(progress, "close", lambda: None)()  # the bar off stderr before any message
 
 
 def _work_within_reach(exc, kw: dict, no_seeds: bool):
@@ -71,21 +74,42 @@ def _work_within_reach(exc, kw: dict, no_seeds: bool):
     return accepts
 
 
-def _header(model, exc, no_seeds):
-    """A progress callback of the search that prints the table's header lines when the search
-    starts (its inputs checked), so that they show what runs while it runs."""
-    from contactvib.steady.attractors import ballistic_seeds
+def _header(model, exc, no_seeds, max_periods=None, header=True):
+    """A progress callback of the search: it prints the table's header lines when the search
+    starts (its inputs checked), so that they show what runs while it runs (``header``), and for
+    a search estimated beyond :data:`~contactvib.steady.attractors.LONG_SEARCH_S` a bar on stderr
+    with the starts done and the time left; ``close()`` removes the bar."""
+    from contactvib.steady.attractors import LONG_SEARCH_S, ballistic_seeds, default_max_periods
+    from contactvib.steady.transients import check_work, duration_text, estimated_seconds
+
+    bar = []
 
     def progress(done, total):
         if done:
+            if bar:
+                bar[0].update(done - bar[0].n)
+                if done >= total:
+                    close()
             return
         n_seeds = 0 if no_seeds else ballistic_seeds(exc)[0].shape[0]
-        click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
-                   f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
-                   f"{total - n_seeds} box starts + {n_seeds} seeds")
-        if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
-            click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+        if header:
+            click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
+                       f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
+                       f"{total - n_seeds} box starts + {n_seeds} seeds")
+            if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
+                click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
+        seconds = estimated_seconds(check_work(exc, total, _max_periods(max_periods) or default_max_periods(exc)))
+        if seconds > LONG_SEARCH_S:
+            from tqdm import tqdm
 
+            bar.append(tqdm(total=total, unit="start", file=sys.stderr, leave=False, dynamic_ncols=True,
+                            desc=f"attractor search, about {duration_text(seconds)} estimated"))
+
+    def close():
+        while bar:
+            bar.pop().close()
+
+    progress.close = close
     return progress
 
 
@@ -120,11 +144,13 @@ def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_
     model = _model(settings)
     exc = _excitation(model, pa, pa_newton, fe)
     if as_json:
-        result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
+        result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds,
+                       _header(model, exc, no_seeds, max_periods, header=False))
         _echo_json(result.to_json())
         _none_settled(result)
         return
-    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds, _header(model, exc, no_seeds))
+    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds,
+                   _header(model, exc, no_seeds, max_periods))
     base = any(a.slider_app_um is not None for a in result)
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
             f"{'y_max [um]':>10} {'gap [frac]':>10} {'|mu|max':>8} {'basin':>7}"

@@ -167,9 +167,9 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
         raise ParameterError("parameter", parameter, f"continuation in P_a needs a force level, not "
                                                      f"{settings.excitation}; continue in f_e instead")
     exc = settings.excitation_at(model, pa_over_q, fe_hz)
-    if parameter == "f_e" and not (settings.fmin <= exc.f_e <= settings.fmax):
-        raise ParameterError("f_e", fe_hz, f"seed must lie in [fmin, fmax] = [{settings.fmin:g}, "
-                                           f"{settings.fmax:g}] Hz")
+    if parameter == "f_e" and not (settings.fmin_hz <= exc.f_e <= settings.fmax_hz):
+        raise ParameterError("f_e", fe_hz, f"seed must lie in [fmin, fmax] = [{settings.fmin_hz:g}, "
+                                           f"{settings.fmax_hz:g}] Hz")
     if parameter == "P_a" and not (settings.pa_min <= exc.pa_over_q <= settings.pa_max):
         raise ParameterError("P_a", pa_over_q, f"seed must lie in [pa_min, pa_max] = "
                                                f"[{settings.pa_min:g}, {settings.pa_max:g}] Q")
@@ -221,7 +221,7 @@ def bifurcation_diagram(model: ContactModel, pa_over_q: float,
     seed_fe = [check_range("seed f_e", f, 0.0, False, "Hz") for f in seed_fe]
     known: list = []
     for f in seed_fe:
-        if not (settings.fmin <= f <= settings.fmax):
+        if not (settings.fmin_hz <= f <= settings.fmax_hz):
             continue
         continue_attractors(model, pa_over_q, f, None, settings, switch, kmax_switch, known,
                             prefix=f"{LEVEL_TAGS[settings.excitation]}{pa_over_q:g}", log=log)

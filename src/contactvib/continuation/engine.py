@@ -135,7 +135,7 @@ class StepControl:
     halves it. ``dq_max`` caps the change of the last unknown (the parameter) per step.
     """
 
-    ds0: float = 0.02
+    ds: float = 0.02
     ds_min: float = 1e-7
     ds_max: float = 0.15
     growth: tuple = ((2, 2.0), (3, 1.5), (5, 1.2))
@@ -408,7 +408,7 @@ def continue_branch(problem: Problem, start: Point, direction, cs: CorrectorSett
         return Run([start], [], EngineStop("measure_failed"))
     points, events = [p0], []
     t_start = p0.tangent.copy()
-    ds, n_fail = sc.ds0, 0
+    ds, n_fail = sc.ds, 0
     why = problem.check(p0)
     if why is not None:
         return Run(points, events, EngineStop("problem", detail=why))

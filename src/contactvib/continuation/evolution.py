@@ -205,9 +205,10 @@ class Codim1Problem:
         return None
 
 
-def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: float, state,
-                    pa_range: tuple, f_range: tuple = (30.0, 2000.0), ds0: float = 0.02,
-                    ds_max: float = 0.1, max_points: int = 300, rtol: float = 1e-11) -> Curve:
+def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: float, state, *,
+                    pa_range: tuple, f_range: tuple = (30.0, 2000.0), ds: float = 0.02,
+                    ds_max: float = 0.1, max_points: int = 300, rtol: float = 1e-11,
+                    max_iter: int = 9) -> Curve:
     """Follow a fold or period-doubling point of a period-1 branch in the (f_e, P_a) plane.
 
     ``pa_range`` = (P_a min, P_a max) [Q] and ``f_range`` = (f_min, f_max) [Hz] bound the curve.
@@ -223,8 +224,8 @@ def continue_codim1(model: ContactModel, kind: str, fe_hz: float, pa_over_q: flo
         raise ParameterError("F_pre", model.preload, "the evolution in (f_e, P_a) is written for P_a in units of "
                                                      "Q without a preload")
     prob = Codim1Problem(model, par0, kind, rtol, tuple(pa_range), tuple(f_range))
-    cs = CorrectorSettings(tol=prob.tol, max_iter=9, cons_tol=1e-9, max_step=0.5)
-    sc = StepControl(ds0=ds0, ds_min=1e-6, ds_max=ds_max, growth=((1 << 30, 1.5),),
+    cs = CorrectorSettings(tol=prob.tol, max_iter=check_int("max_iter", max_iter, 1), cons_tol=1e-9, max_step=0.5)
+    sc = StepControl(ds=ds, ds_min=1e-6, ds_max=ds_max, growth=((1 << 30, 1.5),),
                      max_points=max_points, bound_action="append")
     fn0 = model.f_n0
     U0 = np.array([state[0], state[1], fe_hz / fn0, pa_over_q])
@@ -253,7 +254,7 @@ def _minima(model, sp):
     return orbit_range(np.asarray(sp.state, float), 1, exc.kernel_parameters(), 1e-11)[3]
 
 
-def evolution(model: ContactModel, order: int, pa_min: float = 0.3, pa_max: float = 0.9,
+def evolution(model: ContactModel, order: int, *, pa_min: float = 0.3, pa_max: float = 0.9,
               n_levels: int = 7, seed_fe=None, settings: ContinuationSettings | None = None,
               max_points: int = 300, log=None) -> EvolutionResult:
     """Folds and period doublings of the 1/``order`` resonance in the (f_e, P_a) plane.
@@ -276,12 +277,12 @@ def evolution(model: ContactModel, order: int, pa_min: float = 0.3, pa_max: floa
     pa_min = check_range("pa_min", pa_min, 0.0, False)
     pa_max = check_range("pa_max", pa_max, pa_min, False)
     n_levels = check_int("n_levels", n_levels, 2)
-    settings = settings or ContinuationSettings(fmin=30.0, fmax=2000.0, max_points=600)
+    settings = settings or ContinuationSettings(fmin_hz=30.0, fmax_hz=2000.0, max_points=600)
     log = log or (lambda msg: None)
     fn0 = model.f_n0
     if seed_fe is None:
         seed_fe = [fn0 / m * s for s in (0.45, 0.7, 0.9, 1.1)] + [0.9 * fn0 / (m + 1)]
-        seed_fe = [f for f in seed_fe if settings.fmin <= f <= settings.fmax]
+        seed_fe = [f for f in seed_fe if settings.fmin_hz <= f <= settings.fmax_hz]
     levels = np.linspace(pa_min, pa_max, n_levels)
     points = []
     first = {}
@@ -305,8 +306,8 @@ def evolution(model: ContactModel, order: int, pa_min: float = 0.3, pa_max: floa
         for sp in sps:
             if any(c.type == kind and _near_curve(c, sp) for c in curves):
                 continue
-            c = continue_codim1(model, kind, sp.fe_hz, sp.pa_over_q, sp.state, (pa_min, pa_max),
-                                (settings.fmin, settings.fmax), max_points=max_points)
+            c = continue_codim1(model, kind, sp.fe_hz, sp.pa_over_q, sp.state, pa_range=(pa_min, pa_max),
+                                f_range=(settings.fmin_hz, settings.fmax_hz), max_points=max_points)
             log(f"{kind} curve from {sp.fe_hz:.5g} Hz: {len(c.fe_hz)} points, stops: {c.stops}")
             curves.append(c)
     extremes = {}

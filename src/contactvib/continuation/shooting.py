@@ -78,11 +78,11 @@ class ContinuationSettings:
 
     Parameters
     ----------
-    fmin, fmax : float
+    fmin_hz, fmax_hz : float
         Range of f_e [Hz] (stop when reached).
     pa_min, pa_max : float
         Range of P_a [Q] (stop when reached; for continuation in P_a).
-    ds0, ds_min, ds_max : float
+    ds, ds_min, ds_max : float
         Initial, smallest and largest pseudo-arclength step [relative units: 0.05 ≈ 5 %].
     max_points : int
         Points per direction, the start included (≥ ``BRANCH_POINTS_MIN``).
@@ -111,11 +111,11 @@ class ContinuationSettings:
         f_e²) or "base-g" (base acceleration A [g]); the branch's ``pa_over_q`` then holds U or A.
     """
 
-    fmin: float = 30.0
-    fmax: float = 2000.0
+    fmin_hz: float = 30.0
+    fmax_hz: float = 2000.0
     pa_min: float = 0.0
     pa_max: float = 2.0
-    ds0: float = 0.02
+    ds: float = 0.02
     ds_min: float = 1e-7
     ds_max: float = 0.15
     max_points: int = 2000
@@ -136,13 +136,13 @@ class ContinuationSettings:
     def __post_init__(self):
         # each value checked against the checked values before it, and stored as checked (a
         # number given as text is a float, a count an int)
-        v = {"fmin": check_range("fmin", self.fmin, 0.0, False, "Hz")}
-        v["fmax"] = check_range("fmax", self.fmax, v["fmin"], False, "Hz", lower_name="fmin")
+        v = {"fmin_hz": check_range("fmin_hz", self.fmin_hz, 0.0, False, "Hz")}
+        v["fmax_hz"] = check_range("fmax_hz", self.fmax_hz, v["fmin_hz"], False, "Hz", lower_name="fmin_hz")
         v["pa_min"] = check_range("pa_min", self.pa_min, 0.0, True)
         v["pa_max"] = check_range("pa_max", self.pa_max, v["pa_min"], False, lower_name="pa_min")
         v["ds_min"] = check_range("ds_min", self.ds_min, 0.0, False)
-        v["ds0"] = check_range("ds0", self.ds0, v["ds_min"], True, lower_name="ds_min")
-        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds0"], True, lower_name="ds0")
+        v["ds"] = check_range("ds", self.ds, v["ds_min"], True, lower_name="ds_min")
+        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds"], True, lower_name="ds")
         v["max_points"] = check_int("max_points", self.max_points, BRANCH_POINTS_MIN)
         v["app_max_um"] = check_range("app_max_um", self.app_max_um, 0.0, False, "µm")
         v["rtol"] = check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
@@ -220,7 +220,7 @@ class OrbitProblem:
         self.y_um = model.units.y_um
         self.fn0 = model.f_n0
         if parameter == "f_e":
-            lo, hi = settings.fmin / self.fn0, settings.fmax / self.fn0
+            lo, hi = settings.fmin_hz / self.fn0, settings.fmax_hz / self.fn0
         else:
             lo, hi = settings.pa_min, settings.pa_max
         self.bounds = (Bound(2, lo, hi, parameter),)
@@ -229,7 +229,7 @@ class OrbitProblem:
         self.merge_state = None
         self.corrector = CorrectorSettings(tol=settings.tol, max_iter=settings.max_iter,
                                            cons_tol=1e-9, max_step=1.0)
-        self.steps = StepControl(ds0=settings.ds0, ds_min=settings.ds_min, ds_max=settings.ds_max,
+        self.steps = StepControl(ds=settings.ds, ds_min=settings.ds_min, ds_max=settings.ds_max,
                                  max_turn=settings.max_turn, max_failures=settings.max_failures,
                                  max_points=settings.max_points, locate_tol=settings.locate_tol,
                                  locate_events=settings.locate,
@@ -427,7 +427,7 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     q0 = prob.par[prob.ip]
     bound = prob.bounds[0]
     if not (bound.lo <= q0 <= bound.hi):
-        lo, hi = (settings.fmin, settings.fmax) if parameter == "f_e" else (settings.pa_min, settings.pa_max)
+        lo, hi = (settings.fmin_hz, settings.fmax_hz) if parameter == "f_e" else (settings.pa_min, settings.pa_max)
         val = excitation.f_e if parameter == "f_e" else excitation.pa_over_q
         raise ParameterError(parameter, val, f"seed must lie in the continuation range [{lo:g}, {hi:g}]")
     st, start = prob.fix_q(np.array([z[0], z[1], q0]))

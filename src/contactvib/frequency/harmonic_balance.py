@@ -271,6 +271,8 @@ class HBSettings:
         corresponds to an A_pp truncation error of about 1e-4 in the measured cases.
     tol : float
         Newton tolerance on the residual [units of Q].
+    max_iter : int
+        Newton iterations per correction.
     stability : bool
         Floquet multipliers by one shooting period per point.
     """
@@ -283,6 +285,7 @@ class HBSettings:
     max_points: int = 5000
     energy_tol: float = 1e-8
     tol: float = 1e-11
+    max_iter: int = 11
     stability: bool = True
 
     def __post_init__(self):
@@ -294,13 +297,14 @@ class HBSettings:
         v["max_points"] = check_int("max_points", self.max_points, 2)
         v["df_max"] = check_range("df_max", self.df_max, 0.0, False, "Hz")
         v["tol"] = check_range("tol", self.tol, 0.0, False)
+        v["max_iter"] = check_int("max_iter", self.max_iter, 1)
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
 
-def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: float,
+def hb_continuation(model: ContactModel, pa_over_q: float, fmin_hz: float, fmax_hz: float, *,
                     harmonics: int = 32, settings: HBSettings | None = None, start=None,
-                    from_fmax: bool = False, f_start: float | None = None, *, level_kind: str = "force",
+                    from_fmax: bool = False, f_start: float | None = None, level_kind: str = "force",
                     force_harmonics=()) -> HBBranch:
     """Follow a periodic branch from ``fmin`` to ``fmax`` by pseudo-arclength continuation.
 
@@ -309,8 +313,8 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     model : ContactModel
     pa_over_q : float
         Excitation amplitude [Q], ≥ 0.
-    fmin, fmax : float
-        Frequency range [Hz], 0 < fmin < fmax. The branch starts at ``fmin`` (``fmax`` with
+    fmin_hz, fmax_hz : float
+        Frequency range [Hz], 0 < fmin_hz < fmax_hz. The branch starts at ``fmin`` (``fmax`` with
         ``from_fmax``), from ``start`` or the linear response, and ends when it leaves
         [fmin, fmax]; folds are passed (pseudo-arclength), so it may leave through either end.
     harmonics : int
@@ -344,10 +348,10 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     if kind != "force" and force_harmonics:
         raise ParameterError("force_harmonics", force_harmonics, "belong to a force level, not to base motion")
     pa_over_q = check_range(LEVEL_KINDS[kind][0], pa_over_q, 0.0, True)
-    fmin = check_range("fmin", fmin, 0.0, False, "Hz")
-    fmax = check_range("fmax", fmax, 0.0, False, "Hz")
+    fmin = check_range("fmin_hz", fmin_hz, 0.0, False, "Hz")
+    fmax = check_range("fmax_hz", fmax_hz, 0.0, False, "Hz")
     if not fmin < fmax:
-        raise ParameterError("fmax", fmax, f"must be > fmin = {fmin:g} Hz")
+        raise ParameterError("fmax_hz", fmax, f"must be > fmin_hz = {fmin:g} Hz")
     s = settings or HBSettings()
     if not isinstance(s, HBSettings):
         raise ParameterError("settings", settings, "must be an HBSettings")
@@ -368,8 +372,8 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin: float, fmax: fl
     prob.f_exact = (u0[-1], f0)  # the first point's f_e as given, not r f_n0
     st, F, J, data = prob.residual_jacobian(u0)
     start_pt = Point(u0, J, data, first.residual)
-    cs = CorrectorSettings(tol=s.tol, max_iter=11, min_iter=1, cons_tol=math.inf, max_step=math.inf)
-    sc = StepControl(ds0=s.ds, ds_min=s.ds_min, ds_max=s.ds_max, growth=((4, 1.5),), shrink=1.0,
+    cs = CorrectorSettings(tol=s.tol, max_iter=s.max_iter, min_iter=1, cons_tol=math.inf, max_step=math.inf)
+    sc = StepControl(ds=s.ds, ds_min=s.ds_min, ds_max=s.ds_max, growth=((4, 1.5),), shrink=1.0,
                      dq_max=dr_max, max_points=s.max_points, bound_action="drop")
     e_r = np.zeros(u0.size)
     e_r[-1] = -1.0 if from_fmax else 1.0  # initial tangent: into the range

@@ -58,6 +58,7 @@ from contactvib.steady.transients import (
     WINDOW,
     check_damped,
     check_work,
+    estimated_seconds,
     nonperiodic_verdict,
     transient_periods,
 )
@@ -196,6 +197,22 @@ _BYTES_PER_START = 2048
 _BYTES_PER_HISTORY_ROW = 16
 
 
+#: Estimated wall time [s] beyond which a search reports progress chunk by chunk.
+LONG_SEARCH_S = 5.0
+#: Chunks per wave of a long search (each a parallel kernel call over its starts).
+PROGRESS_CHUNKS = 50
+
+
+def _chunks(n: int, k: int) -> list[slice]:
+    """At most ``k`` consecutive slices covering ``range(n)``, none empty, each of at least two
+    starts per numba thread where there are enough (the kernel's parallelism is over starts)."""
+    from numba import get_num_threads
+
+    k = max(1, min(k, n // (2 * get_num_threads())))
+    edges = sorted({round(n * j / k) for j in range(k + 1)})
+    return [slice(a, b) for a, b in zip(edges[:-1], edges[1:])] or [slice(0, 0)]
+
+
 def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int | None]:
     """The checked sizes of :func:`find_attractors`: ``(n_starts, seed, kmax, max_periods)``
     (``max_periods`` None: chosen by :func:`find_attractors` from the damping).
@@ -253,7 +270,9 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     progress : callable or None
         Called as ``progress(done, total)`` with the starts finished and all starts: once with
         ``done = 0`` when the inputs are checked and the integration begins (the CLI prints its
-        header then), and after each wave.
+        header then), and after each wave; a search estimated beyond :data:`LONG_SEARCH_S`
+        seconds (:func:`.transients.estimated_seconds`) runs its starts in about
+        :data:`PROGRESS_CHUNKS` chunks per wave and reports after each (the same results).
 
     Returns
     -------
@@ -274,7 +293,8 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     auto = max_periods is None
     if auto:
         max_periods = default_max_periods(excitation, detect_tol)
-    check_work(excitation, n_starts + Zs.shape[0], max_periods)  # before the memory: names f_n0
+    work = check_work(excitation, n_starts + Zs.shape[0], max_periods)  # before the memory: names f_n0
+    chunks = PROGRESS_CHUNKS if estimated_seconds(work) > LONG_SEARCH_S else 1
     if auto:
         check_search(n_starts, seed, kmax, max_periods)  # the memory of the chosen limit
     n_first = min(n_starts, FIRST_WAVE)
@@ -282,12 +302,15 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     counts = np.zeros(3, np.int64)  # failed, unsettled, unsettled box starts
 
     def run(Z, ph, in_box, cap_pts, cap_id):
-        out = settle_starts(excitation, Z, ph, kmax, max_periods, detect_tol, rtol_transient,
-                            cap_pts, cap_id, capture_tol)
+        parts = []
+        for sl in _chunks(Z.shape[0], chunks):
+            parts.append(settle_starts(excitation, Z[sl], ph[sl], kmax, max_periods, detect_tol, rtol_transient,
+                                       cap_pts, cap_id, capture_tol))
+            done[0] += sl.stop - sl.start
+            if progress is not None and (chunks > 1 or sl.stop == Z.shape[0]):
+                progress(done[0], n_starts + Zs.shape[0])
+        out = parts[0] if len(parts) == 1 else tuple(np.concatenate(a) for a in zip(*parts))
         counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out)[:3]
-        done[0] += Z.shape[0]
-        if progress is not None:
-            progress(done[0], n_starts + Zs.shape[0])
 
     done = [0]
     if progress is not None:

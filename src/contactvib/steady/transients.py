@@ -10,9 +10,10 @@ Transient length
 
 Work
     The integrator takes about :data:`STEPS_PER_NATURAL_PERIOD` steps per natural period in
-    contact, so ``max(1, 1/r)`` times that per excitation period. :func:`check_work` refuses a
-    search whose step count is beyond :data:`WORK_MAX_STEPS` (about a quarter of an hour on two
-    cores), naming f_n0 and the options that reduce it.
+    contact, so ``max(1, 1/r)`` times that per excitation period, each about
+    :data:`SECONDS_PER_STEP` on one core (:func:`estimated_seconds`). :func:`check_work` refuses
+    a search whose step count is beyond :data:`WORK_MAX_STEPS` (about a quarter of an hour on two
+    cores), naming f_n0, both times and the options that reduce it.
 
 Non-periodic or unsettled
     A start whose stroboscopic points found no period ``≤ kmax`` is a non-periodic attractor
@@ -36,7 +37,8 @@ from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib.model import ContactModel, Excitation, ParameterError
 
 __all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "nonperiodic_verdict", "WINDOW",
-           "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO"]
+           "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO",
+           "SECONDS_PER_STEP", "estimated_seconds", "duration_text"]
 
 #: Strobe points per window of the recurrence test (two windows are compared).
 WINDOW = 64
@@ -46,6 +48,8 @@ MIN_TRANSIENT_PERIODS = 400
 STEPS_PER_NATURAL_PERIOD = 25.0
 #: Largest search refused beyond: integration steps in all (~0.2 µs each per core).
 WORK_MAX_STEPS = 1e10
+#: Wall time of one integration step on one core [s] (~0.2 µs: the attractor search's rate).
+SECONDS_PER_STEP = 2e-7
 #: Largest Lyapunov exponent [1/period] separating the non-periodic types: below −LYAPUNOV_ZERO a
 #: cloud is still converging, above +LYAPUNOV_ZERO it is chaotic (the 64-period estimate scatters
 #: by about ±0.02 at the paper's attractors). The sweep's labels use the same threshold.
@@ -76,6 +80,21 @@ def steps_per_period(excitation: Excitation) -> float:
     return STEPS_PER_NATURAL_PERIOD * max(1.0, 1.0 / excitation.r)
 
 
+def estimated_seconds(steps: float) -> float:
+    """Wall time [s] of ``steps`` integration steps on this process's numba threads."""
+    from numba import get_num_threads
+
+    return float(steps) * SECONDS_PER_STEP / max(1, get_num_threads())
+
+
+def duration_text(seconds: float) -> str:
+    """``seconds`` in the unit a reader expects: "40 s", "8.2 min", "2.5 h", "3 days", "57 years"."""
+    for unit, size in (("years", 3.156e7), ("days", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if seconds >= 2.0 * size:
+            return f"{seconds / size:.2g} {unit}"
+    return f"{max(seconds, 1.0):.0f} s"
+
+
 def check_work(excitation: Excitation, n_trajectories: int, n_periods: int,
                options: str = "the starts (n_starts, --starts) or the transient limit "
                               "(max_periods, --max-periods)") -> float:
@@ -90,8 +109,9 @@ def check_work(excitation: Excitation, n_trajectories: int, n_periods: int,
             f"needs about {steps:.2g} integration steps: {n_trajectories} trajectories × "
             f"{n_periods:.3g} periods (damping ratio zeta = {m.zeta:.2g}) × "
             f"{steps_per_period(excitation):.3g} steps per period (f_e/f_n0 = {excitation.r:.3g}, "
-            f"f_n0 = {m.f_n0:.6g} Hz); at most {WORK_MAX_STEPS:.0e} can be done in reasonable "
-            f"time: raise f_e, lower f_n0 (c_n, m2, M), or reduce {options}")
+            f"f_n0 = {m.f_n0:.6g} Hz), about {duration_text(estimated_seconds(steps))} here; "
+            f"at most {WORK_MAX_STEPS:.0e} steps (about {duration_text(estimated_seconds(WORK_MAX_STEPS))}) "
+            f"are allowed: raise f_e, lower f_n0 (c_n, m2, M), or reduce {options}")
     return steps
 
 

@@ -413,7 +413,7 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
     lyapunov_strobe(z.copy(), par, st.rtol_transient, np.int64(NP_LYAPUNOV))
     try:
         continue_orbit(model, exc, z, 1, "f_e", "down",
-                       ContinuationSettings(fmin=0.9 * f0, fmax=f0, max_points=2, max_failures=2,
+                       ContinuationSettings(fmin_hz=0.9 * f0, fmax_hz=f0, max_points=2, max_failures=2,
                                             rtol=st.rtol, tol=st.close_tol))
     except (ContinuationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         pass

@@ -61,7 +61,7 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     # the sweep's integrator tolerance (not the 1e-12 of `continue`): the branch only locates the
     # stable parts; each seed is refined at the sweep's tolerances before it is traced. Only the
     # points' stability is used: the special points are not located (no branch point changes)
-    settings = ContinuationSettings(fmin=lo, fmax=hi, max_points=MAX_POINTS, max_failures=20,
+    settings = ContinuationSettings(fmin_hz=lo, fmax_hz=hi, max_points=MAX_POINTS, max_failures=20,
                                     rtol=lv.st.rtol, tol=lv.st.close_tol, locate=False)
     try:
         return continue_orbit(model, lv.st.excitation_at(model, pa_over_q, f0), z, k, "f_e",

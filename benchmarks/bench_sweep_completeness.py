@@ -6,7 +6,7 @@ that every attractor it lists is a row of the dataset at that point: a periodic 
 period and A_pp to ``--rtol`` relative, a non-periodic one by any non-periodic row there.
 Writes a JSON with every point's attractors and the missing ones::
 
-    python benchmarks/sweep_completeness.py /work/base_paper/paper.nc --out missing.json
+    python -m benchmarks sweep_completeness /work/base_paper/paper.nc
 
 The default points: 5 per level of the paper (8 levels × 5 = 40 points), spread over 30–2000 Hz
 geometrically, plus 0.60 Q / 500 Hz.
@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from benchmarks import result_path
 from contactvib.model import ContactModel
 from contactvib.steady.attractors import UnsettledWarning, find_attractors
 
@@ -64,7 +65,7 @@ def missing_at(ds: xr.Dataset, model: ContactModel, pa: float, fe: float, n_star
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("dataset")
-    p.add_argument("--out", default="sweep_completeness.json")
+    p.add_argument("--out", default=str(result_path(__name__)))
     p.add_argument("--starts", type=int, default=512)
     p.add_argument("--points", default=None, help="PA:FE,PA:FE,... (default: levels × DEFAULT_F + 0.6:500)")
     a = p.parse_args(argv)

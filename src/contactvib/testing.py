@@ -1,0 +1,350 @@
+"""Independent scipy references for tests and benchmarks (the package's ``numpy.testing``).
+
+The contact oscillator integrated with :func:`scipy.integrate.solve_ivp` (DOP853), mode by mode,
+switching the right-hand side at every located crossing of y = 0 (terminal events). Nothing
+here imports the package's kernels or derived scales: only a model's parameters are read, so the
+results are a reference written independently of the code under test. Used by ``tests/`` (and
+``tests/data/make_reference.py``, ``tests/data/make_fit_reference.py``, which made the stored
+reference data) and by the scipy rows of ``benchmarks/``.
+
+* :func:`integrate_modes`: any pair of right-hand sides (contact, flight) in any units, with
+  extra events, dense output and counters — the one switching loop.
+* :func:`power_law_rhs`, :func:`scipy_in_contact`: the paper's nondimensional equation.
+* :class:`ContactODE`, :func:`model_ode`, :func:`integrate_contact`: any contact law under any
+  forcing, in SI, with the turning points, the impulse and the Liouville integral.
+
+A grazing switch (contact left or entered with ẏ ≈ 0) puts the root of the new mode's event at
+its own start; the new mode is then started again a hair (``graze``) on its own side of y = 0,
+so that its event finds the next crossing, not the start.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["ContactODE", "ModeTrajectory", "Trajectory", "initial_mode", "integrate_contact",
+           "integrate_modes", "model_ode", "power_law_rhs", "scipy_in_contact"]
+
+#: consecutive zero-length segments after which :func:`integrate_modes` gives up (a trajectory
+#: held on y = 0 by opposing fields, which two modes switched at y = 0 cannot represent)
+MAX_GRAZING_RETRIES = 4
+
+
+def initial_mode(y, v) -> bool:
+    """Contact for y > 0, or y = 0 moving into the contact (the kernels' convention)."""
+    return bool(y > 0.0 or (y == 0.0 and v > 0.0))
+
+
+def _crossing(direction):
+    def event(t, s):
+        return s[0]
+
+    event.terminal, event.direction = True, direction
+    return event
+
+
+@dataclass
+class ModeTrajectory:
+    """The result of :func:`integrate_modes`.
+
+    Attributes
+    ----------
+    y : ndarray
+        End state.
+    contact : bool
+        Mode at the end.
+    segments : list of (mode, (t_start, t_end), OdeSolution or None)
+        The smooth segments (mode True: contact); the dense output with ``dense_output=True``.
+    ends : list of ndarray
+        The state at the end of each segment (before a switch puts it on y = 0).
+    steps : list of ndarray
+        The solver's step times in each segment.
+    events : list of list of (t, state, mode)
+        The roots of each extra event, in time order, with the mode they were found in.
+    nfev, n_switches : int
+        Right-hand side evaluations, contact/flight switches located.
+    """
+
+    y: np.ndarray
+    contact: bool
+    segments: list = field(default_factory=list)
+    ends: list = field(default_factory=list)
+    steps: list = field(default_factory=list)
+    events: list = field(default_factory=list)
+    nfev: int = 0
+    n_switches: int = 0
+
+
+def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12, atol=1e-12, events=(),
+                    dense_output=False, graze=1e-15, **options):
+    """Integrate ``s' = f(t, s)`` from ``y0`` at ``t0`` to ``t1``, with ``f = f_contact`` while
+    s[0] > 0 and ``f_flight`` while s[0] < 0, switching at every located crossing of s[0] = 0.
+
+    Parameters
+    ----------
+    f_contact, f_flight : callable (t, s) -> sequence
+        Right-hand sides; ``s[0]`` is the deflection, any further components are carried along.
+    y0 : array_like
+        Initial state.
+    t0, t1 : float
+        Time span.
+    contact : bool, optional
+        Initial mode; by default :func:`initial_mode` of ``y0[0], y0[1]``.
+    rtol, atol : float or array_like
+        solve_ivp tolerances.
+    events : sequence of callable
+        Extra non-terminal events, recorded in :attr:`ModeTrajectory.events`.
+    dense_output : bool
+        Keep each segment's dense output.
+    graze : float
+        Offset of s[0] from 0 (on the mode's own side) with which a mode whose event fires at its
+        own start is started again: a grazing switch.
+    **options
+        Further options of :func:`scipy.integrate.solve_ivp` (``method``, default ``"DOP853"``;
+        ``max_step``, ...).
+
+    Returns
+    -------
+    ModeTrajectory
+    """
+    from scipy.integrate import solve_ivp
+
+    leave, land = _crossing(-1.0), _crossing(1.0)
+    options.setdefault("method", "DOP853")
+    s = np.array(y0, float)
+    tr = ModeTrajectory(s, initial_mode(s[0], s[1]) if contact is None else bool(contact),
+                        events=[[] for _ in events])
+    t, stuck = float(t0), 0
+    while t < t1:
+        fun = f_contact if tr.contact else f_flight
+        sol = solve_ivp(fun, (t, t1), s, rtol=rtol, atol=atol, events=(leave if tr.contact else land, *events),
+                        dense_output=dense_output, **options)
+        if sol.status < 0:
+            raise RuntimeError(f"solve_ivp failed: {sol.message}")
+        tr.nfev += sol.nfev
+        t_end = float(sol.t[-1])
+        if sol.status == 1 and t_end <= t + 4.0 * np.finfo(float).eps * max(abs(t), 1.0):
+            stuck += 1  # the event's root is the start itself: start again a hair inside the mode
+            if stuck > MAX_GRAZING_RETRIES:
+                raise RuntimeError(f"trajectory held on y = 0 at t = {t!r}: no mode can be followed")
+            s[0] = graze * 10.0 ** (stuck - 1) * (1.0 if tr.contact else -1.0)
+            continue
+        stuck = 0
+        for rec, te, se in zip(tr.events, sol.t_events[1:], sol.y_events[1:]):
+            se = np.reshape(se, (len(te), s.size))
+            rec.extend((float(a), np.array(b, float), tr.contact) for a, b in zip(te, se))
+        tr.segments.append((tr.contact, (t, t_end), sol.sol))
+        tr.steps.append(sol.t.copy())
+        t, s = t_end, sol.y[:, -1].copy()
+        tr.ends.append(s.copy())
+        if sol.status == 1 and t < t1:  # a contact event: switch the mode, exactly on y = 0
+            s[0] = 0.0
+            tr.contact = not tr.contact
+            tr.n_switches += 1
+    tr.y = s
+    return tr
+
+
+def _odd_power(x, a):
+    """x^a, continued oddly below 0 (−|x|^a); x^0 = 1."""
+    if a == 0.0:
+        return 1.0
+    return math.copysign(abs(x) ** a, x)
+
+
+def power_law_rhs(par):
+    """The paper's nondimensional right-hand sides (contact, flight) for ``par = (m2, l, c, p, r)``::
+
+        x'' = [1 − x^m2 − c x^l x' + p cos(r τ)] / m2     contact (x > 0)
+        x'' = [1 + p cos(r τ)] / m2                       flight  (x ≤ 0)
+
+    The contact side is continued below x = 0 as sign(x)|x|^a (only the overshoot of a trial step
+    before a located exit ever sees it)."""
+    m2, l, c, p, r = (float(v) for v in par)
+
+    def contact(t, y):
+        x, v = y
+        return [v, (1.0 - _odd_power(x, m2) - c * _odd_power(x, l) * v + p * math.cos(r * t)) / m2]
+
+    def flight(t, y):
+        return [y[1], (1.0 + p * math.cos(r * t)) / m2]
+
+    return contact, flight
+
+
+def scipy_in_contact(par, z0, t_end, rtol=1e-12):
+    """End state of the paper's contact-mode equation (:func:`power_law_rhs`) from ``z0`` at τ = 0
+    to ``t_end``; asserts that contact is kept (x > 0.1)."""
+    from scipy.integrate import solve_ivp
+
+    f, _ = power_law_rhs(par)
+    sol = solve_ivp(f, (0.0, t_end), np.asarray(z0, float), method="DOP853", rtol=rtol, atol=rtol)
+    assert sol.success and np.min(sol.y[0]) > 0.1  # contact is kept throughout
+    return sol.y[:, -1]
+
+
+# ------------------------------------------------------------------------------------------------
+# Any contact law and any forcing, in SI (only the model's parameters are read).
+
+
+class ContactODE:
+    """``M ÿ = W + e(t) − F_c(y, ẏ) [y > 0]`` in SI units.
+
+    Parameters
+    ----------
+    M : float
+        Mass [kg].
+    W : float
+        Constant force along y [N] (weight plus preload), acting in contact and in flight.
+    contact_force : callable (y, ydot) -> float
+        F_c = F_s(y) + F_d(y, ẏ) [N], used only while y > 0.
+    forcing : callable t -> float
+        e(t) [N].
+    damping_rate : callable y -> float, optional
+        c_d(y) = ∂F_c/∂ẏ [N s/m] in contact (for the Liouville integral ∫ c_d dt).
+    """
+
+    def __init__(self, M, W, contact_force, forcing, damping_rate=None):
+        self.M = float(M)
+        self.W = float(W)
+        self.contact_force = contact_force
+        self.forcing = forcing
+        self.damping_rate = damping_rate or (lambda y: 0.0)
+
+
+class Trajectory:
+    """The result of :func:`integrate_contact`.
+
+    Attributes
+    ----------
+    y, ydot : float
+        End state [m], [m/s].
+    ymin, ymax : float
+        Extrema of y over the span [m]: the turning points (ẏ = 0, located as events) and the ends.
+    turns : list of (t, y, is_min)
+        The turning points [s], [m], a minimum where ÿ > 0.
+    impulse : float
+        ∫ F_c dt over the span, contact only [N s].
+    damping_integral : float
+        ∫ c_d(y) dt over the span, contact only [kg]: divided by M, minus the logarithm of the
+        determinant of the flow's Jacobian (Liouville's formula).
+    contact_time : float
+        Time spent with y > 0 [s].
+    n_switches : int
+        Contact/flight switches located.
+    segments : list of (mode, (t_start, t_end), OdeSolution)
+        Dense output of each smooth segment (mode True: contact).
+    """
+
+    def sample(self, t):
+        """y(t) and ẏ(t) [SI] at sorted times ``t`` inside the span, from the dense outputs."""
+        t = np.asarray(t, float)
+        out = np.empty((2, t.size))
+        for j, tj in enumerate(t):
+            for _mode, (ta, tb), sol in self.segments:
+                if ta <= tj <= tb:
+                    out[:, j] = sol(tj)[:2]
+                    break
+            else:
+                raise ValueError(f"t = {tj} outside the integrated span")
+        return out
+
+
+def integrate_contact(ode, y0, v0, t0, t1, rtol=1e-11, method="DOP853", y_scale=1e-7, v_scale=1e-3):
+    """Integrate :class:`ContactODE` from (y0, v0) at ``t0`` to ``t1`` (SI) with
+    :func:`integrate_modes`; ``y_scale`` [m] and ``v_scale`` [m/s] set the absolute tolerances (and
+    ``1e-8 y_scale`` the grazing offset)."""
+    M, W = ode.M, ode.W
+    F_scale = max(W, 1e-300)
+    atol = rtol * np.array([y_scale, v_scale, F_scale * (t1 - t0), 1e-300 + M])
+
+    def rhs_contact(t, s):
+        fc = ode.contact_force(s[0], s[1])
+        return [s[1], (W + ode.forcing(t) - fc) / M, fc, ode.damping_rate(s[0])]
+
+    def rhs_flight(t, s):
+        return [s[1], (W + ode.forcing(t)) / M, 0.0, 0.0]
+
+    def turn(t, s):
+        return s[1]
+
+    turn.terminal, turn.direction = False, 0.0
+    run = integrate_modes(rhs_contact, rhs_flight, [y0, v0, 0.0, 0.0], t0, t1,
+                          contact=initial_mode(y0, v0), rtol=rtol, atol=atol, method=method, events=(turn,),
+                          dense_output=True, graze=1e-8 * y_scale)
+    tr = Trajectory()
+    tr.segments, tr.n_switches = run.segments, run.n_switches
+    tr.contact_time = sum(tb - ta for mode, (ta, tb), _ in run.segments if mode)
+    ys = [float(y0)] + [float(e[0]) for e in run.ends]
+    tr.turns = []
+    for te, se, contact in run.events[0]:
+        ys.append(float(se[0]))
+        tr.turns.append((te, float(se[0]), (rhs_contact if contact else rhs_flight)(te, se)[1] > 0.0))
+    tr.y, tr.ydot, tr.impulse, tr.damping_integral = (float(v) for v in run.y)
+    tr.ymin, tr.ymax = min(ys), max(ys)
+    return tr
+
+
+def _power(y, a):
+    """y^a, continued analytically below 0 for an integer a, else oddly (−|y|^a)."""
+    if a == int(a):
+        return y ** int(a)
+    return y**a if y >= 0.0 else -((-y) ** a)
+
+
+def model_ode(model, excitation):
+    """The :class:`ContactODE` of a ``contactvib`` model and excitation, built from their SI
+    parameters alone (the law's formulas written here: power, exponential, table through scipy's
+    own PCHIP; power or Hunt–Crossley damping; force, harmonics or base excitation).
+
+    The contact mode's right-hand side is continued smoothly a little below y = 0, where the last
+    step before a located exit samples it: analytically (integer powers, the exponential, the
+    table's first cubic), oddly for other powers."""
+    from scipy.interpolate import PchipInterpolator
+
+    m = model
+    W = m.M * m.g + m.preload
+    if m.law == "power":
+        Sc, m2 = m.S * m.c_n, m.m2
+
+        def spring(y):
+            return Sc * _power(y, m2)
+    elif m.law == "exponential":
+        Sc, lam = m.S * m.c_e, m.lam
+
+        def spring(y):
+            return Sc * math.expm1(y / lam)
+    else:
+        d, F = np.asarray(m.table.deflection_m, float), np.asarray(m.table.load_n, float)
+        pchip = PchipInterpolator(d, F, extrapolate=True)  # the first cubic continued below 0
+        slope_end = float(pchip.derivative()(d[-1]))
+
+        def spring(y):
+            return float(pchip(y)) if y <= d[-1] else F[-1] + slope_end * (y - d[-1])
+    if m.damping == "power":
+        Sh, l = m.S * m.h_n, m.l
+
+        def rate(y):
+            return Sh * _power(y, l)
+    else:
+        alpha = m.alpha
+
+        def rate(y):
+            return alpha * spring(y)
+    w = 2.0 * math.pi * excitation.f_e
+    if excitation.base_um is not None:
+        amp, terms = m.M * excitation.base_um * 1e-6 * w * w, ()
+    elif excitation.base_g is not None:
+        amp, terms = m.M * excitation.base_g * 9.80665, ()
+    else:
+        Q = m.M * m.g
+        amp = excitation.pa_over_q * Q
+        terms = tuple((k * w, a * Q, math.radians(ph)) for k, a, ph in excitation.harmonics)
+
+    def forcing(t):
+        return amp * math.cos(w * t) + sum(a * math.cos(wk * t + ph) for wk, a, ph in terms)
+
+    return ContactODE(m.M, W, lambda y, v: spring(y) + rate(y) * v, forcing, rate)
