@@ -270,9 +270,9 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     progress : callable or None
         Called as ``progress(done, total)`` with the starts finished and all starts: once with
         ``done = 0`` when the inputs are checked and the integration begins (the CLI prints its
-        header then), and after each wave; a search estimated beyond :data:`LONG_SEARCH_S`
-        seconds (:func:`.transients.estimated_seconds`) runs its starts in about
-        :data:`PROGRESS_CHUNKS` chunks per wave and reports after each (the same results).
+        header then), and after each wave; a search estimated beyond ``LONG_SEARCH_S`` (5)
+        seconds (``steady.transients.estimated_seconds``) runs its starts in about
+        ``PROGRESS_CHUNKS`` (50) chunks per wave and reports after each (the same results).
 
     Returns
     -------
