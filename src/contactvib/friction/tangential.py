@@ -280,7 +280,8 @@ def auto_max_periods(model: ContactModel, fm: FrictionModel, period: float) -> i
 
 
 def friction_at(model: ContactModel, excitation: Excitation, attractor: Attractor,
-                friction: FrictionModel | None = None, *, max_periods: int | None = None) -> FrictionResult:
+                friction: FrictionModel | None = None, *, max_periods: int | None = None,
+                with_limit: bool = True) -> FrictionResult:
     """The steady tangential motion (friction ratio, stick fraction, energies) under the normal
     attractor ``attractor`` of ``model`` at ``excitation``.
 
@@ -295,6 +296,9 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         An unsettled run (a tangential motion that is not periodic with a period ≤ 8 normal
         periods, e.g. quasi-periodic stick–slip beating with the drive) is returned with
         ``settled = False`` and the means over the second half of its periods.
+    with_limit : bool
+        Compute ``limit_mean`` (a quadrature over the normal orbit; NaN when False: the dataset
+        columns do without it).
     """
     fm = FrictionModel() if friction is None else friction
     if not isinstance(fm, FrictionModel):
@@ -329,7 +333,7 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
            float(modes[n - jh, 1]), jh)
     return FrictionResult(
         friction_ratio=float(ratio), mu_apparent=float(ratio * fm.mu), mean_drive_force_n=float(ratio * fm.mu * W),
-        limit_mean=mean_limit(model, excitation, attractor, fm.beta),
+        limit_mean=mean_limit(model, excitation, attractor, fm.beta) if with_limit else math.nan,
         stick_fraction=float(tm[kf.STICK]), slip_fraction=float(tm[kf.SLIP]), free_fraction=float(tm[kf.FREE]),
         contact_loss_fraction=float(attractor.contact_loss_fraction),
         tangential_app_um=math.nan if force else float((wr[sel, 1].max() - wr[sel, 0].min()) * u.y_um),
