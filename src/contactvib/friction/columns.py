@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactvib.friction.model import FrictionModel
+from contactvib.friction.newton import WarmStart
 from contactvib.friction.tangential import FrictionError, friction_at
 
 __all__ = ["FRICTION_VARIABLES", "friction_variables", "with_friction"]
@@ -58,6 +59,17 @@ class _Orbit:
     contact_loss_fraction: float
 
 
+def _predecessors(level) -> np.ndarray:
+    """Per row, the row continued by Newton into it (a link without a jump; −1: none), computed
+    before it: its steady tangential state starts this row's."""
+    before = np.full(level.n_rows, -1, np.int64)
+    links = level.links
+    for a, b, jump in zip(links.a, links.b, links.jump):
+        if jump == 0 and 0 <= a < b and before[b] < 0:
+            before[b] = a
+    return before
+
+
 def friction_variables(model, level, settings) -> dict:
     """The :data:`FRICTION_VARIABLES` of every row of ``level`` (a
     :class:`contactvib.sweeps.sweep.LevelTrace`) swept with ``settings`` (a SweepSettings whose
@@ -69,6 +81,8 @@ def friction_variables(model, level, settings) -> dict:
         raise TypeError("settings.friction must be a FrictionModel")
     rows, n = level.rows, level.n_rows
     values = {name: np.full(n, math.nan) for name in FRICTION_VARIABLES}
+    before = _predecessors(level)
+    warm: dict = {}  # row -> its WarmStart (the steady tangential state, for the next point of its branch)
     for j in range(n):
         if rows.kind[j] != 0:
             continue
@@ -76,7 +90,10 @@ def friction_variables(model, level, settings) -> dict:
         exc = settings.excitation_at(model, level.pa_over_q, float(level.f_hz[rows.i[j]]))
         orbit = _Orbit(np.asarray(rows.z[j], float), int(rows.k[j]), float(rows.flight[j]))
         try:
-            res = friction_at(model, exc, orbit, fm, with_limit=False)
+            ws = warm.pop(before[j], None) if before[j] >= 0 else None
+            ws = WarmStart() if ws is None else ws
+            res = friction_at(model, exc, orbit, fm, with_limit=False, warm=ws)
+            warm[j] = ws
         except FrictionError:
             continue
         for name, (attr, _a) in FRICTION_VARIABLES.items():

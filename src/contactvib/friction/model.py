@@ -100,7 +100,9 @@ class FrictionModel:
 
     def parameters(self) -> dict:
         """The parameters as a dict (JSON, dataset attributes)."""
-        return asdict(self)
+        if "_parameters" not in self.__dict__:  # computed once: a sweep asks at every point
+            object.__setattr__(self, "_parameters", asdict(self))
+        return dict(self.__dict__["_parameters"])
 
     def kernel_parameters(self, model) -> np.ndarray:
         """``tpar`` of :mod:`contactvib._kernels.friction` for ``model``: μ, β, kt_ratio, the
@@ -112,12 +114,12 @@ class FrictionModel:
                          0.0 if force else self.kd * y0 / W, self.cd * y0 * w / W,
                          0.0 if force else self.vd * 1e-3 / (y0 * w), model.kappa, self.ft / W])
 
-    def scales(self, model) -> np.ndarray:
+    def scales(self, model, tpar=None) -> np.ndarray:
         """Scales of w [y0], w' and f_t [W] for error control and the steady-state test: the
         elastic displacement μ/k_t (inf under a force drive: u drifts, its error does not act
         back and it is not compared), the drive velocity plus the stick oscillation's velocity,
-        and μ."""
-        tp = self.kernel_parameters(model)
+        and μ (``tpar``: :meth:`kernel_parameters` of ``model`` if known)."""
+        tp = self.kernel_parameters(model) if tpar is None else tpar
         kt0 = self.kt_ratio * model.kappa
         w = math.inf if self.drive == "force" else self.mu / kt0  # a force drive's u drifts: not compared
         return np.array([w, tp[6] + self.mu / math.sqrt(kt0 * model.kappa), self.mu])
