@@ -116,7 +116,7 @@ def test_without_friction_no_columns():
 @pytest.mark.parametrize("spec, words", [
     ("mu=-1", "--friction mu (mu) = -1: must be in (0, 100]"),
     ("foo=1", "--friction: 'foo=1' is not NAME=VALUE"),
-    ("vd=0", "--friction vd (v_d) = 0: must be in (0, 1e+6] mm/s"),
+    ("vd=-1", "--friction vd (v_d) = -1: must be in [0, 1e+6] mm/s"),
     ("mu=0.2,mu=0.3", "--friction: mu given twice"),
     ("drive=force", "--friction drive=force: needs the tangential force ft=N"),
 ])

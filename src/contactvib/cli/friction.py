@@ -62,7 +62,8 @@ def _friction_options(f):
                                  "= 0.8235 of a Hertz contact at nu = 0.3].")),
         ("--mu", dict(default="0.3", show_default=True, help="Coulomb friction coefficient mu, > 0.")),
         ("--vd", dict(default="0.1", show_default=True, metavar="MM_S",
-                      help="Drive velocity v_d [mm/s] of the drive spring's end, > 0.")),
+                      help="Drive velocity v_d [mm/s] of the drive spring's end, >= 0 (0: the spring at rest holds "
+                           "the slider, stretched to mu W at the start).")),
     ]
     for name, kw in opts:
         f = click.option(name, **kw)(f)

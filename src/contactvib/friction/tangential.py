@@ -27,8 +27,9 @@ from contactvib._kernels import friction_period as kp
 from contactvib._kernels.contact import contact_force_array
 from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import sample_records
-from contactvib._kernels.status import STATUS_OK, status_message
+from contactvib._kernels.status import STATUS_INTERRUPTED, STATUS_OK, status_message
 from contactvib.friction.model import FrictionModel
+from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor
@@ -279,11 +280,14 @@ def _patience(tpar, period: float) -> int:
 def auto_max_periods(model: ContactModel, fm: FrictionModel, period: float, tpar=None) -> int:
     """Default limit of normal periods: 60 decay times 2 M / c_d of the slider on its drive (what
     reaches the steady tolerance from a start error of order 1 with friction adding its own
-    damping), at least 200, at most 20000 (``tpar``: ``fm.kernel_parameters(model)`` if known)."""
+    damping), at least 200, at most 20000; ten times that for a spring at rest (v_d = 0: the held
+    slider creeps ever more slowly as the spring relaxes) (``tpar``: ``fm.kernel_parameters(model)``
+    if known)."""
     tpar = fm.kernel_parameters(model) if tpar is None else tpar
     if tpar[kf.T_CD] <= 0.0:
         return 20000
-    return int(min(20000, max(200, math.ceil(60.0 * 2.0 * tpar[kf.T_KAPPA] / tpar[kf.T_CD] / period))))
+    slow = 10.0 if fm.drive == "velocity" and fm.vd == 0.0 else 1.0  # a held slider's creep: slower
+    return int(min(20000, max(200, math.ceil(slow * 60.0 * 2.0 * tpar[kf.T_KAPPA] / tpar[kf.T_CD] / period))))
 
 
 def _newton(rec, par, tpar, scale, warm, k: int, fe_hz: float, cold):
@@ -352,9 +356,12 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         st, (n, j, dist, quad, times, wr, states, modes) = STATUS_OK, got
     else:
         n_max = auto_max_periods(model, fm, period, tpar) if n_max is None else n_max
-        st, n, j, dist, quad, times, wr, states, modes = kp.settle(
-            rec, period, par, tpar, z0, mode, sigma, RTOL, scale, n_max, JMAX, STEADY_TOL, STEADY_TOL_FINE,
-            _patience(tpar, period))
+        stop = new_stop_flag()  # Ctrl-C (or explore's stop) ends the kernel within one normal period
+        st, n, j, dist, quad, times, wr, states, modes = run_interruptible(
+            kp.settle, rec, period, par, tpar, z0, mode, sigma, RTOL, scale, n_max, JMAX, STEADY_TOL,
+            STEADY_TOL_FINE, _patience(tpar, period), stop, stop=stop)
+    if st == STATUS_INTERRUPTED:
+        raise KeyboardInterrupt
     if st != STATUS_OK:
         raise FrictionError(f"tangential integration failed after {n} periods ({status_message(st)})")
     jj = j if j > 0 else max(1, n // 2)  # unsettled (quasi-periodic stick-slip): the last half's mean
