@@ -12,9 +12,14 @@ the residual) start it, and one
 or two periods per point usually suffice.
 
 A run that does not converge (a tangential period of several normal periods, quasi-periodic
-stick–slip, a mode change right at phase 0) returns None: the caller then settles the transient
-(:func:`contactvib.friction.friction_at`). Not used under a force drive (u drifts: no fixed
-point of w).
+stick–slip, a mode change right at phase 0) or converges to an unstable fixed point returns
+None: the caller then settles the transient (:func:`contactvib.friction.friction_at`). Not used
+under a force drive (u drifts: no fixed point of w).
+
+Where the tangential motion is bistable (two stable stick–slip cycles under one normal orbit),
+the continuation along a branch stays on the cycle it started on, which need not be the one the
+transient from steady sliding (:func:`contactvib.friction.friction_at` without a warm start)
+reaches.
 """
 
 from __future__ import annotations
@@ -116,6 +121,11 @@ def _distance(a, b, scale) -> float:
     return float(np.max(np.abs(a - b) / (scale + np.abs(a))))
 
 
+def _radius(jac) -> float:
+    """Spectral radius of the period map's Jacobian (< 1: a stable steady state)."""
+    return float(np.max(np.abs(np.linalg.eigvals(jac))))
+
+
 def _jacobian(rec, par, tpar, rtol, scale, z, mode, sigma, pz):
     """∂P/∂z at ``z`` by forward differences (None if a perturbed run fails)."""
     jac = np.empty((3, 3))
@@ -136,6 +146,9 @@ def newton_steady(rec, par, tpar, rtol, scale, warm: WarmStart, z0, mode, sigma,
     with ``warm``'s Jacobian (else one by finite differences), improved by Broyden's update
     after each step and recomputed where a step does not halve the residual.
 
+    A fixed point whose Jacobian (by finite differences where Broyden's estimate says so) has
+    a spectral radius ≥ 1 is unstable, not a steady state: None.
+
     Returns
     -------
     None, or (z*, mode, σ, jac, run, runs)
@@ -153,6 +166,11 @@ def newton_steady(rec, par, tpar, rtol, scale, warm: WarmStart, z0, mode, sigma,
         pz = pfull[:3]
         d = _distance(pz, z, scale)
         if d <= tol and m1 == mode and (mode != kf.SLIP or s1 == sigma):
+            if jac is not None and _radius(jac) >= 1.0:  # unstable? Broyden's estimate is rough: recompute
+                jac = _jacobian(rec, par, tpar, rtol, scale, z, mode, sigma, pz)
+                runs += 3
+                if jac is None or _radius(jac) >= 1.0:
+                    return None  # an unstable steady state: not what the slider does
             return z, mode, sigma, jac, (pfull, m1, s1, times, wr), runs
         if jac is not None and last is not None:  # Broyden: the secant of the last step
             dz, dp = z - last[0], pz - last[1]

@@ -46,6 +46,8 @@ STEADY_TOL_FINE = 1e-13
 #: Relative distance of z and P(z) at which a warm-started Newton run (``warm``, the sweeps'
 #: friction columns) stops: the columns' relative accuracy.
 WARM_TOL = 1e-6
+#: Integrator tolerance of the tangential motion under a warm start (Newton to WARM_TOL).
+WARM_RTOL = 1e-9
 #: Integrator tolerance of the normal orbit's record under a warm start (1e-12 otherwise): its R(t)
 #: to far below WARM_TOL, at 30 % fewer steps.
 WARM_RECORD_RTOL = 1e-9
@@ -300,7 +302,7 @@ def _newton(rec, par, tpar, scale, warm, k: int, fe_hz: float, cold):
     if warm.period != k:
         warm.jac = None
     start = cold if warm.z is None else (warm.predict(k, fe_hz), warm.mode, warm.sigma)
-    got = newton_steady(rec, par, tpar, RTOL, scale, warm, *start, tol=WARM_TOL)
+    got = newton_steady(rec, par, tpar, WARM_RTOL, scale, warm, *start, tol=WARM_TOL)
     if got is None:
         warm.jac = None
         return None
@@ -333,8 +335,9 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     warm : contactvib.friction.newton.WarmStart or None
         Start from the (extrapolated) steady state of the neighbouring points of a branch
         (updated here to this one's) and find the fixed point of the period map by Newton's
-        method (:func:`contactvib.friction.newton.newton_steady`), to :data:`WARM_TOL`, the
-        normal orbit recorded at :data:`WARM_RECORD_RTOL`; the means are those of the period
+        method (:func:`contactvib.friction.newton.newton_steady`), to :data:`WARM_TOL` (the
+        tangential motion integrated at :data:`WARM_RTOL`, the normal orbit recorded at
+        :data:`WARM_RECORD_RTOL`); the means are those of the period
         from the fixed point (the resonance sweeps' friction columns). Velocity drive only;
         where Newton does not converge the transient is settled from the warm state. None: the
         transient from steady sliding, refined to the integrator's noise floor.
