@@ -137,7 +137,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
     nstep = (Fn, yn, t0, hn, rec[i, REC_MODE] > 0.5)
     t = t0
     t_end = t0 + hn
-    K = np.empty((16, N_STATE))
+    K = np.empty((17, N_STATE))  # 16 stages and a work row
     znew = np.empty(N_STATE)
     F = np.empty((7, 3))
     f0 = np.empty(N_STATE)

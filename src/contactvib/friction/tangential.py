@@ -339,7 +339,8 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         tangential motion integrated at :data:`WARM_RTOL`, the normal orbit recorded at
         :data:`WARM_RECORD_RTOL`); the means are those of the period
         from the fixed point (the resonance sweeps' friction columns). Velocity drive only;
-        where Newton does not converge the transient is settled from the warm state. None: the
+        where Newton does not converge the transient is settled from the warm state, to
+        :data:`WARM_TOL`. None: the
         transient from steady sliding, refined to the integrator's noise floor.
     """
     fm = FrictionModel() if friction is None else friction
@@ -360,9 +361,12 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     else:
         n_max = auto_max_periods(model, fm, period, tpar) if n_max is None else n_max
         stop = new_stop_flag()  # Ctrl-C (or explore's stop) ends the kernel within one normal period
+        # a warm start's fallback: to the columns' accuracy (WARM_TOL), not to the noise floor
+        tols = (WARM_RTOL, WARM_TOL, WARM_TOL, 2) if warm is not None else \
+            (RTOL, STEADY_TOL, STEADY_TOL_FINE, _patience(tpar, period))
         st, n, j, dist, quad, times, wr, states, modes = run_interruptible(
-            kp.settle, rec, period, par, tpar, z0, mode, sigma, RTOL, scale, n_max, JMAX, STEADY_TOL,
-            STEADY_TOL_FINE, _patience(tpar, period), stop, stop=stop)
+            kp.settle, rec, period, par, tpar, z0, mode, sigma, tols[0], scale, n_max, JMAX, tols[1], tols[2],
+            tols[3], stop, stop=stop)
     if st == STATUS_INTERRUPTED:
         raise KeyboardInterrupt
     if st != STATUS_OK:
