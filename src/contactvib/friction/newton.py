@@ -29,8 +29,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contactvib._kernels import friction as kf
-from contactvib._kernels import friction_period as kp
 from contactvib._kernels.status import STATUS_OK
 
 __all__ = ["WarmStart", "newton_steady"]
@@ -106,45 +104,16 @@ class WarmStart:
         return out
 
 
-def _period_map(rec, par, tpar, rtol, scale, z3, mode, sigma):
-    """P(z3) from ``mode``: (status, the end state with its quadratures, mode and σ at the
-    period's end, time in each mode and switches, range of w)."""
-    z = np.zeros(kf.N_STATE)
-    z[:3] = z3
-    times, wr = np.zeros(4), np.array([math.inf, -math.inf])
-    st, mode, sigma, _h = kp.run_period(rec, 0.0, z, int(mode), float(sigma), 0.05, par, tpar, rtol, scale,
-                                        times, wr, np.empty(0), np.empty((0, kp.S_WIDTH)), np.zeros(1, np.int64))
-    return st, z, mode, sigma, times, wr
-
-
-def _distance(a, b, scale) -> float:
-    return float(np.max(np.abs(a - b) / (scale + np.abs(a))))
-
-
 def _radius(jac) -> float:
     """Spectral radius of the period map's Jacobian (< 1: a stable steady state)."""
     return float(np.max(np.abs(np.linalg.eigvals(jac))))
 
 
-def _jacobian(rec, par, tpar, rtol, scale, z, mode, sigma, pz):
-    """∂P/∂z at ``z`` by forward differences (None if a perturbed run fails)."""
-    jac = np.empty((3, 3))
-    for i in range(3):
-        dz = FD_STEP * (scale[i] + abs(z[i]))
-        zp = z.copy()
-        zp[i] += dz
-        st, pp, _m, _s, _t, _w = _period_map(rec, par, tpar, rtol, scale, zp, mode, sigma)
-        if st != STATUS_OK:
-            return None
-        jac[:, i] = (pp[:3] - pz) / dz
-    return jac
-
-
 def newton_steady(rec, par, tpar, rtol, scale, warm: WarmStart, z0, mode, sigma, tol: float = NEWTON_TOL):
     """The fixed point of the period map from ``z0`` in ``mode`` (σ ``sigma``), to the relative
-    distance ``tol`` of z and P(z): Newton steps
-    with ``warm``'s Jacobian (else one by finite differences), improved by Broyden's update
-    after each step and recomputed where a step does not halve the residual.
+    distance ``tol`` of z and P(z): Newton steps with ``warm``'s Jacobian (else one by finite
+    differences), improved by Broyden's update after each step and recomputed where a step does
+    not halve the residual (compiled: :func:`contactvib._kernels.friction_newton.newton_period_map`).
 
     A fixed point whose Jacobian (by finite differences where Broyden's estimate says so) has
     a spectral radius ≥ 1 is unstable, not a steady state: None.
@@ -155,39 +124,19 @@ def newton_steady(rec, par, tpar, rtol, scale, warm: WarmStart, z0, mode, sigma,
         ``run`` = (P(z*) with its quadratures, mode and σ after it, times, w range) of the period
         from the fixed point (the steady period); ``runs`` the period maps computed.
     """
-    z = np.asarray(z0, float).copy()
-    jac, runs, d_prev = warm.jac, 0, math.inf
-    last = None  # (z, P(z)) of the previous step, for Broyden's update
-    for _step in range(MAX_STEPS):
-        st, pfull, m1, s1, times, wr = _period_map(rec, par, tpar, rtol, scale, z, mode, sigma)
-        runs += 1
-        if st != STATUS_OK:
+    from contactvib._kernels import friction_newton as kn
+
+    has = warm.jac is not None
+    jac = warm.jac.copy() if has else np.zeros((3, 3))
+    out, z, mode, sigma, has, pz, m1, s1, times, wr, runs = kn.newton_period_map(
+        rec, par, tpar, float(rtol), scale, np.asarray(z0, float), int(mode), float(sigma), jac, has, float(tol),
+        MAX_STEPS, FD_STEP)
+    if out != kn.NEWTON_CONVERGED:
+        return None
+    if not has or _radius(jac) >= 1.0:  # unstable? Broyden's estimate is rough: recompute
+        if kn.fd_jacobian(rec, par, tpar, float(rtol), scale, z, mode, sigma, pz, FD_STEP, jac) != STATUS_OK:
             return None
-        pz = pfull[:3]
-        d = _distance(pz, z, scale)
-        if d <= tol and m1 == mode and (mode != kf.SLIP or s1 == sigma):
-            if jac is not None and _radius(jac) >= 1.0:  # unstable? Broyden's estimate is rough: recompute
-                jac = _jacobian(rec, par, tpar, rtol, scale, z, mode, sigma, pz)
-                runs += 3
-                if jac is None or _radius(jac) >= 1.0:
-                    return None  # an unstable steady state: not what the slider does
-            return z, mode, sigma, jac, (pfull, m1, s1, times, wr), runs
-        if jac is not None and last is not None:  # Broyden: the secant of the last step
-            dz, dp = z - last[0], pz - last[1]
-            nz = float(dz @ dz)
-            if nz > 0.0:
-                jac = jac + np.outer(dp - jac @ dz, dz) / nz
-        if jac is None or d > 0.5 * d_prev:
-            jac = _jacobian(rec, par, tpar, rtol, scale, z, mode, sigma, pz)
-            runs += 3
-            if jac is None:
-                return None
-        d_prev, last = d, (z, pz)
-        try:
-            z = z + np.linalg.solve(np.eye(3) - jac, pz - z)
-        except np.linalg.LinAlgError:
-            return None
-        if not np.all(np.isfinite(z)):
-            return None
-        mode, sigma = m1, s1
-    return None
+        runs += 3
+        if _radius(jac) >= 1.0:
+            return None  # an unstable steady state: not what the slider does
+    return z, mode, sigma, jac, (pz, m1, s1, times, wr), runs
