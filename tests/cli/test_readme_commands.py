@@ -177,6 +177,11 @@ REDUCED: dict[str, list[str]] = {
     "contactvib fit --decay examples/fit_decay.csv --set M=0.2106 --fix m2=2 --fix l=1 --json":
         ["fit", "--decay", str(_EXAMPLES / "fit_decay.csv"), "--set", "M=0.2106", "--fix", "m2=2", "--fix", "l=1",
          "--json", "--starts", "0"],
+    "contactvib resonance --pa 0.65 --df 1 --friction mu=0.3,vd=0.1 --out res_fric/":
+        [*_RESONANCE[:-2], "--friction", "mu=0.3,vd=0.1", "--out", "res_fric/"],
+    "contactvib atlas --pa-min 0.3 --pa-max 0.9 --npa 7 --friction default --out at/":
+        ["atlas", *_ATLAS_GRID, "--friction", "default", "--out", "at/"],
+    "contactvib map at/ --out at/map": ["map", "at/", "--out", "at/map"],
     "contactvib resonance --model fitted.json --pa 0.3 --fmin 900 --fmax 1600 --out res_fit/":
         ["resonance", "--model", "fitted.json", "--pa", "0.3", "--fmin", "1190", "--fmax", "1210", "--df", "10",
          "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress", "--out", "res_fit/"],
@@ -193,7 +198,8 @@ SLOW: set[str] = set()
 SERVERS: set[str] = {"contactvib explore", "contactvib explore --port 8765 --no-browser",
                      "contactvib explore paper/paper.nc", "contactvib explore atlas/",
                      "contactvib explore --graph-fmin 100 --graph-fmax 1000 --graph-df 2",
-                     "contactvib explore --law exponential --preload 2"}
+                     "contactvib explore --law exponential --preload 2",
+                     "contactvib explore at/"}  # its friction panel: tests/friction/test_friction_views.py
 
 # ------------------------------------------------------------------ documented contents
 
@@ -301,6 +307,16 @@ def _check_resonance(out: Path, stdout: str) -> None:
         assert_figure_file(out / f"resonance_pa{p}.png")
         assert_figure_file(out / f"extrema_pa{p}.png")
     assert "2 levels" in stdout
+
+
+def _friction_columns(path: Path, friction: bool) -> None:
+    """A dataset holds the friction columns (docs/tutorials/friction.md) exactly when made with ``--friction``."""
+    with xr.open_dataset(path) as d:
+        assert ("friction_ratio" in d) == friction and ("friction" in d.attrs) == friction
+        if friction:
+            ratio = d["friction_ratio"].values
+            assert d["friction_ratio"].attrs["units"] == "1" and (ratio[ratio == ratio] <= 1.0 + 1e-9).all()
+            assert (ratio == ratio).sum() >= 1  # periodic points carry a ratio
 
 
 def _check_atlas(out: Path, stdout: str) -> None:
@@ -528,8 +544,16 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         assert "attractor points" in out
     elif cmd == "resonance":
         _check_resonance(folder, out)
+        _friction_columns(folder / "resonance.nc", "--friction" in args)
     elif cmd == "atlas":
         _check_atlas(folder, out)
+        _friction_columns(folder / "atlas.nc", "--friction" in args)
+    elif cmd == "map" and args[1] == "at/":  # the friction atlas's maps
+        with xr.open_dataset(folder / "map.nc") as m:
+            assert {"friction_ratio_min", "friction_ratio_max"} <= set(m.data_vars)
+            assert float(m["friction_ratio_min"].min()) >= 0.0 and float(m["friction_ratio_max"].max()) <= 1.0 + 1e-9
+        for name in ("friction_ratio_min", "friction_ratio_max"):
+            assert_figure_file(folder / f"map_{name}.png")
     elif cmd == "query":
         _check_query(out)
     elif cmd == "animate" and "--gif" in args:  # one frame per level of the reduced paper run

@@ -129,7 +129,7 @@ def test_history_over_one_steady_period(paper_360):
 
 
 @pytest.mark.parametrize("kw, symbol", [({"mu": -0.1}, "mu"), ({"mu": 0.0}, "mu"), ({"kt_ratio": -1}, "kt_ratio"),
-                                        ({"kd": 0.0}, "k_d"), ({"vd": 0.0}, "v_d"), ({"cd": -1.0}, "c_d"),
+                                        ({"kd": 0.0}, "k_d"), ({"vd": -1e-3}, "v_d"), ({"cd": -1.0}, "c_d"),
                                         ({"beta": 1.5}, "beta"), ({"kt_law": "x"}, "kt_law"),
                                         ({"drive": "x"}, "drive"), ({"mu": float("nan")}, "mu"),
                                         ({"drive": "force"}, "F_T"), ({"drive": "force", "ft": -1.0}, "F_T"),
@@ -207,3 +207,48 @@ def test_constant_force_creep_under_vibration(paper_360):
         fast = friction_at(m, exc, a, FrictionModel(drive="force", ft=1.2 * mu_w, kt_law="constant"))
         v = (1.2 * mu_w - mu_w * mean_limit(m, exc, a)) / 30.0 * 1e3
         assert fast.mean_velocity_mm_s == pytest.approx(v, rel=1e-8) and fast.stick_fraction < 1e-12
+
+
+def test_spring_at_rest_holds_what_the_vibrating_contact_can():
+    """v_d = 0: the drive spring, stretched to μ W, holds the slider; the vibration relaxes it to
+    the held mean force (friction_ratio): in contact all the period, a held fraction in (0, 1)
+    (the paper's small orbit at 0.2 Q, 360 Hz: 0.785); almost all of it at a tiny level; none
+    where the contact flies 91 % of the period. The slider stops: no drive work."""
+    from contactvib.steady.attractors import find_attractors
+
+    model = ContactModel()
+    fm = FrictionModel(vd=0.0)
+    exc = model.excitation(0.2, 360.0)
+    found = {a.contact_loss_fraction > 0.5: a for a in find_attractors(model, exc, n_starts=64)}
+    held = friction_at(model, exc, found[False], fm)
+    assert held.settled and held.friction_ratio == pytest.approx(0.784686, abs=1e-5)
+    assert abs(held.mean_velocity_mm_s) < 1e-9 and math.isnan(held.energy_residual)
+    flying = friction_at(model, exc, found[True], fm)
+    assert flying.settled and abs(flying.friction_ratio) < 1e-6
+    tiny = model.excitation(0.01, 360.0)
+    small = friction_at(model, tiny, find_attractors(model, tiny, n_starts=8)[0], fm)
+    assert 0.97 < small.friction_ratio <= 1.0
+
+
+def test_the_tangential_transient_stops_on_its_flag():
+    """The settling kernel polls its stop flag every normal period (Ctrl-C through
+    run_interruptible, explore's stop_scope): a set flag ends friction_at at once with a
+    KeyboardInterrupt; SIGINT during a long run ends it within a fraction of a second."""
+    import os
+    import signal
+    import threading
+    import time
+
+    from contactvib.interrupts import stop_scope
+
+    model = ContactModel()
+    exc = model.excitation(0.65, 360.0)
+    a = find_attractors(model, exc, n_starts=8)[0]
+    with stop_scope(np.ones(1, np.int64)), pytest.raises(KeyboardInterrupt):
+        friction_at(model, exc, a, FrictionModel())
+    fm = FrictionModel(vd=0.0, cd=1e-3)  # a slow creep: thousands of periods
+    threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    t = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        friction_at(model, exc, a, fm, max_periods=10**6)
+    assert time.perf_counter() - t < 5.0

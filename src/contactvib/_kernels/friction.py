@@ -144,10 +144,10 @@ def rhs(mode, sigma, z, r, dr, kt, tpar, out):
 @njit(cache=True)
 def _stages(mode, sigma, t, z, h, nstep, par, tpar, K, s_first, s_last):
     """DOP853 stages s_first..s_last − 1 of a step from (t, z) of size h inside the normal step
-    ``nstep`` = (Fn, yn, t0, hn, contact)."""
+    ``nstep`` = (Fn, yn, t0, hn, contact); K[16] is the stage state's work row (no allocation
+    per step)."""
     Fn, yn, t0, hn, contact = nstep
-    zs = np.empty(N_STATE)
-    out = np.empty(N_STATE)
+    zs = K[16]
     for s in range(s_first, s_last):
         for i in range(N_STATE):
             acc = 0.0
@@ -156,15 +156,13 @@ def _stages(mode, sigma, t, z, h, nstep, par, tpar, K, s_first, s_last):
             zs[i] = z[i] + h * acc
         ts = t + C[s] * h
         r, dr, kt = normal_at(Fn, yn, t0, hn, contact, ts, par, tpar)
-        rhs(mode, sigma, zs, r, dr, kt, tpar, out)
-        for i in range(N_STATE):
-            K[s, i] = out[i]
+        rhs(mode, sigma, zs, r, dr, kt, tpar, K[s])
 
 
 @njit(cache=True)
 def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, scale, K, znew):
-    """One DOP853 step (K[0] must hold f(t, z)); fills K[0..12] and ``znew``; returns the error
-    norm of the dynamic components (< 1: accept)."""
+    """One DOP853 step (K[0] must hold f(t, z); K has 17 rows, the last a work row); fills
+    K[0..12] and ``znew``; returns the error norm of the dynamic components (< 1: accept)."""
     _stages(mode, sigma, t, z, h, nstep, par, tpar, K, 1, 12)
     for i in range(N_STATE):
         acc = 0.0
@@ -173,10 +171,7 @@ def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, scale, K, znew):
         znew[i] = z[i] + h * acc
     Fn, yn, t0, hn, contact = nstep
     r, dr, kt = normal_at(Fn, yn, t0, hn, contact, t + h, par, tpar)
-    out = np.empty(N_STATE)
-    rhs(mode, sigma, znew, r, dr, kt, tpar, out)
-    for i in range(N_STATE):
-        K[12, i] = out[i]
+    rhs(mode, sigma, znew, r, dr, kt, tpar, K[12])
     e5 = 0.0
     e3 = 0.0
     for i in range(_N_DYN):

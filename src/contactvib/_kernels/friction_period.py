@@ -36,7 +36,7 @@ from .friction import (
     rhs,
     rk_step,
 )
-from .status import STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS
+from .status import STATUS_INTERRUPTED, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS
 
 #: Columns of a sample: w, w', f_t, slip velocity s', r, mode.
 S_W, S_V, S_F, S_SLIP, S_R, S_MODE = range(6)
@@ -137,7 +137,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
     nstep = (Fn, yn, t0, hn, rec[i, REC_MODE] > 0.5)
     t = t0
     t_end = t0 + hn
-    K = np.empty((16, N_STATE))
+    K = np.empty((17, N_STATE))  # 16 stages and a work row
     znew = np.empty(N_STATE)
     F = np.empty((7, 3))
     f0 = np.empty(N_STATE)
@@ -208,14 +208,18 @@ def _distance(a, b, scale):
     return d
 
 
-@njit(cache=True)
-def settle(rec, period, par, tpar, z0, mode, sigma, rtol, scale, max_periods, jmax, tol, tol_fine, patience):
+@njit(cache=True, nogil=True)
+def settle(rec, period, par, tpar, z0, mode, sigma, rtol, scale, max_periods, jmax, tol, tol_fine, patience,
+           stop):
     """Normal periods from the state ``z0`` (w, w', f_t) in ``mode`` until the phase-0 state
     repeats after j ≤ ``jmax`` periods to ``tol`` (distance relative to the state plus its
     scale); then on, with that j, until the distance is below ``tol_fine`` or has stopped
     halved for ``patience`` periods (the integrator's noise floor); the period reported is the
     smallest lag at which the last state repeats to 4 times that distance (a transient that
-    spirals in can match at a longer lag first).
+    spirals in can match at a longer lag first). Returns ``STATUS_INTERRUPTED`` at the start of
+    the first period after ``stop[0]`` is set (int64[1]; Ctrl-C through
+    :func:`contactvib.interrupts.run_interruptible`, which this kernel allows: it releases the
+    GIL).
 
     Returns
     -------
@@ -256,6 +260,8 @@ def settle(rec, period, par, tpar, z0, mode, sigma, rtol, scale, max_periods, jm
     stall = 0
     d = math.inf
     for n in range(max_periods):
+        if stop[0] != 0:
+            return STATUS_INTERRUPTED, n, 0, d, quad, times, wr, states, modes
         z[3:] = 0.0
         wr[n, 0] = math.inf
         wr[n, 1] = -math.inf

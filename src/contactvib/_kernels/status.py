@@ -28,6 +28,8 @@ STATUS_STEP_TOO_SMALL = 2
 STATUS_RECORD_FULL = 3
 STATUS_TOO_MANY_EVENTS = 4
 STATUS_NONFINITE = 5
+#: A run stopped by its stop flag (Ctrl-C, :mod:`contactvib.interrupts`).
+STATUS_INTERRUPTED = 6
 # ---------------------------------------------------------------- Newton shooting
 STATUS_NEWTON_DIVERGED = 10
 STATUS_NEWTON_SINGULAR = 11
@@ -62,6 +64,7 @@ MESSAGES = {
     ("status", STATUS_RECORD_FULL): "step record full",
     ("status", STATUS_TOO_MANY_EVENTS): "too many contact events in one step",
     ("status", STATUS_NONFINITE): "non-finite state",
+    ("status", STATUS_INTERRUPTED): "interrupted",
     ("status", STATUS_NEWTON_DIVERGED): "Newton shooting diverged",
     ("status", STATUS_NEWTON_SINGULAR): "Newton shooting: singular M - I",
     ("status", STATUS_NEWTON_MAXITER): "Newton shooting did not converge",

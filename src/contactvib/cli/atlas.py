@@ -9,6 +9,7 @@ from __future__ import annotations
 import click
 
 from contactvib.cli.common import InputError, LevelsCommand, _checked, _int, _levels, _mapped, _output_folder
+from contactvib.cli.friction import friction_spec_option
 from contactvib.cli.sweeps import _sweep_inputs, _sweep_levels, _sweep_options, _writing_into
 from contactvib.model import WORKERS_MAX, ParameterError
 
@@ -72,6 +73,7 @@ def _backend(workers, dask_workers, scheduler):
 @click.option("--npa", default=None, metavar="N",
               help="Levels from --pa-min to --pa-max, evenly spaced (rounded to 1e-9 Q)  [default: 96]")
 @_sweep_options
+@friction_spec_option
 @click.option("--dask-workers", default=None, metavar="N",
               help="Run the levels on a local Dask cluster (LocalCluster) of N single-threaded worker processes.")
 @click.option("--scheduler", default=None, metavar="ADDRESS",

@@ -62,11 +62,51 @@ def _friction_options(f):
                                  "= 0.8235 of a Hertz contact at nu = 0.3].")),
         ("--mu", dict(default="0.3", show_default=True, help="Coulomb friction coefficient mu, > 0.")),
         ("--vd", dict(default="0.1", show_default=True, metavar="MM_S",
-                      help="Drive velocity v_d [mm/s] of the drive spring's end, > 0.")),
+                      help="Drive velocity v_d [mm/s] of the drive spring's end, >= 0 (0: the spring at rest holds "
+                           "the slider, stretched to mu W at the start).")),
     ]
     for name, kw in opts:
         f = click.option(name, **kw)(f)
     return f
+
+
+#: The entries of a sweep's ``--friction`` (FrictionModel fields), by their symbols in messages.
+SPEC_KEYS = {"mu": "mu", "kt_ratio": "kt_ratio", "kt_law": "kt_law", "kd": "k_d", "cd": "c_d", "vd": "v_d",
+             "beta": "beta", "drive": "drive", "ft": "F_T"}
+
+
+def friction_spec_option(f):
+    """``--friction mu=…,kt_ratio=…,vd=…`` of ``resonance`` and ``atlas``: friction columns in the dataset."""
+    return click.option(
+        "--friction", "friction", default=None, metavar="NAME=VALUE,...",
+        help="Add friction columns (issue 26: friction ratio, stick and free fractions, tangential "
+             "oscillation of every periodic point) with these tangential parameters, the defaults of "
+             "`contactvib friction` otherwise: mu (0.3), kt_ratio (0.8235), kt_law (normal|constant), kd [N/m] "
+             "(1e5), cd [N s/m] (30), vd [mm/s] (0.1), beta (1), drive (velocity|force), ft [N]; "
+             "`--friction default` for all defaults.")(f)
+
+
+def friction_spec(text):
+    """The FrictionModel of ``--friction`` (``NAME=VALUE`` pairs separated by commas, or
+    ``default``), or None when not given; one-line InputErrors naming ``--friction NAME``."""
+    from contactvib.friction import FrictionModel
+
+    if text is None:
+        return None
+    kw = {}
+    if text.strip() not in ("default", ""):
+        for item in text.split(","):
+            name, eq, value = (part.strip() for part in item.partition("="))
+            if not eq or name not in SPEC_KEYS or not value:
+                raise InputError(f"--friction: {item.strip()!r} is not NAME=VALUE of a friction parameter "
+                                 f"({', '.join(SPEC_KEYS)}), or 'default'")
+            if name in kw:
+                raise InputError(f"--friction: {name} given twice")
+            kw[name] = value
+    names = {sym: f"--friction {key}" for key, sym in SPEC_KEYS.items()}
+    if kw.get("drive", "velocity") == "force" and "ft" not in kw:
+        raise InputError("--friction drive=force: needs the tangential force ft=N")
+    return _mapped(names, FrictionModel, **kw)
 
 
 def _friction_model():

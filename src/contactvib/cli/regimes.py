@@ -72,7 +72,8 @@ def _model_of(ds, path):
               help="Output folder: map.nc and one map_<quantity>.png per map.")
 def map_(dataset, orders, curves_dir, out):
     """Regime maps over (f_e, P_a) of a dataset with many levels: coexisting attractors, highest
-    resonance order, contact loss, chaos, largest period."""
+    resonance order, contact loss, chaos, largest period (and the lowest and highest friction
+    ratio of a dataset swept with --friction)."""
     from contactvib.sweeps.regimes import load_curves
 
     ms = sorted({_int("--orders", t, 1, EVOLUTION_ORDER_MAX) for t in orders})
@@ -106,6 +107,7 @@ def run(ds, outp: Path, curves, model, orders, pa_range):
     from contactvib.plotting.regimes import regime_figure
     from contactvib.sweeps.dataset import write_atomic
     from contactvib.sweeps.regimes import (
+        FRICTION_MAPS,
         MAP_VARIABLES,
         count_changes,
         curve_crossings,
@@ -118,7 +120,8 @@ def run(ds, outp: Path, curves, model, orders, pa_range):
         curves = evolution_curves(model, orders, *pa_range, out=outp, log=None)
     maps = regime_maps(ds)
     write_atomic(xr.merge([maps, curves_dataset(curves)], combine_attrs="override"), outp / "map.nc")
-    for name in MAP_VARIABLES:
+    names = [n for n in MAP_VARIABLES + FRICTION_MAPS if n in maps]  # friction: datasets swept with it
+    for name in names:
         save_figure(regime_figure(maps, name, curves), outp / f"map_{name}.png")
     n = maps["n_attractors"].values
     nl = maps.sizes["pa_over_q"]
@@ -136,4 +139,4 @@ def run(ds, outp: Path, curves, model, orders, pa_range):
                 hits += bool(changes.size and np.min(np.abs(changes - f)) <= df)
         click.echo(f"{len(curves)} curves; {hits} of {total} fold crossings of the levels lie within one grid "
                    f"step ({df:g} Hz) of a change of the count")
-    click.echo(f"wrote {outp / 'map.nc'} and {len(MAP_VARIABLES)} figures map_*.png")
+    click.echo(f"wrote {outp / 'map.nc'} and {len(names)} figures map_*.png")

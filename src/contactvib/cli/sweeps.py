@@ -29,6 +29,7 @@ from contactvib.cli.common import (
     _positive,
     level_kind_option,
 )
+from contactvib.cli.friction import friction_spec_option
 from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
 
 __all__: list = []
@@ -99,13 +100,15 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
     from contactvib.sweeps.sweep import SweepSettings
 
     level_kind = _other.get("level_kind", "force")
+    from contactvib.cli.friction import friction_spec
 
     lo, hi = _frequency_range(fmin, fmax)
     kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=_positive("--df", "df", df, "Hz"),
               multistart_per_octave=_number("--multistart-per-octave", "multistart_per_octave",
                                             per_octave),
               multistart_starts=_int("--starts", starts, 0), seed=_int("--seed", seed, 0),
-              kmax=_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind)
+              kmax=_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind,
+              friction=friction_spec(_other.get("friction")))
     return _mapped(_SWEEP_OPTIONS, SweepSettings, **kw)
 
 
@@ -147,6 +150,7 @@ def _workers(text):
 @click.option("--pa", multiple=True, default=("0.65",), show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
 @_sweep_options
+@friction_spec_option
 @click.option("--out", default="resonance", show_default=True, type=click.Path(file_okay=False),
               help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
                    "diagram per level.")

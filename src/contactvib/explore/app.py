@@ -437,7 +437,7 @@ class Page:
         with the page's attractors on it; a one-line note when P_a is not a stored level."""
         from bokeh.events import Tap
 
-        from contactvib.explore.dataset_view import graph_figure
+        from contactvib.explore.dataset_view import friction_figure, graph_figure
 
         lv, note = self._graph_points()
         if lv is None:
@@ -457,7 +457,9 @@ class Page:
             self.fields["fe"].value = f"{lv.snap(event.x):g}"
 
         fig.on_event(Tap, tapped)
-        self.graph[:] = [pn.pane.Bokeh(fig, css_classes=["resonance-graph"])]
+        friction = friction_figure(lv, fig.x_range)  # a dataset swept with --friction
+        self.graph[:] = [pn.pane.Bokeh(fig, css_classes=["resonance-graph"])] + (
+            [] if friction is None else [pn.pane.Bokeh(friction, css_classes=["friction-graph"])])
 
     def _sync_url(self):
         loc = pn.state.location

@@ -6,7 +6,9 @@ level's points when the page asks for it; :func:`graph_figure` draws it as
 :func:`contactvib.plotting.figures.resonance_graph` does (A_pp [µm, log] against f_e [Hz]; colour
 = resonance order with the same colours, :func:`contactvib.sweeps.labels.order_colour`; dashed
 after period doubling; dotted = bouncing orbits; red dots = non-periodic attractors; a gold
-underlay on parts no laboratory sweep reaches) with the page's current attractors on top."""
+underlay on parts no laboratory sweep reaches) with the page's current attractors on top; for a
+dataset swept with friction (``--friction``), :func:`friction_figure` draws the friction ratio of
+the same branches below it."""
 
 from __future__ import annotations
 
@@ -14,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "DatasetError"]
+__all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "friction_figure", "DatasetError"]
 
 _VARS = ("fe_hz", "app_um", "branch_index", "kind", "resonance")
 
@@ -26,7 +28,8 @@ class DatasetError(ValueError):
 @dataclass(frozen=True)
 class LevelPoints:
     """The stored attractor points of one level (per point; ``isolated`` per point: its branch
-    is not reached by a laboratory sweep)."""
+    is not reached by a laboratory sweep; ``friction_ratio`` [1] per point for a dataset swept
+    with friction, else None)."""
 
     pa_over_q: float
     fe_hz: np.ndarray
@@ -35,6 +38,7 @@ class LevelPoints:
     kind: np.ndarray
     resonance: np.ndarray
     isolated: np.ndarray
+    friction_ratio: np.ndarray | None = None
 
     def snap(self, fe_hz: float) -> float:
         """The stored grid frequency nearest ``fe_hz`` [Hz]."""
@@ -101,9 +105,10 @@ def level_points(ds, pa_over_q: float, pa_rounded=None) -> LevelPoints:
     reach = (ds["branch_reached_by_sweep"].values if "branch_reached_by_sweep" in ds
              else np.ones(ds.sizes.get("branch", 0), np.int8))
     br = v["branch_index"].astype(int)
+    friction = part["friction_ratio"].values[keep].astype(float) if "friction_ratio" in ds else None
     return LevelPoints(float(pa_over_q), v["fe_hz"].astype(float), v["app_um"].astype(float), br,
                        v["kind"].astype(str), v["resonance"].astype(str),
-                       reach[br] == 0 if reach.size else np.zeros(br.size, bool))
+                       reach[br] == 0 if reach.size else np.zeros(br.size, bool), friction)
 
 
 def _lines(lv: LevelPoints):
@@ -164,6 +169,30 @@ def graph_figure(lv: LevelPoints, title: str = ""):
     fig.legend.click_policy = "hide"
     fig.add_layout(fig.legend[0], "right")
     return fig, current
+
+
+def friction_figure(lv: LevelPoints, x_range=None):
+    """A Bokeh figure of the friction ratio ⟨F_drive⟩/(μ W) [1] of the level's periodic points
+    against f_e [Hz], branch by branch in the resonance graph's colours and styles (None when
+    the dataset has no friction columns); ``x_range``: the resonance graph's, shared."""
+    from dataclasses import replace
+
+    from bokeh.plotting import figure
+
+    if lv.friction_ratio is None:
+        return None
+    kw = {} if x_range is None else {"x_range": x_range}
+    fig = figure(height=260, width=1000, x_axis_label="f_e [Hz]",
+                 y_axis_label="friction ratio <F_drive>/(mu W)", tools="pan,box_zoom,wheel_zoom,reset",
+                 title=f"Friction ratio, P_a = {lv.pa_over_q:g} Q (1: no reduction)", **kw)
+    styles, _iso, _nonper = _lines(replace(lv, app_um=lv.friction_ratio))
+    for (colour, width, dash, label), (xs, ys) in sorted(styles.items(), key=lambda kv: _order_key(kv[0][3])):
+        fig.multi_line(xs, ys, line_color=colour, line_width=width, line_dash=dash, legend_label=label)
+    if fig.legend:
+        fig.legend.label_text_font_size = "8pt"
+        fig.legend.click_policy = "hide"
+        fig.add_layout(fig.legend[0], "right")
+    return fig
 
 
 def _order_key(label: str):

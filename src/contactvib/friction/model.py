@@ -31,9 +31,9 @@ from contactvib.model.checks import ParameterError, check_choice, check_range
 #: Mindlin's ratio of tangential to normal stiffness of a Hertz contact, 2(1 − ν)/(2 − ν) at ν = 0.3.
 MINDLIN_RATIO = 2.0 * (1.0 - 0.3) / (2.0 - 0.3)
 KT_LAWS = ("normal", "constant")
-#: Drives of the slider: the end of a drive spring moving at v_d, or a constant tangential force
-#: F_T (with the damper c_d to the ground). A spring at rest (v_d = 0) is not built: its steady
-#: state depends on its initial stretch.
+#: Drives of the slider: the end of a drive spring moving at v_d (v_d = 0: the spring at rest,
+#: holding the slider; see :class:`FrictionModel`), or a constant tangential force
+#: F_T (with the damper c_d to the ground).
 DRIVES = ("velocity", "force")
 
 
@@ -57,7 +57,13 @@ class FrictionModel:
         Drive damper c_d [N s/m], ≥ 0 (default 30: a damping ratio of about 0.1 of the slider on
         the drive spring).
     vd : float
-        Drive velocity v_d [mm/s], > 0 (default 0.1).
+        Drive velocity v_d [mm/s], ≥ 0 (default 0.1). v_d = 0: the drive spring at rest holds
+        the slider. It starts stretched to the static friction limit μ W (the drive stopped at
+        the onset of sliding) and the vibration lets the slider creep until the spring's force
+        is what the vibrating contact holds; ``friction_ratio`` is then that held mean
+        tangential force ⟨F_drive⟩ / (μ W) (1: the contact holds the full static load; < 1:
+        the vibration relaxed part of it; 0 where the contact flies and the spring relaxes
+        completely). No drive work: the energy residual is NaN.
     beta : float
         Hess & Soom's exponent β of the slip limit μ W (R/W)^β [1], 0 < β ≤ 1 (1: Coulomb, μ R).
     drive : {"velocity", "force"}
@@ -90,7 +96,7 @@ class FrictionModel:
                                  "spring (or drive='force' with a constant tangential force ft)")
         put(self, "kd", kd)
         put(self, "cd", check_range("c_d", self.cd, 0.0, True, "N s/m", upper=1e12))
-        put(self, "vd", check_range("v_d", self.vd, 0.0, False, "mm/s", upper=1e6))
+        put(self, "vd", check_range("v_d", self.vd, 0.0, True, "mm/s", upper=1e6))
         put(self, "beta", check_range("beta", self.beta, 0.0, False, "1", upper=1.0))
         if self.drive == "force":
             put(self, "ft", check_range("F_T", self.ft, 0.0, False, "N", upper=1e12))
@@ -100,7 +106,9 @@ class FrictionModel:
 
     def parameters(self) -> dict:
         """The parameters as a dict (JSON, dataset attributes)."""
-        return asdict(self)
+        if "_parameters" not in self.__dict__:  # computed once: a sweep asks at every point
+            object.__setattr__(self, "_parameters", asdict(self))
+        return dict(self.__dict__["_parameters"])
 
     def kernel_parameters(self, model) -> np.ndarray:
         """``tpar`` of ``contactvib._kernels.friction`` for ``model``: μ, β, kt_ratio, the
@@ -112,12 +120,12 @@ class FrictionModel:
                          0.0 if force else self.kd * y0 / W, self.cd * y0 * w / W,
                          0.0 if force else self.vd * 1e-3 / (y0 * w), model.kappa, self.ft / W])
 
-    def scales(self, model) -> np.ndarray:
+    def scales(self, model, tpar=None) -> np.ndarray:
         """Scales of w [y0], w' and f_t [W] for error control and the steady-state test: the
         elastic displacement μ/k_t (inf under a force drive: u drifts, its error does not act
         back and it is not compared), the drive velocity plus the stick oscillation's velocity,
-        and μ."""
-        tp = self.kernel_parameters(model)
+        and μ (``tpar``: :meth:`kernel_parameters` of ``model`` if known)."""
+        tp = self.kernel_parameters(model) if tpar is None else tpar
         kt0 = self.kt_ratio * model.kappa
         w = math.inf if self.drive == "force" else self.mu / kt0  # a force drive's u drifts: not compared
         return np.array([w, tp[6] + self.mu / math.sqrt(kt0 * model.kappa), self.mu])

@@ -27,8 +27,9 @@ from contactvib._kernels import friction_period as kp
 from contactvib._kernels.contact import contact_force_array
 from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import sample_records
-from contactvib._kernels.status import STATUS_OK, status_message
+from contactvib._kernels.status import STATUS_INTERRUPTED, STATUS_OK, status_message
 from contactvib.friction.model import FrictionModel
+from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor
@@ -42,6 +43,14 @@ RTOL = 1e-11
 STEADY_TOL = 1e-9
 #: Distance at which a settled run stops refining its steady state (or at its noise floor).
 STEADY_TOL_FINE = 1e-13
+#: Relative distance of z and P(z) at which a warm-started Newton run (``warm``, the sweeps'
+#: friction columns) stops: the columns' relative accuracy.
+WARM_TOL = 1e-6
+#: Integrator tolerance of the tangential motion under a warm start (Newton to WARM_TOL).
+WARM_RTOL = 1e-9
+#: Integrator tolerance of the normal orbit's record under a warm start (1e-12 otherwise): its R(t)
+#: to far below WARM_TOL, at 30 % fewer steps.
+WARM_RECORD_RTOL = 1e-9
 #: Drift [y0] per normal period below which a slider under a constant force is stuck (round-off).
 STUCK_DRIFT = 1e-10
 #: Largest tangential period searched [normal periods].
@@ -194,11 +203,12 @@ class FrictionResult:
             mode=names[so[:, kp.S_MODE].astype(int)])
 
 
-def _normal_record(excitation: Excitation, attractor: Attractor):
+def _normal_record(excitation: Excitation, attractor: Attractor, rtol: float | None = None):
     if attractor.period is None:
         raise FrictionError("a non-periodic normal attractor has no periodic R(t): friction is "
                             "computed for periodic attractors only")
-    rec, _z, _tf = record(excitation, attractor.state, attractor.period)
+    kw = {} if rtol is None else {"rtol": rtol}
+    rec, _z, _tf = record(excitation, attractor.state, attractor.period, **kw)
     return rec, attractor.period * excitation.tau_period
 
 
@@ -269,18 +279,42 @@ def _patience(tpar, period: float) -> int:
     return int(max(8, math.ceil(3.0 * 2.0 * tpar[kf.T_KAPPA] / tpar[kf.T_CD] / period)))
 
 
-def auto_max_periods(model: ContactModel, fm: FrictionModel, period: float) -> int:
+def auto_max_periods(model: ContactModel, fm: FrictionModel, period: float, tpar=None) -> int:
     """Default limit of normal periods: 60 decay times 2 M / c_d of the slider on its drive (what
     reaches the steady tolerance from a start error of order 1 with friction adding its own
-    damping), at least 200, at most 20000."""
-    tpar = fm.kernel_parameters(model)
+    damping), at least 200, at most 20000; ten times that for a spring at rest (v_d = 0: the held
+    slider creeps ever more slowly as the spring relaxes) (``tpar``: ``fm.kernel_parameters(model)``
+    if known)."""
+    tpar = fm.kernel_parameters(model) if tpar is None else tpar
     if tpar[kf.T_CD] <= 0.0:
         return 20000
-    return int(min(20000, max(200, math.ceil(60.0 * 2.0 * tpar[kf.T_KAPPA] / tpar[kf.T_CD] / period))))
+    slow = 10.0 if fm.drive == "velocity" and fm.vd == 0.0 else 1.0  # a held slider's creep: slower
+    return int(min(20000, max(200, math.ceil(slow * 60.0 * 2.0 * tpar[kf.T_KAPPA] / tpar[kf.T_CD] / period))))
+
+
+def _newton(rec, par, tpar, scale, warm, k: int, fe_hz: float, cold):
+    """The fixed point of the period map from ``warm``'s prediction at ``fe_hz`` [Hz] (or the
+    ``cold`` start), ``warm``'s Jacobian kept when its period is ``k``, and the steady period from it in the layout of
+    :func:`contactvib._kernels.friction_period.settle`'s outputs (n, j, distance, quad, times,
+    wr, states, modes: one period); None if Newton does not converge."""
+    from contactvib.friction.newton import newton_steady
+
+    if warm.period != k:
+        warm.jac = None
+    start = cold if warm.z is None else (warm.predict(k, fe_hz), warm.mode, warm.sigma)
+    got = newton_steady(rec, par, tpar, WARM_RTOL, scale, warm, *start, tol=WARM_TOL)
+    if got is None:
+        warm.jac = None
+        return None
+    z, mode, sigma, warm.jac, (pz, m1, s1, times, wr), _runs = got
+    d = float(np.max(np.abs(pz[:3] - z) / (scale + np.abs(pz[:3]))))
+    return (1, 1, d, pz[None, 3:].copy(), times[None, :], wr[None, :], np.vstack([z, pz[:3]]),
+            np.array([[mode, int(sigma)], [m1, int(s1)]], np.int64))
 
 
 def friction_at(model: ContactModel, excitation: Excitation, attractor: Attractor,
-                friction: FrictionModel | None = None, *, max_periods: int | None = None) -> FrictionResult:
+                friction: FrictionModel | None = None, *, max_periods: int | None = None,
+                with_limit: bool = True, warm=None) -> FrictionResult:
     """The steady tangential motion (friction ratio, stick fraction, energies) under the normal
     attractor ``attractor`` of ``model`` at ``excitation``.
 
@@ -295,19 +329,46 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         An unsettled run (a tangential motion that is not periodic with a period ≤ 8 normal
         periods, e.g. quasi-periodic stick–slip beating with the drive) is returned with
         ``settled = False`` and the means over the second half of its periods.
+    with_limit : bool
+        Compute ``limit_mean`` (a quadrature over the normal orbit; NaN when False: the dataset
+        columns do without it).
+    warm : contactvib.friction.newton.WarmStart or None
+        Start from the (extrapolated) steady state of the neighbouring points of a branch
+        (updated here to this one's) and find the fixed point of the period map by Newton's
+        method (:func:`contactvib.friction.newton.newton_steady`), to :data:`WARM_TOL` (the
+        tangential motion integrated at :data:`WARM_RTOL`, the normal orbit recorded at
+        :data:`WARM_RECORD_RTOL`); the means are those of the period
+        from the fixed point (the resonance sweeps' friction columns). Velocity drive only;
+        where Newton does not converge the transient is settled from the warm state, to
+        :data:`WARM_TOL`. None: the
+        transient from steady sliding, refined to the integrator's noise floor.
     """
     fm = FrictionModel() if friction is None else friction
     if not isinstance(fm, FrictionModel):
         raise ParameterError("friction", friction, "must be a FrictionModel")
-    rec, period = _normal_record(excitation, attractor)
-    n_max = auto_max_periods(model, fm, period) if max_periods is None else \
-        check_int("max_periods", max_periods, 1, 10**6)
+    n_max = None if max_periods is None else check_int("max_periods", max_periods, 1, 10**6)
+    rec, period = _normal_record(excitation, attractor, None if warm is None else WARM_RECORD_RTOL)
     tpar, par = fm.kernel_parameters(model), excitation.kernel_parameters()
-    scale = fm.scales(model)
+    scale = fm.scales(model, tpar)
     z0, mode, sigma = _start(rec, tpar, par)
-    st, n, j, dist, quad, times, wr, states, modes = kp.settle(
-        rec, period, par, tpar, z0, mode, sigma, RTOL, scale, n_max, JMAX, STEADY_TOL, STEADY_TOL_FINE,
-        _patience(tpar, period))
+    got = None
+    if warm is not None and fm.drive == "velocity":
+        got = _newton(rec, par, tpar, scale, warm, attractor.period, excitation.f_e, (z0, mode, sigma))
+        if got is None and warm.z is not None:
+            z0, mode, sigma = warm.z, warm.mode, warm.sigma
+    if got is not None:  # the fixed point and the steady period from it
+        st, (n, j, dist, quad, times, wr, states, modes) = STATUS_OK, got
+    else:
+        n_max = auto_max_periods(model, fm, period, tpar) if n_max is None else n_max
+        stop = new_stop_flag()  # Ctrl-C (or explore's stop) ends the kernel within one normal period
+        # a warm start's fallback: to the columns' accuracy (WARM_TOL), not to the noise floor
+        tols = (WARM_RTOL, WARM_TOL, WARM_TOL, 2) if warm is not None else \
+            (RTOL, STEADY_TOL, STEADY_TOL_FINE, _patience(tpar, period))
+        st, n, j, dist, quad, times, wr, states, modes = run_interruptible(
+            kp.settle, rec, period, par, tpar, z0, mode, sigma, tols[0], scale, n_max, JMAX, tols[1], tols[2],
+            tols[3], stop, stop=stop)
+    if st == STATUS_INTERRUPTED:
+        raise KeyboardInterrupt
     if st != STATUS_OK:
         raise FrictionError(f"tangential integration failed after {n} periods ({status_message(st)})")
     jj = j if j > 0 else max(1, n // 2)  # unsettled (quasi-periodic stick-slip): the last half's mean
@@ -325,11 +386,13 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     tm = times[sel, :3].sum(axis=0) / span
     switches = times[sel, 3].sum() / jj
     jh = j if j > 0 else 1  # the history of an unsettled run: its last normal period
+    if warm is not None:
+        warm.push(states[n - jh], modes[n - jh, 0], modes[n - jh, 1], attractor.period, excitation.f_e)
     run = (model, fm, rec, period, tpar, par, states[n - jh].copy(), int(modes[n - jh, 0]),
            float(modes[n - jh, 1]), jh)
     return FrictionResult(
         friction_ratio=float(ratio), mu_apparent=float(ratio * fm.mu), mean_drive_force_n=float(ratio * fm.mu * W),
-        limit_mean=mean_limit(model, excitation, attractor, fm.beta),
+        limit_mean=mean_limit(model, excitation, attractor, fm.beta) if with_limit else math.nan,
         stick_fraction=float(tm[kf.STICK]), slip_fraction=float(tm[kf.SLIP]), free_fraction=float(tm[kf.FREE]),
         contact_loss_fraction=float(attractor.contact_loss_fraction),
         tangential_app_um=math.nan if force else float((wr[sel, 1].max() - wr[sel, 0].min()) * u.y_um),

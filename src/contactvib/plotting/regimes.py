@@ -1,6 +1,6 @@
 """Regime maps over (f_e [Hz], P_a [Q]): one panel per quantity of
 :func:`contactvib.sweeps.regimes.regime_maps`, with its colour bar (discrete for counts, orders,
-periods and chaos, sequential for the contact-loss share) and the fold (solid) and
+periods and chaos, sequential for the contact-loss share and the friction ratios) and the fold (solid) and
 period-doubling (dashed) curves of the 1/m resonances on top, coloured by m as in the resonance
 graphs."""
 
@@ -19,6 +19,8 @@ PANEL_TITLES = {
     "contact_loss_share": ("Attractors that lose contact", "share of the attractors with y < 0"),
     "chaotic": ("Chaos", "chaotic attractor present (λ > 0)"),
     "max_period": ("Largest period", "largest period [excitation periods]"),
+    "friction_ratio_min": ("Lowest friction ratio", "lowest <F_drive>/(μ W) of the attractors"),
+    "friction_ratio_max": ("Highest friction ratio", "highest <F_drive>/(μ W) of the attractors"),
 }
 
 
@@ -83,10 +85,10 @@ def plot_regime_map(maps, name: str, curves=(), ax=None, log_f: bool = True):
     fx = _edges(fe, 0.5 * df if np.isfinite(df) else 0.5)
     py = _edges(pa, 0.025)
     title, cbar_label = PANEL_TITLES[name]
-    if name == "contact_loss_share":
+    if name in ("contact_loss_share", "friction_ratio_min", "friction_ratio_max"):
         from matplotlib import colormaps
 
-        cmap = colormaps["viridis"].with_extremes(bad="0.75")
+        cmap = colormaps["viridis" if name == "contact_loss_share" else "magma"].with_extremes(bad="0.75")
         mesh = ax.pcolormesh(fx, py, np.ma.masked_invalid(z), cmap=cmap, vmin=0.0, vmax=1.0, rasterized=True)
         cbar = ax.figure.colorbar(mesh, ax=ax, pad=0.02)
     else:

@@ -11,7 +11,11 @@ that bound its regions.
 * ``contact_loss_share`` — the fraction of the attractors that lose contact (y < 0 on the orbit);
 * ``chaotic`` — 1 where a non-periodic attractor has λ > ``LYAPUNOV_ZERO``;
 * ``max_period`` — the largest period [excitation periods] of the periodic attractors (0 where
-  only non-periodic ones are stored).
+  only non-periodic ones are stored);
+* ``friction_ratio_min``, ``friction_ratio_max`` — for a dataset swept with friction
+  (``--friction``, :mod:`contactvib.friction.columns`) only: the lowest and highest friction
+  ratio ⟨F_drive⟩/(μ W) of the periodic attractors at the grid point (NaN where none has one):
+  the strongest friction reduction there, and its spread over the coexisting attractors.
 
 Grid points without a stored attractor (none reached there) have ``n_attractors`` = 0 and the
 others' fill values (−1, NaN). The fold and period-doubling curves of the 1/m resonances
@@ -32,13 +36,15 @@ import numpy as np
 from contactvib.sweeps.labels import LYAPUNOV_ZERO, resonance_order
 
 __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves_dataset", "curve_crossings",
-           "count_changes", "find_dataset", "DATASET_NAMES", "MAP_VARIABLES"]
+           "count_changes", "find_dataset", "DATASET_NAMES", "MAP_VARIABLES", "FRICTION_MAPS"]
 
 #: File names looked for in a folder given as the dataset, in this order.
 DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
 
 #: The maps, in the order of the figures.
 MAP_VARIABLES = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period")
+#: The maps of a dataset with friction columns (after :data:`MAP_VARIABLES`).
+FRICTION_MAPS = ("friction_ratio_min", "friction_ratio_max")
 
 _ATTRS = {
     "n_attractors": {"units": "1", "long_name": "coexisting attractors"},
@@ -51,6 +57,10 @@ _ATTRS = {
                                            f"{LYAPUNOV_ZERO:g} per period)"},
     "max_period": {"units": "excitation periods", "long_name": "largest period of the periodic attractors",
                    "comment": "0 = only non-periodic attractors; -1 = no attractor stored"},
+    "friction_ratio_min": {"units": "1", "long_name": "lowest friction ratio <F_drive>/(mu W) of the attractors",
+                           "comment": "NaN = no attractor with a friction ratio stored"},
+    "friction_ratio_max": {"units": "1", "long_name": "highest friction ratio <F_drive>/(mu W) of the attractors",
+                           "comment": "NaN = no attractor with a friction ratio stored"},
 }
 
 
@@ -99,7 +109,8 @@ def regime_maps(ds):
     xarray.Dataset
         Dimensions ``pa_over_q`` [Q] × ``fe_hz`` [Hz]; the variables of ``MAP_VARIABLES``
         with ``units`` and ``long_name``; attributes ``df_hz``, ``fn0_hz`` and the dataset's
-        ``model``.
+        ``model``; for a dataset with friction columns also :data:`FRICTION_MAPS` and the
+        attribute ``friction``.
     """
     import xarray as xr
 
@@ -130,6 +141,8 @@ def regime_maps(ds):
     data = {"n_attractors": count.reshape(shape).astype(np.int64), "max_order": max_order.reshape(shape),
             "contact_loss_share": share.reshape(shape), "chaotic": chaotic.reshape(shape),
             "max_period": max_period.reshape(shape)}
+    if "friction_ratio" in ds:
+        data.update({k: v.reshape(shape) for k, v in _friction_extremes(ds, cell, size).items()})
     dims = ("pa_over_q", "fe_hz")
     level_attrs = {k: v for k, v in ds["pa_over_q"].attrs.items() if k in ("units", "long_name")}
     coords = {"pa_over_q": ("pa_over_q", levels, level_attrs or {"units": "Q",
@@ -138,9 +151,22 @@ def regime_maps(ds):
     out = xr.Dataset({k: (dims, v, dict(_ATTRS[k])) for k, v in data.items()}, coords=coords)
     out.attrs.update({"title": "contactvib regime maps over (f_e, P_a)", "df_hz": df,
                       "fn0_hz": float(ds.attrs.get("fn0_hz", np.nan)), "model": ds.attrs.get("model", "")})
+    if "friction" in ds.attrs:
+        out.attrs["friction"] = ds.attrs["friction"]
     if "excitation" in ds.attrs:  # a base-motion dataset: the levels are U [um] or A [g]
         out.attrs.update({k: ds.attrs[k] for k in ("excitation", "level_symbol", "level_unit")})
     return out
+
+
+def _friction_extremes(ds, cell, size) -> dict:
+    """The lowest and highest friction ratio in each cell (NaN where none is finite)."""
+    fr = np.asarray(ds["friction_ratio"].values, float)
+    ok = np.isfinite(fr)
+    lo, hi = np.full(size, np.inf), np.full(size, -np.inf)
+    np.minimum.at(lo, cell[ok], fr[ok])
+    np.maximum.at(hi, cell[ok], fr[ok])
+    return {"friction_ratio_min": np.where(np.isfinite(lo), lo, np.nan),
+            "friction_ratio_max": np.where(np.isfinite(hi), hi, np.nan)}
 
 
 @dataclass

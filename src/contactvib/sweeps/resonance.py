@@ -68,7 +68,10 @@ class OutputLocked(ParameterError):
 
 
 def _show(v) -> str:
-    """A stored value in a message: floats shortest (4.0 -> 4), others as text."""
+    """A stored value in a message: floats shortest (4.0 -> 4), a dict as NAME=VALUE pairs (the
+    friction parameters), others as text."""
+    if isinstance(v, dict):
+        return ",".join(f"{k}={_show(x)}" for k, x in v.items())
     if isinstance(v, float):
         return f"{v:g}" if float(f"{v:g}") == v else repr(v)
     return str(v)
@@ -172,6 +175,10 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     st = SweepSettings(**settings)
     level = trace_level(model, pa, st)
     ds = level_dataset(model, level, settings)
+    if st.friction is not None:  # issue 26: the tangential motion under every periodic point
+        from contactvib.friction.columns import with_friction
+
+        ds = with_friction(ds, model, level, st)
     if chunk is not None:
         write_atomic(ds.assign_attrs({_LEVEL_ATTR: float(pa)}), chunk, compress=compress)
     return ds, (on_level(model, ds) if on_level is not None else None)
@@ -205,11 +212,19 @@ def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -
     except Exception:  # unreadable or foreign file: recompute it
         return False
     for stored, requested in ((stored_settings, settings), (stored_model, model.parameters())):
-        for name in list(requested) + [k for k in stored if k not in requested]:
-            if name not in stored or name not in requested or stored[name] != requested[name]:
-                raise ResumeMismatch(path, name, stored.get(name, "nothing"),
-                                     requested.get(name, "nothing"))
+        _same_or_refuse(path, stored, requested)
     return True
+
+
+def _same_or_refuse(path: Path, stored: dict, requested: dict, prefix: str = "") -> None:
+    """:class:`ResumeMismatch` naming the first entry where ``stored`` and ``requested`` differ
+    (a dict entry, e.g. the friction parameters, by its own entries: ``friction.mu``)."""
+    for name in list(requested) + [k for k in stored if k not in requested]:
+        a, b = stored.get(name, "nothing"), requested.get(name, "nothing")
+        if isinstance(a, dict) and isinstance(b, dict):
+            _same_or_refuse(path, a, b, f"{prefix}{name}.")
+        elif name not in stored or name not in requested or a != b:
+            raise ResumeMismatch(path, prefix + name, a, b)
 
 
 def check_sweep_level(model: ContactModel, level, settings: SweepSettings) -> float:

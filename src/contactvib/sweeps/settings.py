@@ -51,6 +51,11 @@ class SweepSettings:
         What the level holds (:data:`contactvib.model.LEVEL_KINDS`): "force" (P_a/Q, the
         paper's), "base-um" (base displacement U [µm]: the inertial force grows with f_e²) or
         "base-g" (base acceleration A [g]).
+    friction : FrictionModel, dict or None
+        The tangential model (:class:`contactvib.friction.FrictionModel`, or its parameters as a
+        dict) whose friction ratio, stick and free fractions and tangential oscillation are
+        computed for every periodic point of the level (:mod:`contactvib.friction.columns`);
+        None (the default): no friction columns.
     """
 
     fmin_hz: float = 30.0
@@ -68,6 +73,7 @@ class SweepSettings:
     same_tol: float = 1e-6
     capture_tol: float = 1e-3
     excitation: str = "force"
+    friction: object = None
 
     def __post_init__(self):
         # stored as checked (a number given as text is a float, a count an int)
@@ -92,20 +98,37 @@ class SweepSettings:
                      MEMORY_MAX // 4096)
         v["seed"] = check_int("seed", self.seed, 0)
         v["excitation"] = check_level_kind(self.excitation)
+        v["friction"] = _friction_model(self.friction)
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
     def to_dict(self) -> dict:
-        """The settings as keyword arguments (``excitation`` only when it is not the force, so
-        that a force sweep's record is the one it always was)."""
+        """The settings as keyword arguments (``excitation`` only when it is not the force and
+        ``friction``, the FrictionModel's parameters, only when given, so that a force sweep's
+        record is the one it always was)."""
         d = asdict(self)
         if d["excitation"] == "force":
             del d["excitation"]
+        if d["friction"] is None:  # a sweep without friction: the record it always was
+            del d["friction"]
         return d
 
     def excitation_at(self, model: ContactModel, level: float, f_e: float):
         """The sweep's excitation at ``level`` and f_e [Hz] (:func:`contactvib.model.excitation_at`)."""
         return excitation_at(model, level, f_e, self.excitation)
+
+
+def _friction_model(friction):
+    """``friction`` as a FrictionModel (a dict is its parameters), or None."""
+    if friction is None:
+        return None
+    from contactvib.friction.model import FrictionModel
+
+    if isinstance(friction, dict):
+        return FrictionModel(**friction)
+    if not isinstance(friction, FrictionModel):
+        raise ParameterError("friction", friction, "must be a FrictionModel, its parameters as a dict, or None")
+    return friction
 
 
 def frequency_grid(settings: SweepSettings) -> np.ndarray:
