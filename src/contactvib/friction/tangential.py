@@ -335,12 +335,12 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     warm : contactvib.friction.newton.WarmStart or None
         Start from the (extrapolated) steady state of the neighbouring points of a branch
         (updated here to this one's) and find the fixed point of the period map by Newton's
-        method (:func:`contactvib.friction.newton.newton_steady`), to :data:`WARM_TOL` (the
-        tangential motion integrated at :data:`WARM_RTOL`, the normal orbit recorded at
-        :data:`WARM_RECORD_RTOL`); the means are those of the period
+        method (``contactvib.friction.newton.newton_steady``), to ``WARM_TOL`` (the
+        tangential motion integrated at ``WARM_RTOL``, the normal orbit recorded at
+        ``WARM_RECORD_RTOL``); the means are those of the period
         from the fixed point (the resonance sweeps' friction columns). Velocity drive only;
         where Newton does not converge the transient is settled from the warm state, to
-        :data:`WARM_TOL`. None: the
+        ``WARM_TOL``. None: the
         transient from steady sliding, refined to the integrator's noise floor.
     """
     fm = FrictionModel() if friction is None else friction

@@ -109,7 +109,7 @@ def regime_maps(ds):
     xarray.Dataset
         Dimensions ``pa_over_q`` [Q] × ``fe_hz`` [Hz]; the variables of ``MAP_VARIABLES``
         with ``units`` and ``long_name``; attributes ``df_hz``, ``fn0_hz`` and the dataset's
-        ``model``; for a dataset with friction columns also :data:`FRICTION_MAPS` and the
+        ``model``; for a dataset with friction columns also ``FRICTION_MAPS`` and the
         attribute ``friction``.
     """
     import xarray as xr

@@ -52,9 +52,9 @@ class SweepSettings:
         paper's), "base-um" (base displacement U [µm]: the inertial force grows with f_e²) or
         "base-g" (base acceleration A [g]).
     friction : FrictionModel, dict or None
-        The tangential model (:class:`contactvib.friction.FrictionModel`, or its parameters as a
+        The tangential model (:class:`contactvib.FrictionModel`, or its parameters as a
         dict) whose friction ratio, stick and free fractions and tangential oscillation are
-        computed for every periodic point of the level (:mod:`contactvib.friction.columns`);
+        computed for every periodic point of the level (``contactvib.friction.columns``);
         None (the default): no friction columns.
     """
 
