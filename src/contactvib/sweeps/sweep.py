@@ -59,6 +59,8 @@ from contactvib.model import (
     ContactModel,
     ParameterError,
 )
+from contactvib.sweeps.dataset import TRACE_ROOTS
+from contactvib.sweeps.level_progress import report_points
 from contactvib.sweeps.newton_seeds import late_newton_seeds, newton_seeds
 from contactvib.sweeps.settings import SweepSettings, frequency_grid, multistart_indices
 
@@ -76,10 +78,6 @@ _MAXA = 48  # attractors per frequency in the shared table
 #: there never converges and costs up to a second an attempt. Every stored orbit is far below:
 #: the largest strobe point of paper.nc is x = 1.8e4 (4 mm, in flight near 30 Hz at 0.90 Q).
 SEED_STATE_MAX = 1e6
-
-#: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
-#: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
-TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation")
 
 
 @dataclass(frozen=True)
@@ -338,7 +336,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
     As the level goes on it reports the frequency points done so far
-    (``contactvib.sweeps.backends.report_points``, a no-op unless a run listens): two fifths
+    (``contactvib.sweeps.level_progress.report_points``, a no-op unless a run listens): two fifths
     of the grid once the sweeps (and their reverse traces) are done, four fifths once the
     multi-start frequencies are (the last fifth is the level's dataset: descriptions, Lyapunov
     exponents). It changes nothing computed.
@@ -359,8 +357,6 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
         if res is not None:
             lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
     lv.drain()
-    from contactvib.sweeps.backends import report_points
-
     starts = multistart_indices(st)
     report_points(pa_over_q, 2 * f.size // 5)
     observations = []
