@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 
+from contactvib.errors import ContactvibError
 from contactvib.model import ParameterError, check_finite, check_int
 from contactvib.model.checks import _to_float, format_number
 
@@ -18,7 +19,7 @@ def one_line(message: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
 
 
-class InputError(Exception):
+class InputError(ContactvibError):
     """A user input error: printed as one line (control characters escaped), no traceback, no
     usage banner."""
 
@@ -26,7 +27,7 @@ class InputError(Exception):
         super().__init__(one_line(str(message)))
 
 
-class RunInterrupted(Exception):
+class RunInterrupted(ContactvibError):
     """A command stopped by Ctrl-C (SIGINT): ``main`` prints ``contactvib: <message>`` as one
     line and exits 130 (not a KeyboardInterrupt, so that click adds nothing)."""
 

@@ -14,13 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactvib.sweeps.stored import DatasetError
+
 __all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "DatasetError"]
 
 _VARS = ("fe_hz", "app_um", "branch_index", "kind", "resonance")
-
-
-class DatasetError(ValueError):
-    """A dataset that cannot be shown; the text is one line naming the path."""
 
 
 @dataclass(frozen=True)

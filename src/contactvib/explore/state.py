@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contactvib.errors import ContactvibError
 from contactvib.model.laws import DAMPING_NAMES, EXPONENTIAL_DEFAULTS, HUNT_CROSSLEY_DEFAULT, LAW_NAMES
 from contactvib.model.oscillator import FAMILY_PARAMETERS, PAPER_DEFAULTS
 
@@ -107,7 +108,7 @@ class Point:
         return "".join(f" {shlex.quote(a)}" for a in self.model_args())
 
 
-class BadInput(ValueError):
+class BadInput(ContactvibError, ValueError):
     """An input refused by the checks; its text is the CLI's one-line message."""
 
 
@@ -116,7 +117,7 @@ def derived(model) -> dict[str, float]:
     return {"f_n0": model.f_n0, "y0": model.units.y_um, "zeta": model.zeta}
 
 
-class Stopped(Exception):
+class Stopped(ContactvibError):
     """A computation stopped at the time limit."""
 
 

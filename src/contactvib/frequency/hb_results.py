@@ -13,11 +13,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib._kernels.shooting import is_stable
+from contactvib.errors import ContactvibError
 
 __all__ = ["HBSolution", "HBBranch", "HBError"]
 
 
-class HBError(RuntimeError):
+class HBError(ContactvibError, RuntimeError):
     """Harmonic-balance Newton did not converge."""
 
 

@@ -15,6 +15,8 @@ import math
 import numbers
 import re
 
+from contactvib.errors import ContactvibError
+
 __all__ = ["ParameterError", "check_finite", "check_range", "check_int", "check_choice",
            "check_frequency_range", "check_pa_level", "format_number", "PA_NOTE", "SHOOTING_RTOL_RANGE",
            "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX", "EVOLUTION_ORDER_MAX",
@@ -48,7 +50,7 @@ R_RANGE = (1e-4, 1e3)
 MEMORY_MAX = 2 * 1024**3
 
 
-class ParameterError(ValueError):
+class ParameterError(ContactvibError, ValueError):
     """A parameter is outside its allowed range.
 
     Attributes

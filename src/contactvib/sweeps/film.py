@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.model.checks import ParameterError, check_int, check_range
+from contactvib.sweeps.stored import DatasetError
 
 __all__ = ["DATASET_NAMES", "FPS_RANGE", "SIZE_RANGE", "DatasetError", "LevelSource", "open_levels",
            "check_film", "film_limits", "FilmResult", "animate"]
@@ -32,11 +33,6 @@ DATASET_NAMES = ("paper.nc", "atlas.nc", "resonance.nc")
 FPS_RANGE = (0.0, 60.0)
 #: Frame width and height [pixels]: even integers (H.264 with yuv420p) in this range.
 SIZE_RANGE = (64, 4096)
-
-
-class DatasetError(ValueError):
-    """The dataset cannot be filmed: missing, not a contactvib resonance dataset, or no levels.
-    The message is one line."""
 
 
 @dataclass

@@ -8,12 +8,18 @@ import math
 
 import numpy as np
 
+from contactvib.errors import ContactvibError
 from contactvib.sweeps.dataset import FORMAT
 
-__all__ = ["attractors_at", "check_damage", "DamagedDataset"]
+__all__ = ["attractors_at", "check_damage", "DatasetError", "DamagedDataset"]
 
 
-class DamagedDataset(LookupError):
+class DatasetError(ContactvibError, ValueError):
+    """A resonance dataset that cannot be used: missing, not a contactvib resonance dataset of
+    this version, or without levels. The message is one line naming the path."""
+
+
+class DamagedDataset(ContactvibError, LookupError):
     """A resonance dataset whose variables are missing, not finite where they must be, or
     refer outside their arrays; the message says where (one line)."""
 
