@@ -10,7 +10,8 @@ import xarray as xr
 
 from contactvib.cli import main
 from contactvib.explore.dataset_view import DatasetError, DatasetLevels, graph_figure
-from contactvib.sweeps.labels import label_family, order_colour
+from contactvib.labels import label_family
+from contactvib.plotting.style import order_colour
 
 
 def test_levels_read_lazily_equal_the_file(small_dataset):

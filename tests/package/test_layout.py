@@ -187,3 +187,45 @@ def test_the_circle_finder_sees_function_level_imports(tmp_path):
     (pkg / "sub" / "b.py").write_text("def g():\n    from .a import f\n")
     assert import_circles(pkg) == [{"contactvib.sub.a": ["contactvib.sub.b"],
                                     "contactvib.sub.b": ["contactvib.sub.a"]}]
+
+
+# ------------------------------------------------------------------ private names stay private
+#
+# A name that starts with "_" is private to its module: a helper that another module needs is a
+# public name of the module that defines it. A module may import a private *module* (the
+# ``_kernels`` package, ``_dop853_coefficients``): what counts is the imported symbol, and
+# attribute access ``mod._name`` on a contactvib module it imported.
+
+
+def _private_uses(path: Path):
+    """``(line, what)`` of every private name of another contactvib module used by ``path``."""
+    name = _module_name(path, SRC)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    tree = ast.parse(path.read_text())
+    aliases = set()  # local names bound to contactvib modules
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(up + ([base] if base else []))
+            if base.split(".")[0] != "contactvib":
+                continue
+            for a in node.names:
+                target = SRC.parent.joinpath(*f"{base}.{a.name}".split("."))
+                if target.with_suffix(".py").is_file() or target.is_dir():
+                    aliases.add(a.asname or a.name)
+                elif a.name.startswith("_") and not a.name.startswith("__"):
+                    yield node.lineno, f"from {base} import {a.name}"
+        elif isinstance(node, ast.Import):
+            aliases |= {a.asname for a in node.names if a.asname and a.name.startswith("contactvib")}
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in aliases
+                and node.attr.startswith("_") and not node.attr.startswith("__")):
+            yield node.lineno, f"{node.value.id}.{node.attr}"
+
+
+@pytest.mark.parametrize("path", MODULES, ids=_rel)
+def test_no_module_uses_another_modules_private_names(path):
+    uses = [f"{_rel(path)}:{line}: {what}" for line, what in _private_uses(path)]
+    assert not uses, "make these public names of their module:\n" + "\n".join(uses)

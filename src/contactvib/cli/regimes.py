@@ -14,7 +14,7 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, LevelsCommand, _int, _output_folder
+from contactvib.cli.common import InputError, LevelsCommand, checked_output_folder, parse_int
 from contactvib.model import EVOLUTION_ORDER_MAX
 
 __all__: list = []
@@ -75,7 +75,7 @@ def map_(dataset, orders, curves_dir, out):
     resonance order, contact loss, chaos, largest period."""
     from contactvib.sweeps.regimes import load_curves
 
-    ms = sorted({_int("--orders", t, 1, EVOLUTION_ORDER_MAX) for t in orders})
+    ms = sorted({parse_int("--orders", t, 1, EVOLUTION_ORDER_MAX) for t in orders})
     if ms and curves_dir is not None:
         raise InputError("--curves: give either --orders (compute the curves) or --curves (reuse them)")
     curves = []
@@ -93,7 +93,7 @@ def map_(dataset, orders, curves_dir, out):
                              f"levels ({ds.attrs['level_symbol']} [{ds.attrs['level_unit']}])")
         if ms and len(levels) < 2:
             raise InputError(f"--orders: the curves need a range of P_a; DATASET = {path} has one level")
-        outp = _output_folder(out)
+        outp = checked_output_folder(out)
         run(ds, outp, curves, model, ms, (levels[0], levels[-1]) if levels else None)
 
 

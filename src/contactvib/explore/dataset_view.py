@@ -4,7 +4,7 @@ atlas): one P_a level at a time, read lazily, drawn as the paper's Fig. 2 (Bokeh
 :class:`DatasetLevels` opens the dataset once (only ``pa_over_q`` is read whole) and reads one
 level's points when the page asks for it; :func:`graph_figure` draws it as
 :func:`contactvib.plotting.figures.resonance_graph` does (A_pp [µm, log] against f_e [Hz]; colour
-= resonance order with the same colours, :func:`contactvib.sweeps.labels.order_colour`; dashed
+= resonance order with the same colours, :func:`contactvib.plotting.style.order_colour`; dashed
 after period doubling; dotted = bouncing orbits; red dots = non-periodic attractors; a gold
 underlay on parts no laboratory sweep reaches) with the page's current attractors on top."""
 
@@ -107,7 +107,8 @@ def level_points(ds, pa_over_q: float, pa_rounded=None) -> LevelPoints:
 def _lines(lv: LevelPoints):
     """Per style, the branch segments to draw: {(colour, width, dash, legend): (xs, ys)}, the
     isolated segments (xs, ys) and the non-periodic points (x, y)."""
-    from contactvib.sweeps.labels import label_family, order_colour
+    from contactvib.labels import label_family
+    from contactvib.plotting.style import order_colour
 
     styles: dict = {}
     iso_x, iso_y = [], []

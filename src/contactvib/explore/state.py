@@ -84,7 +84,7 @@ class Point:
 
     def law_options(self) -> dict:
         """The CLI's law options (``--law``, ``--law-file``, ``--damping``, ``--preload``) as
-        :func:`contactvib.cli.common._law_options` hands them to ``_model``; a preload of 0 is
+        :func:`contactvib.cli.common.law_options` hands them to ``parse_model``; a preload of 0 is
         none."""
         law, preload = self.fields["law"].strip(), self.fields["preload"].strip()
         return {"law": law, "law_file": self.law_file if law == "table" else None,
@@ -166,11 +166,11 @@ N_HARMONICS = 64
 
 def resonance_of(attractor, history, fn0_hz: float) -> str:
     """The resonance an attractor belongs to, named as the datasets name it
-    (:func:`contactvib.sweeps.labels.resonance_label`: "main", "1/3", "1/2 period-2",
+    (:func:`contactvib.labels.resonance_label`: "main", "1/3", "1/2 period-2",
     "subharmonic 1/2 bouncing", …; a non-periodic one by its type, "chaotic", …). The harmonics
     |Y_j| (frequency j f_e/k) come from one orbit period of ``history`` (sampled from phase 0,
     ``len(t) - 1`` samples per whole number of excitation periods)."""
-    from contactvib.sweeps.labels import dominant_ratio, resonance_label
+    from contactvib.labels import dominant_ratio, resonance_label
 
     if attractor.period is None:
         return attractor.kind

@@ -116,9 +116,9 @@ def kernel_cache_cold() -> bool:
     sources (:mod:`contactvib._kernels`) holds no index file yet."""
     from numba.core import config
 
-    from contactvib._kernels import _kernel_cache_dir
+    from contactvib._kernels import kernel_cache_dir
 
-    folder = _kernel_cache_dir() or (Path(config.CACHE_DIR) if config.CACHE_DIR else None)
+    folder = kernel_cache_dir() or (Path(config.CACHE_DIR) if config.CACHE_DIR else None)
     if folder is None or not folder.is_dir():
         return True
     return next(folder.rglob("*.nbi"), None) is None

@@ -37,8 +37,8 @@ import math
 import numpy as np
 
 from contactvib._kernels.status import STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL, status_message
+from contactvib.labels import attractor_type, level_labels
 from contactvib.model import LEVEL_KINDS, ContactModel, excitation_at
-from contactvib.sweeps.labels import attractor_type, level_labels
 
 __all__ = ["level_dataset", "merge_levels", "write_atomic", "check_consistency", "STOP_REASONS", "TRACE_ROOTS"]
 

@@ -6,7 +6,7 @@ that bound its regions.
 
 * ``n_attractors`` — coexisting attractors at the grid point;
 * ``max_order`` — the highest m among the 1/m resonance labels present (``"main…"`` = 1;
-  :func:`~contactvib.sweeps.labels.resonance_order`), 0 where every label is non-resonant or
+  :func:`~contactvib.labels.resonance_order`), 0 where every label is non-resonant or
   sub-/ultrasubharmonic;
 * ``contact_loss_share`` — the fraction of the attractors that lose contact (y < 0 on the orbit);
 * ``chaotic`` — 1 where a non-periodic attractor has λ > ``LYAPUNOV_ZERO``;
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contactvib.sweeps.labels import LYAPUNOV_ZERO, resonance_order
+from contactvib.labels import LYAPUNOV_ZERO, resonance_order
 
 __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves_dataset", "curve_crossings",
            "count_changes", "find_dataset", "DATASET_NAMES", "MAP_VARIABLES"]
