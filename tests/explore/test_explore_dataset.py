@@ -48,7 +48,7 @@ def test_graph_draws_every_stored_point_once_in_the_papers_colours(small_dataset
 @pytest.mark.parametrize("arg, why", [
     ("{tmp}/none.nc", "no such file or folder"),
     ("{tmp}/text.nc", "not a readable NetCDF dataset"),
-    ("{tmp}", "a folder without atlas.nc, paper.nc, resonance.nc"),
+    ("{tmp}", "a folder without atlas.nc, paper.nc or resonance.nc"),
 ])
 def test_bad_dataset_is_one_line_before_serving(tmp_path, capsys, arg, why):
     (tmp_path / "text.nc").write_text("not netcdf")

@@ -388,6 +388,19 @@ def _finite_or_none(obj):
     return obj
 
 
+def open_dataset_argument(dataset, option: str = "DATASET", load: bool = False):
+    """``(file, dataset)``: the resonance dataset a command was given (a file, or a folder holding
+    atlas.nc, paper.nc or resonance.nc), opened as every command opens one
+    (:func:`contactvib.sweeps.stored.open_dataset`); its refusal is the one-line InputError
+    ``DATASET = <why>``."""
+    from contactvib.sweeps.stored import DatasetError, open_dataset
+
+    try:
+        return open_dataset(dataset, load=load)
+    except DatasetError as e:
+        raise InputError(f"{option} = {e}") from None
+
+
 def echo_json(payload) -> None:
     """Print ``payload`` (an object, or the JSON text of a ``to_json()``) as strict JSON: a
     non-finite number is written as ``null``, never as a bare ``NaN`` / ``Infinity`` token."""

@@ -22,6 +22,7 @@ from contactvib.cli.common import (
     law_options,
     level_kind_option,
     mapped_options,
+    open_dataset_argument,
     parse_frequency_range,
     parse_int,
     parse_levels,
@@ -101,9 +102,9 @@ def _continuation_options(f):
                      help="Override a model parameter by its paper symbol (M, g, S, c_n, m2, h_n, l).")(f)
     f = click.option("--no-switch", is_flag=True,
                      help="Do not switch onto period-2k branches at period doublings.")(f)
-    f = click.option("--dataset", default=None, type=click.Path(), metavar="FILE",
-                     help="Resonance dataset (paper.nc, resonance.nc): also draw the branches over "
-                          "its resonance graph (overlay_<tag>.png).")(f)
+    f = click.option("--dataset", default=None, type=click.Path(), metavar="DATASET",
+                     help="Resonance dataset (paper.nc, resonance.nc, atlas.nc, or their folder): also draw "
+                          "the branches over its resonance graph (overlay_<tag>.png).")(f)
     return f
 
 
@@ -119,16 +120,7 @@ def _open_dataset(path, levels, kind: str = "force"):
     levels must be of the same kind (``--excitation``) and include ``levels``."""
     if path is None:
         return None
-    import xarray as xr
-
-    if not Path(path).is_file():
-        raise InputError(f"--dataset = {path}: no such file")
-    try:
-        ds = xr.load_dataset(path)
-    except Exception as e:  # not NetCDF, damaged
-        raise InputError(f"--dataset = {path}: not a readable NetCDF dataset ({type(e).__name__})") from None
-    if "branch_label" not in ds:
-        raise InputError(f"--dataset = {path}: not a contactvib resonance dataset")
+    _, ds = open_dataset_argument(path, "--dataset", load=True)
     import numpy as np
 
     stored_kind = str(ds.attrs.get("excitation", "force"))

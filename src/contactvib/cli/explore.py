@@ -212,8 +212,7 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
         try:
             levels = DatasetLevels(dataset)
         except DatasetError as e:
-            why = str(e).removeprefix(f"{dataset}: ")
-            raise InputError(f"DATASET = {dataset}: {why}") from None
+            raise InputError(f"DATASET = {e}") from None
     from contactvib.explore.server import serve
 
     def ready(url):

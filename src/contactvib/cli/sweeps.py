@@ -22,6 +22,7 @@ from contactvib.cli.common import (
     law_options,
     level_kind_option,
     mapped_options,
+    open_dataset_argument,
     parse_frequency_range,
     parse_int,
     parse_levels,
@@ -170,25 +171,6 @@ def resonance(pa, out, **sweep):
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 
 
-#: The datasets a folder given to ``query`` may hold, in the order they are looked for.
-_DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
-
-
-def _dataset_file(dataset: str) -> Path:
-    """The file of ``query``'s DATASET: the file itself, or in a folder (an atlas, paper or
-    resonance output folder) its atlas.nc, paper.nc or resonance.nc."""
-    path = Path(dataset)
-    if path.is_dir():
-        for name in _DATASET_NAMES:
-            if (path / name).is_file():
-                return path / name
-        raise InputError(f"DATASET = {dataset}: a folder without {', '.join(_DATASET_NAMES[:-1])} "
-                         f"or {_DATASET_NAMES[-1]}")
-    if not path.is_file():
-        raise InputError(f"DATASET = {dataset}: no such file")
-    return path
-
-
 @click.command()
 @click.argument("dataset", type=click.Path())
 @click.option("--pa", required=True, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
@@ -198,28 +180,18 @@ def query(dataset, pa, fe, as_json):
     """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one (P_a, f_e)."""
     p = parse_number("--pa", "P_a/Q", pa)
     f = parse_positive("--fe", "f_e", fe, "Hz")
-    path = _dataset_file(dataset)
-    import xarray as xr
-
     from contactvib.sweeps.stored import DamagedDataset, attractors_at
 
-    try:
-        ds = xr.open_dataset(path)
-    except Exception as e:  # not NetCDF, damaged
-        raise InputError(f"DATASET = {dataset}: not a readable NetCDF dataset ({type(e).__name__})") from None
+    path, ds = open_dataset_argument(dataset)
     with ds:
-        if "branch_label" not in ds:
-            raise InputError(f"DATASET = {dataset}: not a contactvib resonance dataset")
-        if "format" not in ds.attrs:
-            raise InputError(f"DATASET = {dataset}: written by an older contactvib: recompute it")
         try:
             res = attractors_at(ds, p, f)
         except DamagedDataset as e:
-            raise InputError(f"DATASET = {dataset}: {e}") from None
+            raise InputError(f"DATASET = {path}: {e}") from None
         except LookupError as e:
             raise InputError(str(e)) from None
         except (OSError, RuntimeError, ValueError, TypeError, IndexError) as e:  # unreadable values
-            raise InputError(f"DATASET = {dataset}: damaged: its values cannot be read ({type(e).__name__}: "
+            raise InputError(f"DATASET = {path}: damaged: its values cannot be read ({type(e).__name__}: "
                              f"{e}): recompute it") from None
     if as_json:
         echo_json(res)

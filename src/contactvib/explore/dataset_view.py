@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactvib.sweeps.stored import DatasetError
+from contactvib.sweeps.stored import DatasetError, open_dataset
 
 __all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "DatasetError"]
 
@@ -44,27 +44,9 @@ class DatasetLevels:
     """A resonance dataset opened for the page: ``levels`` [Q] (increasing) and :meth:`level`."""
 
     def __init__(self, path):
-        import xarray as xr
-
-        from contactvib.sweeps.dataset import FORMAT
-        from contactvib.sweeps.regimes import find_dataset
-
-        try:
-            self.path = find_dataset(path)
-        except LookupError as e:
-            raise DatasetError(str(e)) from None
-        try:
-            self.ds = xr.open_dataset(self.path)
-        except Exception as e:  # not NetCDF, damaged, unreadable
-            raise DatasetError(f"{self.path}: not a readable NetCDF dataset ({type(e).__name__})") from None
-        if any(v not in self.ds for v in (*_VARS, "pa_over_q")) or self.ds.attrs.get("format") != FORMAT:
-            self.ds.close()
-            raise DatasetError(f"{self.path}: not a contactvib resonance dataset of this version "
-                               f"(made by paper, resonance or atlas)")
+        self.path, self.ds = open_dataset(path)  # DatasetError: one line
         self._pa = np.round(self.ds["pa_over_q"].values.astype(float), 6)
         self.levels = tuple(float(p) for p in np.unique(self._pa))
-        if not self.levels:
-            raise DatasetError(f"{self.path}: holds no level")
         self._cache: dict[float, LevelPoints] = {}
 
     def nearest_level(self, pa_over_q: float) -> float | None:

@@ -32,10 +32,7 @@ import numpy as np
 from contactvib.labels import LYAPUNOV_ZERO, resonance_order
 
 __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves_dataset", "curve_crossings",
-           "count_changes", "find_dataset", "DATASET_NAMES", "MAP_VARIABLES"]
-
-#: File names looked for in a folder given as the dataset, in this order.
-DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
+           "count_changes", "MAP_VARIABLES"]
 
 #: The maps, in the order of the figures.
 MAP_VARIABLES = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period")
@@ -52,20 +49,6 @@ _ATTRS = {
     "max_period": {"units": "excitation periods", "long_name": "largest period of the periodic attractors",
                    "comment": "0 = only non-periodic attractors; -1 = no attractor stored"},
 }
-
-
-def find_dataset(path) -> Path:
-    """The dataset file of ``path``: the file itself, or in a folder the first of
-    :data:`DATASET_NAMES` it holds. Raises ``LookupError`` with a one-line message otherwise."""
-    p = Path(path)
-    if p.is_file():
-        return p
-    if p.is_dir():
-        for name in DATASET_NAMES:
-            if (p / name).is_file():
-                return p / name
-        raise LookupError(f"{path}: a folder without {', '.join(DATASET_NAMES)}")
-    raise LookupError(f"{path}: no such file or folder")
 
 
 def _grid(ds):
