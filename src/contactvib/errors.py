@@ -14,7 +14,6 @@ __all__ = ["ContactvibError"]
 
 class ContactvibError(Exception):
     """Base class of the exceptions raised by contactvib: refused inputs
-    (:class:`~contactvib.model.ParameterError`), computations that cannot finish
-    (:class:`~contactvib.steady.orbits.OrbitError`,
-    :class:`~contactvib.continuation.shooting.ContinuationError`, ...) and datasets that cannot
-    be read (:class:`~contactvib.sweeps.stored.DatasetError`). Its message is one line."""
+    (:class:`~contactvib.ParameterError`), computations that cannot finish
+    (:class:`~contactvib.OrbitError`, :class:`~contactvib.ContinuationError`, ...) and datasets
+    that cannot be read (:class:`~contactvib.DatasetError`). Its message is one line."""
