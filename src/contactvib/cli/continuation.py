@@ -22,7 +22,6 @@ from contactvib.cli.common import (
     law_options,
     level_kind_option,
     mapped_options,
-    open_dataset_argument,
     parse_frequency_range,
     parse_int,
     parse_levels,
@@ -120,6 +119,8 @@ def _open_dataset(path, levels, kind: str = "force"):
     levels must be of the same kind (``--excitation``) and include ``levels``."""
     if path is None:
         return None
+    from contactvib.cli.common import open_dataset_argument
+
     _, ds = open_dataset_argument(path, "--dataset", load=True)
     import numpy as np
 
