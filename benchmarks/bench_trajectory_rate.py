@@ -32,7 +32,7 @@ What is counted
      start (phase 0) that returns ``n`` has integrated ``n + 1`` periods. The sum of the bare
      ``n`` is reported too (``periods_n_only``).
    * *CPU time*: the whole ``settle`` call, i.e. transient **and** period detection **and** the
-     Newton refinement (``_refine``: variational DOP853 shooting at 1e-10, divisor checks), whose
+     Newton refinement (``refine_stable_orbit``: variational DOP853 shooting at 1e-10, divisor checks), whose
      periods are *not* counted. This is ``periods_per_s_per_core`` (the honest "what a settle
      call delivers" rate). To separate the two, the same transient is re-run in a benchmark-local
      ``@njit`` loop over ``taylor.advance_state`` (exactly ``settle_core``'s calls, same end
@@ -130,7 +130,7 @@ def _starts(model, pa, f, i, st):
 
 
 def _par(model, pa, f, i):
-    """As ``_Level.par`` with ``par[4] = r[i]`` (``sweep._settle_from``)."""
+    """As ``LevelState.par`` with ``par[4] = r[i]`` (``sweep._settle_from``)."""
     par = model.excitation(float(pa), float(f[0])).kernel_parameters().copy()
     par[4] = f[i] / model.f_n0
     return par

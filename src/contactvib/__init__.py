@@ -20,6 +20,7 @@ _LAZY = {
     # the model (lazy too: ``import contactvib`` stays cheap for the console script)
     **{name: ("contactvib.model", name) for name in ("ContactModel", "Excitation", "ExponentialLaw", "TableLaw",
                                                       "GreenwoodWilliamson", "ParameterError", "PAPER_DEFAULTS")},
+    "ContactvibError": ("contactvib.errors", "ContactvibError"),
     # fitting to measurements
     "fit": ("contactvib.fitting.solver", "fit"),
     "FitResult": ("contactvib.fitting.results", "FitResult"),
@@ -73,6 +74,7 @@ _LAZY = {
     "animate": ("contactvib.sweeps.film", "animate"),
     "FilmResult": ("contactvib.sweeps.film", "FilmResult"),
     "open_levels": ("contactvib.sweeps.film", "open_levels"),
+    "DatasetError": ("contactvib.sweeps.stored", "DatasetError"),
     # friction under normal contact vibration (issue 26)
     "friction_at": ("contactvib.friction.tangential", "friction_at"),
     "FrictionModel": ("contactvib.friction.model", "FrictionModel"),

@@ -65,17 +65,17 @@ def test_out_that_is_a_file_refused(tmp_path, capsys):
     f.write_text("")
     line = _one_line_error(capsys, ["hbm", "--out", str(f)])
     assert "--out" in line and str(f) in line
-    from contactvib.cli.common import InputError, _output_folder
+    from contactvib.cli.common import InputError, checked_output_folder
 
     with pytest.raises(InputError, match="not a folder"):
-        _output_folder(f)
+        checked_output_folder(f)
 
 
 def test_writable_out_is_created(tmp_path):
     """The helper creates the folder and leaves no probe file in it."""
-    from contactvib.cli.common import _output_folder
+    from contactvib.cli.common import checked_output_folder
 
-    p = _output_folder(tmp_path / "a" / "b")
+    p = checked_output_folder(tmp_path / "a" / "b")
     assert p.is_dir() and list(p.iterdir()) == []
 
 

@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from contactvib.cli import main
-from contactvib.cli.common import InputError, _echo_json, _model, one_line
+from contactvib.cli.common import InputError, echo_json, one_line, parse_model
 from contactvib.model import PAPER_DEFAULTS, ContactModel, ParameterError, check_finite, check_int
 from contactvib.model.checks import _NUMBER_TEXT
 
@@ -83,7 +83,7 @@ def test_set_given_twice(capsys):
     assert main(["attractors", "--set", "M=1", "--set", "M=2"]) == 2
     assert _one_line(capsys) == "contactvib: error: --set M given twice\n"
     with pytest.raises(InputError, match="--set M given twice"):
-        _model(("M=1", " M = 1"))
+        parse_model(("M=1", " M = 1"))
 
 
 @pytest.mark.parametrize("text", ["٣٦٠", "3_60", "３６０", "360\u00a0", "0x10", "1e", "--1", "inf", "nan", ""])
@@ -113,11 +113,11 @@ def test_minus_zero_is_zero():
 # ------------------------------------------------------------------ JSON output, datasets
 
 def test_json_output_has_no_bare_nan(capsys):
-    _echo_json('{"a": NaN, "b": [1.5, Infinity, -Infinity], "c": {"d": NaN}, "e": "NaN"}')
+    echo_json('{"a": NaN, "b": [1.5, Infinity, -Infinity], "c": {"d": NaN}, "e": "NaN"}')
     out = capsys.readouterr().out
     assert json.loads(out, parse_constant=lambda c: pytest.fail(c)) == \
         {"a": None, "b": [1.5, None, None], "c": {"d": None}, "e": "NaN"}
-    _echo_json({"x": float("nan"), "y": (1, 2.0)})
+    echo_json({"x": float("nan"), "y": (1, 2.0)})
     assert json.loads(capsys.readouterr().out) == {"x": None, "y": [1, 2.0]}
 
 
@@ -230,7 +230,7 @@ def test_int_parser_property(value):
                                 .map(lambda t: f"{t[0]}={t[1]}")), max_size=3))
 def test_set_parser_property(items):
     try:
-        assert isinstance(_model(tuple(items)), ContactModel)
+        assert isinstance(parse_model(tuple(items)), ContactModel)
     except InputError as e:
         assert "\n" not in str(e)
 

@@ -10,7 +10,8 @@ import xarray as xr
 
 from contactvib.cli import main
 from contactvib.explore.dataset_view import DatasetError, DatasetLevels, graph_figure
-from contactvib.sweeps.labels import label_family, order_colour
+from contactvib.labels import label_family
+from contactvib.plotting.style import order_colour
 
 
 def test_levels_read_lazily_equal_the_file(small_dataset):
@@ -47,7 +48,7 @@ def test_graph_draws_every_stored_point_once_in_the_papers_colours(small_dataset
 @pytest.mark.parametrize("arg, why", [
     ("{tmp}/none.nc", "no such file or folder"),
     ("{tmp}/text.nc", "not a readable NetCDF dataset"),
-    ("{tmp}", "a folder without atlas.nc, paper.nc, resonance.nc"),
+    ("{tmp}", "a folder without atlas.nc, paper.nc or resonance.nc"),
 ])
 def test_bad_dataset_is_one_line_before_serving(tmp_path, capsys, arg, why):
     (tmp_path / "text.nc").write_text("not netcdf")

@@ -2,7 +2,7 @@
 grows into a monolith again. Modules at most ~500 lines, functions at most ~80 lines of code
 (their docstring not counted: a numpydoc docstring is welcome, not a reason to split), at most 12
 parameters outside the kernels (kernels take arrays of parameters), matplotlib only in plotting/,
-and no module reaches into the CLI."""
+no module reaches into the CLI, and no import circle between modules."""
 
 from __future__ import annotations
 
@@ -82,3 +82,150 @@ def test_the_public_api_exports_every_verb_and_result_type():
     from contactvib import simulate
 
     assert callable(simulate) and simulate.__module__ == "contactvib.steady.simulate"
+
+
+# ------------------------------------------------------------------ import circles
+#
+# The rule: the modules of src/contactvib and their imports form a graph without a circle (a
+# strongly connected component of two or more modules), so that every module can be read, tested
+# and imported after the modules it uses. An edge A -> B is any ``import``/``from ... import`` in
+# A that names module B, at the top of A or inside one of its functions (an import moved into a
+# function to dodge a circle is still a circle). ``from P import x`` names the submodule P.x when
+# P.x is a module (``from . import x`` in a package ``__init__`` re-exporting its submodules is an
+# edge to the submodule, not to a circle), else the package P itself (its ``__init__``). Imports
+# under ``if TYPE_CHECKING:`` are not counted: they never run, they only name types.
+
+
+def _module_name(path: Path, root: Path) -> str:
+    parts = list(path.relative_to(root.parent).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _runtime_nodes(tree):
+    """The nodes of ``tree`` outside ``if TYPE_CHECKING:`` blocks."""
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        yield node
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.If) and "TYPE_CHECKING" in ast.unparse(child.test):
+                stack.extend(child.orelse)
+            else:
+                stack.append(child)
+
+
+def _import_edges(path: Path, root: Path, known: set) -> set:
+    """The contactvib modules that the module at ``path`` imports at run time."""
+    name = _module_name(path, root)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+
+    def owner(dotted):  # the module that defines dotted (a module, or a name in one)
+        while dotted and dotted not in known:
+            dotted = dotted.rpartition(".")[0]
+        return dotted
+
+    out = set()
+    for node in _runtime_nodes(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out |= {owner(a.name) for a in node.names if a.name.split(".")[0] == "contactvib"}
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(up + ([base] if base else []))
+            if base.split(".")[0] == "contactvib":
+                out |= {owner(f"{base}.{a.name}") for a in node.names}
+    return out - {name, ""}
+
+
+def import_circles(root: Path) -> list:
+    """The circles (strongly connected components of two or more modules, Tarjan's algorithm)
+    of the import graph of the modules of the package at ``root``."""
+    names = {_module_name(p, root): p for p in sorted(root.rglob("*.py"))}
+    graph = {n: sorted(_import_edges(p, root, set(names))) for n, p in names.items()}
+    index, low, stack, on_stack, circles = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while not component or component[-1] != v:
+                component.append(stack.pop())
+                on_stack.discard(component[-1])
+            if len(component) > 1:
+                circles.append({m: [w for w in graph[m] if w in component] for m in sorted(component)})
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return circles
+
+
+def test_no_import_circle_between_modules():
+    circles = import_circles(SRC)
+    assert not circles, "import circles (module -> the modules of its circle it imports):\n" + "\n".join(
+        "\n".join(f"  {m} -> {', '.join(ws)}" for m, ws in c.items()) for c in circles)
+
+
+def test_the_circle_finder_sees_function_level_imports(tmp_path):
+    pkg = tmp_path / "contactvib"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("from contactvib.sub import a\n")
+    (pkg / "sub" / "__init__.py").write_text("from . import a, b\n")
+    (pkg / "sub" / "a.py").write_text("def f():\n    from contactvib.sub.b import g\n")
+    (pkg / "sub" / "b.py").write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
+                                      "    from contactvib.sub import a\n")
+    assert import_circles(pkg) == []  # a package re-exporting its modules; a type-only import
+    (pkg / "sub" / "b.py").write_text("def g():\n    from .a import f\n")
+    assert import_circles(pkg) == [{"contactvib.sub.a": ["contactvib.sub.b"],
+                                    "contactvib.sub.b": ["contactvib.sub.a"]}]
+
+
+# ------------------------------------------------------------------ private names stay private
+#
+# A name that starts with "_" is private to its module: a helper that another module needs is a
+# public name of the module that defines it. A module may import a private *module* (the
+# ``_kernels`` package, ``_dop853_coefficients``): what counts is the imported symbol, and
+# attribute access ``mod._name`` on a contactvib module it imported.
+
+
+def _private_uses(path: Path):
+    """``(line, what)`` of every private name of another contactvib module used by ``path``."""
+    name = _module_name(path, SRC)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    tree = ast.parse(path.read_text())
+    aliases = set()  # local names bound to contactvib modules
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(up + ([base] if base else []))
+            if base.split(".")[0] != "contactvib":
+                continue
+            for a in node.names:
+                target = SRC.parent.joinpath(*f"{base}.{a.name}".split("."))
+                if target.with_suffix(".py").is_file() or target.is_dir():
+                    aliases.add(a.asname or a.name)
+                elif a.name.startswith("_") and not a.name.startswith("__"):
+                    yield node.lineno, f"from {base} import {a.name}"
+        elif isinstance(node, ast.Import):
+            aliases |= {a.asname for a in node.names if a.asname and a.name.startswith("contactvib")}
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in aliases
+                and node.attr.startswith("_") and not node.attr.startswith("__")):
+            yield node.lineno, f"{node.value.id}.{node.attr}"
+
+
+@pytest.mark.parametrize("path", MODULES, ids=_rel)
+def test_no_module_uses_another_modules_private_names(path):
+    uses = [f"{_rel(path)}:{line}: {what}" for line, what in _private_uses(path)]
+    assert not uses, "make these public names of their module:\n" + "\n".join(uses)

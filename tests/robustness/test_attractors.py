@@ -257,7 +257,7 @@ def test_sigint_outside_the_computation_is_one_line(monkeypatch, capsys):
     def interrupted(_settings):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(steady, "_model", interrupted)
+    monkeypatch.setattr(steady, "parse_model", interrupted)
     assert main(["attractors"]) == 130
     assert capsys.readouterr().err == "contactvib: interrupted\n"
 

@@ -175,7 +175,7 @@ def test_atlas_levels():
 def test_kernel_cache_cold_reads_the_index_files(tmp_path, monkeypatch):
     from contactvib.sweeps import backends
 
-    monkeypatch.setattr("contactvib._kernels._kernel_cache_dir", lambda: tmp_path)
+    monkeypatch.setattr("contactvib._kernels.kernel_cache_dir", lambda: tmp_path)
     assert backends.kernel_cache_cold()
     (tmp_path / "sub").mkdir()
     (tmp_path / "sub" / "flow.settle-1.py311.nbi").write_bytes(b"")

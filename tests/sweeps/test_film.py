@@ -140,8 +140,7 @@ def test_open_levels(films, tmp_path):
     two.mkdir()
     for name in ("paper.nc", "atlas.nc"):
         (two / name).write_bytes((films / "dup.nc").read_bytes())
-    with pytest.raises(DatasetError, match="exactly one of paper.nc, atlas.nc, resonance.nc"):
-        open_levels(two)
+    assert open_levels(two).path == two / "atlas.nc"  # as every command finds a folder's dataset
     with pytest.raises(DatasetError, match="no such file"):
         open_levels(tmp_path / "missing.nc")
     other = tmp_path / "other.nc"
@@ -188,7 +187,7 @@ def test_cli_bad_input_is_one_line(films, tmp_path, capsys, args, says):
 def test_cli_bad_dataset_and_out_are_one_line(films, tmp_path, capsys):
     ok = str(tmp_path / "f.mp4")
     assert "DATASET = " in _one_line_error(["animate", str(tmp_path / "none.nc"), "--out", ok], capsys)
-    assert "exactly one of" in _one_line_error(["animate", str(tmp_path), "--out", ok], capsys)
+    assert "a folder without atlas.nc" in _one_line_error(["animate", str(tmp_path), "--out", ok], capsys)
     res = str(films / "res")
     assert "must end in .mp4" in _one_line_error(["animate", res, "--out", str(tmp_path / "f.gif")], capsys)
     assert "is a folder" in _one_line_error(["animate", res, "--out", str(tmp_path)], capsys)

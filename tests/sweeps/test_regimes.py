@@ -19,10 +19,10 @@ from contactvib.sweeps.regimes import (
     count_changes,
     curve_crossings,
     curves_dataset,
-    find_dataset,
     load_curves,
     regime_maps,
 )
+from contactvib.sweeps.stored import DatasetError, find_dataset
 from figure_files import assert_figure_file
 
 # ------------------------------------------------------------------ a hand-made dataset
@@ -233,7 +233,7 @@ def test_find_dataset_prefers_the_atlas(tmp_path):
     for name in ("resonance.nc", "paper.nc", "atlas.nc"):
         (tmp_path / name).write_text("x")
         assert find_dataset(tmp_path).name == name
-    with pytest.raises(LookupError):
+    with pytest.raises(DatasetError, match="no such file or folder"):
         find_dataset(tmp_path / "missing")
 
 

@@ -10,14 +10,14 @@ from contactvib._kernels import table as tb
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_PERIODIC
 from contactvib.model import ContactModel
 from contactvib.steady.attractors import ballistic_seeds, start_box
-from contactvib.sweeps.sweep import SweepSettings, _Level, _settle_from
+from contactvib.sweeps.sweep import LevelState, SweepSettings, _settle_from
 
 
 def _level_with_known_orbit():
     """One grid frequency (0.65 Q, 360 Hz: five attractors) with the up-sweep's orbit traced."""
     model = ContactModel()
     st = SweepSettings(fmin_hz=360.0, fmax_hz=361.0, df_hz=1.0)
-    lv = _Level(model, 0.65, np.array([360.0, 361.0]), st)
+    lv = LevelState(model, 0.65, np.array([360.0, 361.0]), st)
     z, k, kind = _settle_from(lv, 0, (1.0, 0.0))
     lv.trace(z, k, kind, 0, +1, "up-sweep", "sweep")
     exc = model.excitation(0.65, 360.0)

@@ -16,10 +16,10 @@ import pytest
 import xarray as xr
 
 from contactvib.cli import main
+from contactvib.labels import dominant_ratio, resonance_label
 from contactvib.model import ContactModel, ParameterError
 from contactvib.sweeps.dataset import check_consistency
 from contactvib.sweeps.facts import coexisting_resonances, resonance_facts
-from contactvib.sweeps.labels import dominant_ratio, resonance_label
 from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
 from contactvib.sweeps.stored import attractors_at
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid, multistart_indices, trace_level
@@ -474,7 +474,7 @@ def test_label_flickers_along_a_branch_are_smoothed():
     both sides, minima matching the sides and not the run) takes the surrounding label; long
     runs, runs whose minima match their own label, runs at a branch end and runs across two
     branches are left alone."""
-    from contactvib.sweeps.labels import smooth_labels
+    from contactvib.labels import smooth_labels
 
     fe = np.arange(226.0, 240.0)
     six = np.full(fe.size, 6)

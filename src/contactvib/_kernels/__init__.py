@@ -48,7 +48,7 @@ def _writable_folder(folder: Path) -> bool:
     return True
 
 
-def _kernel_cache_dir(sources: Path | None = None) -> Path | None:
+def kernel_cache_dir(sources: Path | None = None) -> Path | None:
     """A cache folder keyed by the hash of every kernel source (the ``*.py`` files of
     ``sources``, default this package), or None to keep numba's own (``NUMBA_CACHE_DIR`` set).
 
@@ -81,7 +81,7 @@ def _kernel_cache_dir(sources: Path | None = None) -> Path | None:
 
 
 def _use_kernel_cache_dir() -> None:
-    folder = _kernel_cache_dir()
+    folder = kernel_cache_dir()
     if folder is not None:
         from numba.core import config
 

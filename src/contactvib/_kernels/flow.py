@@ -261,7 +261,7 @@ def illinois_update(a, b, fa, fb, c, fc, side):
 
 
 @njit(cache=True)
-def _crosses(contact, x):
+def crosses_contact(contact, x):
     """True where x lies on the far side of the switching surface for the current mode."""
     if contact:
         return x <= 0.0
@@ -308,14 +308,14 @@ def _event_fraction(contact, t, y, ynew, h, par, K, F, record):
     through zero at an interior extremum of x (a sign change of x'), located on the dense output.
     Fills ``F`` with the step's interpolant when it is needed (always when ``record``)."""
     vflip = (y[1] < 0.0) != (ynew[1] < 0.0)
-    cross_end = _crosses(contact, ynew[0])
+    cross_end = crosses_contact(contact, ynew[0])
     theta_ev = -1.0
     if record or vflip or cross_end:
         _dense(contact, t, y, ynew, h, par, K, F)
         lo = 0.0
         if vflip:
             th_v = dense_root(F, y, 1, 0.0, 0.0, 1.0)
-            if _crosses(contact, dense_value(F, y, th_v, 0)):
+            if crosses_contact(contact, dense_value(F, y, th_v, 0)):
                 theta_ev = dense_root(F, y, 0, 0.0, 0.0, th_v)
             lo = th_v
         if theta_ev < 0.0 and cross_end:

@@ -69,7 +69,7 @@ _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
 
 
 @njit(cache=True)
-def _step_arrays(rec, i):
+def step_arrays(rec, i):
     Fn = np.empty((7, 2))
     for q in range(7):
         Fn[q, 0] = rec[i, REC_F + 2 * q]

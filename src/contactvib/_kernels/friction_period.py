@@ -28,13 +28,13 @@ from .friction import (
     Z_F,
     Z_V,
     Z_W,
-    _step_arrays,
     dense,
     find_event,
     limit,
     normal_at,
     rhs,
     rk_step,
+    step_arrays,
 )
 from .status import STATUS_INTERRUPTED, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS
 
@@ -131,7 +131,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
     """Integrate the tangential state ``z`` across normal step ``i`` (shifted by ``off`` [τ]).
 
     Returns (status, mode, σ, h) with h the step size proposed for the next step."""
-    Fn, yn = _step_arrays(rec, i)
+    Fn, yn = step_arrays(rec, i)
     t0 = rec[i, REC_T] + off
     hn = rec[i, REC_H]
     nstep = (Fn, yn, t0, hn, rec[i, REC_MODE] > 0.5)

@@ -42,7 +42,7 @@ from .taylor import advance_state
 
 
 @njit(cache=True)
-def _refine(z, k, par, rtol, close_tol, out_z, out_M):
+def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
     """Newton at period k, then reduce k to the minimal period. Returns (ok, k, residual)."""
     st, res = newton_orbit(z, k, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
     if st != STATUS_OK:
@@ -124,7 +124,7 @@ def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
                 break
             d1 = max(abs(hist[n, 0] - hist[n - k, 0]), abs(hist[n, 1] - hist[n - k, 1])) / sc
             if d1 < tol:
-                ok, kk, res = _refine(y, k, par, rtol_refine, close_tol, out_z, out_M)
+                ok, kk, res = refine_stable_orbit(y, k, par, rtol_refine, close_tol, out_z, out_M)
                 if ok:
                     return SETTLE_PERIODIC, kk, n, res
                 tol *= 0.1

@@ -50,7 +50,7 @@ from .contact import (
     is_paper_family,
     series_contact,
 )
-from .flow import REC_WIDTH, _crosses, advance, illinois_trial, illinois_update
+from .flow import REC_WIDTH, advance, crosses_contact, illinois_trial, illinois_update
 from .status import (
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -286,10 +286,10 @@ def crossing(contact, X, V, N, h, S):
             towards = towards and max(S[0, j - 1], S[0, j]) >= -reach
         if towards:
             s_ext = poly_root(V, N, 0, s_prev, s)
-            if _crosses(contact, poly(X, N, s_ext, 0)):
+            if crosses_contact(contact, poly(X, N, s_ext, 0)):
                 return poly_root(X, N, shift, s_prev, s_ext)
         x_s = S[0, j]
-        if _crosses(contact, x_s):
+        if crosses_contact(contact, x_s):
             if x_s == 0.0:
                 return s
             return poly_root(X, N, shift, s_prev, s)

@@ -5,7 +5,7 @@ direction, as a laboratory sweep does, carrying the state:
 
 1. predict the orbit point at the next frequency (secant through the last two points of the
    same segment), correct it by Newton shooting on the period-k map, accept it when it closes,
-   is stable and its period is minimal (:func:`.settle._refine`); if that fails, bridge the
+   is stable and its period is minimal (:func:`.settle.refine_stable_orbit`); if that fails, bridge the
    grid step by Newton-corrected sub-steps (halved down to 1/32 of it, :func:`bridge_orbit`) —
    a branch that bends fast between two grid points is kept, one that ends there is not;
 2. otherwise (past a fold, a period doubling, or into chaos) integrate from the carried state
@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit
 
 from .describe import NP_LYAPUNOV, NP_RECORD, describe_point, floquet_pair, lyapunov_strobe
-from .settle import _refine, settle
+from .settle import refine_stable_orbit, settle
 from .shooting import STABILITY_TOL, floquet_abs_max, newton_orbit, newton_step, state_scale, strobe_map
 from .status import (
     ORIGIN_JUMP,
@@ -340,11 +340,11 @@ def _link(links, n, a, b, origin):
 @njit(cache=True, inline="always")
 def _refine_start(z, k, par, cfg, M):
     """Newton-refine the period-k orbit through ``z`` and reduce k to its minimal period
-    (:func:`.settle._refine`); on success ``z`` and ``M`` become the orbit point and its
+    (:func:`.settle.refine_stable_orbit`); on success ``z`` and ``M`` become the orbit point and its
     monodromy. Returns (ok, k, closure)."""
     oz = np.empty(2)
     oM = np.empty((2, 2))
-    ok, kk, res = _refine(z, k, par, cfg.rtol, cfg.close_tol, oz, oM)
+    ok, kk, res = refine_stable_orbit(z, k, par, cfg.rtol, cfg.close_tol, oz, oM)
     if not ok:
         return False, k, res
     z[0] = oz[0]

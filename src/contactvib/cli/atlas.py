@@ -8,9 +8,17 @@ from __future__ import annotations
 
 import click
 
-from contactvib.cli.common import InputError, LevelsCommand, _checked, _int, _levels, _mapped, _output_folder
+from contactvib.cli.common import (
+    InputError,
+    LevelsCommand,
+    checked_option,
+    checked_output_folder,
+    mapped_options,
+    parse_int,
+    parse_levels,
+)
 from contactvib.cli.friction import friction_spec_option
-from contactvib.cli.sweeps import _sweep_inputs, _sweep_levels, _sweep_options, _writing_into
+from contactvib.cli.sweeps import sweep_inputs, sweep_levels, sweep_options, writing_into
 from contactvib.model import WORKERS_MAX, ParameterError
 
 __all__: list = []
@@ -28,12 +36,12 @@ def _atlas_levels(pa, pa_min, pa_max, npa, model=None, st=None) -> list[float]:
 
     if st is not None and st.excitation != "force":
         if pa:
-            return _sweep_levels(pa, model, st)
+            return sweep_levels(pa, model, st)
         kw = {**_RANGE_DEFAULTS, **{k: v for k, v in (("pa_min", pa_min), ("pa_max", pa_max),
                                                        ("npa", npa)) if v is not None}}
-        levels = _mapped(_RANGE_OPTIONS, atlas_levels, kw["pa_min"], kw["pa_max"], kw["npa"], st.excitation)
+        levels = mapped_options(_RANGE_OPTIONS, atlas_levels, kw["pa_min"], kw["pa_max"], kw["npa"], st.excitation)
         for v in levels:
-            _checked("--pa-max" if v == levels[-1] else "--pa-min", check_sweep_level, model, v, st)
+            checked_option("--pa-max" if v == levels[-1] else "--pa-min", check_sweep_level, model, v, st)
         return levels
 
     given = {k: v for k, v in (("pa_min", pa_min), ("pa_max", pa_max), ("npa", npa)) if v is not None}
@@ -41,9 +49,9 @@ def _atlas_levels(pa, pa_min, pa_max, npa, model=None, st=None) -> list[float]:
         if given:
             raise InputError(f"--pa: give the levels either as a list (--pa) or as a range "
                              f"({', '.join(_RANGE_OPTIONS[k] for k in given)}), not both")
-        return _levels(pa)
+        return parse_levels(pa)
     kw = {**_RANGE_DEFAULTS, **given}
-    return _mapped(_RANGE_OPTIONS, atlas_levels, kw["pa_min"], kw["pa_max"], kw["npa"])
+    return mapped_options(_RANGE_OPTIONS, atlas_levels, kw["pa_min"], kw["pa_max"], kw["npa"])
 
 
 def _backend(workers, dask_workers, scheduler):
@@ -59,9 +67,9 @@ def _backend(workers, dask_workers, scheduler):
         raise InputError(f"--workers: sizes the local process pool; with {option} the Dask "
                          "workers run the levels (leave --workers out)")
     if scheduler is not None:
-        return _checked("--scheduler", DaskBackend, scheduler=scheduler)
+        return checked_option("--scheduler", DaskBackend, scheduler=scheduler)
     if dask_workers is not None:
-        return DaskBackend(n_workers=_int("--dask-workers", dask_workers, 1, WORKERS_MAX, "dask_workers"))
+        return DaskBackend(n_workers=parse_int("--dask-workers", dask_workers, 1, WORKERS_MAX, "dask_workers"))
     return LocalPool(workers)
 
 
@@ -72,7 +80,7 @@ def _backend(workers, dask_workers, scheduler):
 @click.option("--pa-max", default=None, metavar="Q", help="Highest level P_a [Q]  [default: 1.0]")
 @click.option("--npa", default=None, metavar="N",
               help="Levels from --pa-min to --pa-max, evenly spaced (rounded to 1e-9 Q)  [default: 96]")
-@_sweep_options
+@sweep_options
 @friction_spec_option
 @click.option("--dask-workers", default=None, metavar="N",
               help="Run the levels on a local Dask cluster (LocalCluster) of N single-threaded worker processes.")
@@ -84,14 +92,14 @@ def _backend(workers, dask_workers, scheduler):
                    "compressed file per level).")
 def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, **sweep):
     """The evolution atlas: resonance's sweep at many P_a levels, locally or on Dask, resumable."""
-    model, st, n_workers = _sweep_inputs(sweep)
+    model, st, n_workers = sweep_inputs(sweep)
     levels = _atlas_levels(pa, pa_min, pa_max, npa, model, st)
     backend = _backend(n_workers, dask_workers, scheduler)
     from contactvib.sweeps.atlas import atlas_dataset
 
-    out = _output_folder(out)
+    out = checked_output_folder(out)
     try:
-        with _writing_into(out):
+        with writing_into(out):
             ds = atlas_dataset(model, levels, st, out, resume=sweep["resume"], backend=backend,
                                progress=not sweep["no_progress"])
     except ParameterError as e:

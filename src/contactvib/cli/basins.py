@@ -6,16 +6,16 @@ import click
 
 from contactvib.cli.common import (
     InputError,
-    _ctrl_c,
-    _echo_json,
-    _error,
-    _excitation,
-    _max_periods,
-    _model,
-    _model_blamed,
-    _number,
-    _operating_point_options,
-    _output_folder,
+    checked_output_folder,
+    ctrl_c,
+    echo_json,
+    model_blamed,
+    operating_point_options,
+    option_error,
+    parse_excitation,
+    parse_max_periods,
+    parse_model,
+    parse_number,
 )
 from contactvib.model import ParameterError
 
@@ -41,15 +41,15 @@ def _box(y_range, ydot_range, model, exc):
     if y_range is None and ydot_range is None:
         return None
     dy, dv = default_box(model, exc)
-    y = dy if y_range is None else (_number("--y-range", "y_min", y_range[0]),
-                                    _number("--y-range", "y_max", y_range[1]))
-    v = dv if ydot_range is None else (_number("--ydot-range", "ydot_min", ydot_range[0]),
-                                       _number("--ydot-range", "ydot_max", ydot_range[1]))
+    y = dy if y_range is None else (parse_number("--y-range", "y_min", y_range[0]),
+                                    parse_number("--y-range", "y_max", y_range[1]))
+    v = dv if ydot_range is None else (parse_number("--ydot-range", "ydot_min", ydot_range[0]),
+                                       parse_number("--ydot-range", "ydot_max", ydot_range[1]))
     return y, v
 
 
 @click.command()
-@_operating_point_options
+@operating_point_options
 @click.option("--grid", "grid", default="400x400", show_default=True, metavar="NxM",
               help="Grid points in y and in dy/dt (each >= 2).")
 @click.option("--y-range", nargs=2, default=None, metavar="YMIN YMAX",
@@ -67,29 +67,29 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     """Basins of attraction: which attractor each initial state (y, dy/dt) reaches."""
     from contactvib.steady.basins import check_basins
 
-    model = _model(settings)
-    exc = _excitation(model, pa, pa_newton, fe)
+    model = parse_model(settings)
+    exc = parse_excitation(model, pa, pa_newton, fe)
     box = _box(y_range, ydot_range, model, exc)
-    mp = _max_periods(max_periods)
+    mp = parse_max_periods(max_periods)
     try:  # the bounds keep their symbols: "--y-range (y_max) = -1: must be > y_min = 1 µm"
         checked = check_basins(_grid(grid), box, kmax, mp, starts)
     except ParameterError as e:
-        raise _error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e) from None
+        raise option_error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e) from None
     if out is None and not as_json:
         out = "basins"
-    folder = None if out is None else _output_folder(out)
+    folder = None if out is None else checked_output_folder(out)
     from contactvib.steady.basins import basins as run
 
     grid_, box_, kmax_, mp_, starts_, seed_ = checked
-    with _ctrl_c():
+    with ctrl_c():
         try:
             bmap = run(model, exc, grid=grid_, box=box_, kmax=kmax_, max_periods=mp_, n_starts=starts_, seed=seed_)
         except ParameterError as e:  # a --set that moved f_n0 out of reach is named (not --fe)
-            blamed = _model_blamed(model, e, _grid_within_reach(exc, grid_[0] * grid_[1], mp_))
-            raise (blamed or _error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e, _BASIN_OPTIONS)) from None
+            blamed = model_blamed(model, e, _grid_within_reach(exc, grid_[0] * grid_[1], mp_))
+            raise (blamed or option_error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e, _BASIN_OPTIONS)) from None
     paths = [] if folder is None else _write(bmap, folder)
     if as_json:
-        _echo_json(bmap.to_json())
+        echo_json(bmap.to_json())
         return
     _table(bmap, exc, model)
     for p in paths:
@@ -98,7 +98,7 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
 
 def _grid_within_reach(exc, n_grid: int, max_periods):
     """Whether the grid's integration at ``exc``'s excitation is within the work limit for a
-    model (a test for ``_model_blamed``)."""
+    model (a test for ``model_blamed``)."""
     import dataclasses
 
     from contactvib.steady.attractors import default_max_periods

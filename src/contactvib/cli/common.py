@@ -5,8 +5,8 @@ The checks and their ranges are the library's (:mod:`contactvib.model.checks`, a
 objects that use them); this module only maps option names onto the library's symbols and turns
 a :class:`~contactvib.model.ParameterError` into one line,
 ``contactvib: error: --fe (f_e) = -5: must be > 0 Hz``. A new option is checked by calling the
-library check with the library's symbol (``_checked``), or by building the library object and
-naming the option of each symbol (``_mapped``); never by comparing numbers here.
+library check with the library's symbol (``checked_option``), or by building the library object and
+naming the option of each symbol (``mapped_options``); never by comparing numbers here.
 """
 
 from __future__ import annotations
@@ -21,14 +21,14 @@ import click
 from contactvib.cli.errors import (  # noqa: F401 (the commands import them from here)
     InputError,
     RunInterrupted,
-    _checked,
-    _ctrl_c,
-    _error,
-    _int,
-    _mapped,
-    _number,
-    _show,
+    checked_option,
+    ctrl_c,
+    mapped_options,
     one_line,
+    option_error,
+    parse_int,
+    parse_number,
+    show_value,
 )
 from contactvib.model import (
     KMAX_SEARCH_MAX,
@@ -44,8 +44,8 @@ from contactvib.model import (
 )
 from contactvib.model.checks import format_number
 
-#: The law options of the command being run (``_law_options``): read by ``_model``.
-_LAW: contextvars.ContextVar = contextvars.ContextVar("contactvib_law", default=None)
+#: The law options of the command being run (``law_options``): read by ``parse_model``.
+LAW_OPTIONS: contextvars.ContextVar = contextvars.ContextVar("contactvib_law", default=None)
 #: The excitation options of the command being run (``_excitation_family_options``).
 _EXC: contextvars.ContextVar = contextvars.ContextVar("contactvib_excitation", default=None)
 #: Every name ``--set`` accepts (the paper's and the other families' parameters).
@@ -60,7 +60,7 @@ def _law_family(overrides: dict) -> dict:
     from contactvib.model.laws import TableLaw
     from contactvib.model.oscillator import FAMILY_PARAMETERS
 
-    opts = _LAW.get() or {}
+    opts = LAW_OPTIONS.get() or {}
     law = opts.get("law") or "power"
     damping = opts.get("damping") or "power"
     kw: dict = {}
@@ -74,9 +74,9 @@ def _law_family(overrides: dict) -> dict:
     if law == "table":
         if law_file is None:
             raise InputError("--law table: needs --law-file FILE.csv (columns deflection_um,load_n)")
-        kw["table"] = _checked("--law-file", TableLaw.from_csv, law_file)
+        kw["table"] = checked_option("--law-file", TableLaw.from_csv, law_file)
     if opts.get("preload") is not None:
-        kw["preload"] = _checked("--preload", check_range, "F_pre", opts["preload"], 0.0, True, "N")
+        kw["preload"] = checked_option("--preload", check_range, "F_pre", opts["preload"], 0.0, True, "N")
     for name in overrides:
         for family, names in FAMILY_PARAMETERS.items():
             chosen = family in (law, f"damping {damping}")
@@ -87,7 +87,7 @@ def _law_family(overrides: dict) -> dict:
     return kw
 
 
-def _model_file(path) -> dict:
+def read_model_file(path) -> dict:
     """The parameters of a model file (``--model``: ``contactvib fit --save-model``, the JSON of
     :meth:`ContactModel.parameters`, or any JSON object with such a ``model`` entry)."""
     try:
@@ -98,15 +98,15 @@ def _model_file(path) -> dict:
             raise ValueError("not a JSON object")
         ContactModel(**p)
     except ParameterError as e:
-        raise _error("--model", e) from None
+        raise option_error("--model", e) from None
     except (OSError, ValueError, TypeError) as e:
         raise InputError(f"--model = {path}: not a model file ({getattr(e, 'strerror', None) or e})") from None
     return p
 
 
-def _model(settings: tuple[str, ...]) -> ContactModel:
-    opts = _LAW.get() or {}
-    base = _model_file(opts["model_file"]) if opts.get("model_file") is not None else {}
+def parse_model(settings: tuple[str, ...]) -> ContactModel:
+    opts = LAW_OPTIONS.get() or {}
+    base = read_model_file(opts["model_file"]) if opts.get("model_file") is not None else {}
     overrides = {}
     for item in settings:
         if "=" not in item:
@@ -117,22 +117,22 @@ def _model(settings: tuple[str, ...]) -> ContactModel:
                              f"{', '.join(SET_NAMES)}")
         if name in overrides:
             raise InputError(f"--set {name} given twice")
-        overrides[name] = _number(f"--set {name}", name, value)
+        overrides[name] = parse_number(f"--set {name}", name, value)
     family = _law_family(overrides)
     for name, value in overrides.items():
         try:
             ContactModel(**{**base, **family, name: value})
         except ParameterError as e:
             if e.symbol == name:  # the parameter's own range; combinations are checked below
-                raise _error(f"--set {name}", e) from None
+                raise option_error(f"--set {name}", e) from None
     # a combination out of range (the damping ratio) names every --set the user gave
-    given = " ".join(f"--set {k}={_show(v)}" for k, v in overrides.items()) or "the paper's parameters"
+    given = " ".join(f"--set {k}={show_value(v)}" for k, v in overrides.items()) or "the paper's parameters"
     try:
         return ContactModel(**{**base, **family, **overrides})
     except ParameterError as e:
         if e.symbol in _LAW_OPTION_NAMES:
-            raise _error(_LAW_OPTION_NAMES[e.symbol], e) from None
-        raise _error(given, e) from None
+            raise option_error(_LAW_OPTION_NAMES[e.symbol], e) from None
+        raise option_error(given, e) from None
 
 
 def _set_changes(model: ContactModel) -> dict[str, float]:
@@ -163,7 +163,7 @@ def _boundary(model: ContactModel, name: str, accepts) -> float | None:
     return math.exp(hi) if log else hi
 
 
-def _model_blamed(model: ContactModel, e: ParameterError, accepts, option: str = "--fe") -> InputError | None:
+def model_blamed(model: ContactModel, e: ParameterError, accepts, option: str = "--fe") -> InputError | None:
     """An f_e refusal that the --set parameters cause (the frequency ratio r = f_e/f_n0 or the
     work of a search out of reach), as one line naming them: when the paper's parameters accept
     this f_e (``accepts(ContactModel())``), the --set values that moved f_n0 (and ζ) are to
@@ -188,10 +188,10 @@ def _model_blamed(model: ContactModel, e: ParameterError, accepts, option: str =
                else "")
     return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz and zeta = {model.zeta:.3g} (the paper's "
                       f"parameters: f_n0 = {paper.f_n0:.6g} Hz, zeta = {paper.zeta:.3g}), with which "
-                      f"{option} (f_e) = {_show(e.value)}: {e.allowed}{allowed}")
+                      f"{option} (f_e) = {show_value(e.value)}: {e.allowed}{allowed}")
 
 
-def _scoped(var: contextvars.ContextVar, names: tuple[str, ...], f):
+def scoped_options(var: contextvars.ContextVar, names: tuple[str, ...], f):
     """``f`` with the keyword arguments ``names`` taken out and kept in ``var`` while it runs."""
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
@@ -203,11 +203,11 @@ def _scoped(var: contextvars.ContextVar, names: tuple[str, ...], f):
     return wrapper
 
 
-def _law_options(f):
-    """--law, --law-file, --damping, --preload: the contact-law family of ``_model``."""
+def law_options(f):
+    """--law, --law-file, --damping, --preload: the contact-law family of ``parse_model``."""
     from contactvib.model.laws import DAMPING_NAMES, LAW_NAMES
 
-    f = _scoped(_LAW, ("law", "law_file", "damping", "preload", "model_file"), f)
+    f = scoped_options(LAW_OPTIONS, ("law", "law_file", "damping", "preload", "model_file"), f)
     f = click.option("--model", "model_file", default=None, metavar="FILE.json",
                      help="Start from a saved model (contactvib fit --save-model); --set overrides it.")(f)
     f = click.option("--preload", default=None, metavar="N",
@@ -224,8 +224,8 @@ def _law_options(f):
 
 
 def _excitation_family_options(f):
-    """--base-um, --base-g, --harmonic: base motion or a multi-harmonic force for ``_excitation``."""
-    f = _scoped(_EXC, ("base_um", "base_g", "harmonic"), f)
+    """--base-um, --base-g, --harmonic: base motion or a multi-harmonic force for ``parse_excitation``."""
+    f = scoped_options(_EXC, ("base_um", "base_g", "harmonic"), f)
     f = click.option("--harmonic", multiple=True, metavar="K:AMP:PHASE",
                      help="A further harmonic of the force: K f_e, amplitude AMP [Q], phase [deg] (repeatable).")(f)
     f = click.option("--base-g", default=None, metavar="A",
@@ -241,8 +241,8 @@ def _harmonics(items) -> tuple:
         parts = item.split(":")
         if len(parts) != 3:
             raise InputError(f"--harmonic {item}: expected K:AMP:PHASE (e.g. 2:0.1:90)")
-        out.append((_number("--harmonic", "k", parts[0]), _number("--harmonic", "P_k/Q", parts[1]),
-                    _number("--harmonic", "phase", parts[2])))
+        out.append((parse_number("--harmonic", "k", parts[0]), parse_number("--harmonic", "P_k/Q", parts[1]),
+                    parse_number("--harmonic", "phase", parts[2])))
     return tuple(out)
 
 
@@ -250,7 +250,7 @@ def _harmonics(items) -> tuple:
 _EXCITATION_OPTIONS = {"f_e": "--fe", "P_a/Q": "--pa", "P_a": "--pa-newton"}
 
 
-def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: str) -> Excitation:
+def parse_excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: str) -> Excitation:
     """The excitation of --pa or --pa-newton (or --base-um / --base-g), --harmonic and --fe,
     checked by :class:`Excitation`."""
     if pa is not None and pa_newton is not None:
@@ -266,21 +266,21 @@ def _excitation(model: ContactModel, pa: str | None, pa_newton: str | None, fe: 
         if fam.get("harmonic"):
             raise InputError("--harmonic: harmonics belong to a force excitation, not to a base motion")
         (option, value), = base
-        u = _number(option, "U" if option == "--base-um" else "A", value)
+        u = parse_number(option, "U" if option == "--base-um" else "A", value)
         kw = {"u_um": u} if option == "--base-um" else {"a_g": u}
-        return _mapped(names, Excitation.base, model, fe, **kw)
+        return mapped_options(names, Excitation.base, model, fe, **kw)
     harmonics = _harmonics(fam.get("harmonic") or ())
     try:
         if pa_newton is not None:
-            return _mapped(names, Excitation.from_newtons, model, pa_newton, fe, harmonics=harmonics)
-        return _mapped(names, Excitation, model, "0.65" if pa is None else pa, fe, harmonics=harmonics)
+            return mapped_options(names, Excitation.from_newtons, model, pa_newton, fe, harmonics=harmonics)
+        return mapped_options(names, Excitation, model, "0.65" if pa is None else pa, fe, harmonics=harmonics)
     except InputError as refused:
         try:
             f_e = float(fe)
         except ValueError:
             raise refused from None
         ratio = _frequency_ratio_error(model, f_e)
-        blamed = ratio and _model_blamed(model, ratio, lambda m: _frequency_ratio_error(m, f_e) is None)
+        blamed = ratio and model_blamed(model, ratio, lambda m: _frequency_ratio_error(m, f_e) is None)
         raise (blamed or refused) from None
 
 
@@ -293,19 +293,19 @@ def _frequency_ratio_error(model: ContactModel, f_e: float) -> ParameterError | 
     return None
 
 
-def _frequency_range(fmin: str, fmax: str) -> tuple[float, float]:
+def parse_frequency_range(fmin: str, fmax: str) -> tuple[float, float]:
     """--fmin/--fmax [Hz], checked by :func:`contactvib.model.check_frequency_range`."""
-    return _mapped({"f_min": "--fmin", "f_max": "--fmax"}, check_frequency_range, fmin, fmax)
+    return mapped_options({"f_min": "--fmin", "f_max": "--fmax"}, check_frequency_range, fmin, fmax)
 
 
-def _pa_level(text: str, option: str = "--pa") -> float:
+def parse_pa_level(text: str, option: str = "--pa") -> float:
     """A P_a level [Q] > 0, checked by :func:`contactvib.model.check_pa_level`."""
-    return _checked(option, check_pa_level, text)
+    return checked_option(option, check_pa_level, text)
 
 
-def _positive(option: str, symbol: str, text: str, unit: str = "") -> float:
+def parse_positive(option: str, symbol: str, text: str, unit: str = "") -> float:
     """A number > 0 [unit]."""
-    return _checked(option, check_range, symbol, text, 0.0, False, unit)
+    return checked_option(option, check_range, symbol, text, 0.0, False, unit)
 
 
 def _is_level(token: str) -> bool:
@@ -357,13 +357,13 @@ class LevelsCommand(click.Command):
         return rest
 
 
-def _levels(levels: tuple[str, ...], kind: str = "force") -> list[float]:
+def parse_levels(levels: tuple[str, ...], kind: str = "force") -> list[float]:
     """The levels of a LevelsCommand's ``--pa``, each > 0: P_a [Q], or U [µm] / A [g] for
     ``--excitation base-um`` / ``base-g`` (:func:`level_kind_option`)."""
     if kind == "force":
-        return [_pa_level(t) for t in levels]
+        return [parse_pa_level(t) for t in levels]
     sym, unit, _name = LEVEL_KINDS[kind]
-    return [_positive("--pa", sym, t, unit) for t in levels]
+    return [parse_positive("--pa", sym, t, unit) for t in levels]
 
 
 def level_kind_option(f):
@@ -388,15 +388,28 @@ def _finite_or_none(obj):
     return obj
 
 
-def _echo_json(payload) -> None:
+def open_dataset_argument(dataset, option: str = "DATASET", load: bool = False):
+    """``(file, dataset)``: the resonance dataset a command was given (a file, or a folder holding
+    atlas.nc, paper.nc or resonance.nc), opened as every command opens one
+    (:func:`contactvib.sweeps.stored.open_dataset`); its refusal is the one-line InputError
+    ``DATASET = <why>``."""
+    from contactvib.sweeps.stored import DatasetError, open_dataset
+
+    try:
+        return open_dataset(dataset, load=load)
+    except DatasetError as e:
+        raise InputError(f"{option} = {e}") from None
+
+
+def echo_json(payload) -> None:
     """Print ``payload`` (an object, or the JSON text of a ``to_json()``) as strict JSON: a
     non-finite number is written as ``null``, never as a bare ``NaN`` / ``Infinity`` token."""
     obj = json.loads(payload) if isinstance(payload, str) else payload
     click.echo(json.dumps(_finite_or_none(obj), allow_nan=False))
 
 
-def _operating_point_options(f):
-    f = _excitation_family_options(_law_options(f))
+def operating_point_options(f):
+    f = _excitation_family_options(law_options(f))
     f = click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
                      help="Override a model parameter by its symbol: "
                           + ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" for k in SET_NAMES))(f)
@@ -409,13 +422,13 @@ def _operating_point_options(f):
     return f
 
 
-def _max_periods(text: str) -> float | None:
+def parse_max_periods(text: str) -> float | None:
     """``--max-periods``: None for ``auto`` (the library derives it from the damping), else its
     number (checked by the library)."""
-    return None if text.strip().lower() == "auto" else _number("--max-periods", "max_periods", text)
+    return None if text.strip().lower() == "auto" else parse_number("--max-periods", "max_periods", text)
 
 
-def _search_options(f):
+def search_options(f):
     f = click.option("--no-seeds", is_flag=True, help="Skip the ballistic seeds (box starts only).")(f)
     f = click.option("--max-periods", default="auto", show_default=True,
                      help="Transient limit per start [excitation periods]; auto: twice the linear "
@@ -429,7 +442,7 @@ def _search_options(f):
 
 
 
-def _output_folder(path, option: str = "--out", file: str | None = None):
+def checked_output_folder(path, option: str = "--out", file: str | None = None):
     """The output folder ``path`` as a :class:`~pathlib.Path`, created and checked writable
     (a probe file is created and removed) before any computation; an InputError otherwise.
     ``file``: the option's value when it names a file in that folder (a film), named in the
@@ -455,12 +468,12 @@ def _output_folder(path, option: str = "--out", file: str | None = None):
     return p
 
 
-def _feasible_frequencies(model: ContactModel, fmin: float, fmax: float,
+def feasible_frequencies(model: ContactModel, fmin: float, fmax: float,
                           options: tuple[str, str] = ("--fmin", "--fmax")) -> None:
     """Both ends of a frequency range are excitation frequencies the model can be integrated at
     (checked by :class:`Excitation`, whose f_e range follows from the model's f_n0)."""
     for option, f in zip(options, (fmin, fmax)):
         refused = _frequency_ratio_error(model, f)
         if refused is not None:
-            blamed = _model_blamed(model, refused, lambda m, f=f: _frequency_ratio_error(m, f) is None, option)
-            raise blamed or _error(option, refused)
+            blamed = model_blamed(model, refused, lambda m, f=f: _frequency_ratio_error(m, f) is None, option)
+            raise blamed or option_error(option, refused)

@@ -14,21 +14,21 @@ import click
 from contactvib.cli.common import (
     InputError,
     LevelsCommand,
-    _checked,
-    _ctrl_c,
-    _echo_json,
-    _feasible_frequencies,
-    _frequency_range,
-    _int,
-    _law_options,
-    _levels,
-    _mapped,
-    _model,
-    _number,
-    _output_folder,
-    _pa_level,
-    _positive,
+    checked_option,
+    checked_output_folder,
+    ctrl_c,
+    echo_json,
+    feasible_frequencies,
+    law_options,
     level_kind_option,
+    mapped_options,
+    parse_frequency_range,
+    parse_int,
+    parse_levels,
+    parse_model,
+    parse_number,
+    parse_pa_level,
+    parse_positive,
 )
 from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, LEVEL_TAGS, SHOOTING_RTOL_RANGE, check_range, level_text
 from contactvib.model.checks import PA_MAX, PA_NOTE
@@ -41,17 +41,17 @@ _CONTINUATION_OPTIONS = {"fmin_hz": "--fmin", "fmax_hz": "--fmax", "f_min": "--f
                          "pa_min": "--pa-min", "pa_max": "--pa-max"}
 
 
-def _settings(cont: dict, pa_range=(0.0, 2.0)):
+def continuation_settings(cont: dict, pa_range=(0.0, 2.0)):
     """ContinuationSettings of the continuation options ``cont`` (the library checks them; we
     name the options)."""
     from contactvib.continuation.shooting import BRANCH_POINTS_MIN, ContinuationSettings
 
-    lo, hi = _frequency_range(cont["fmin"], cont["fmax"])
-    n = _int("--max-points", cont["max_points"], BRANCH_POINTS_MIN, symbol="max_points")
-    a = _number("--app-max", "app_max_um", cont["app_max"])
-    r = _checked("--rtol", check_range, "rtol", cont["rtol"], SHOOTING_RTOL_RANGE[0], True,
+    lo, hi = parse_frequency_range(cont["fmin"], cont["fmax"])
+    n = parse_int("--max-points", cont["max_points"], BRANCH_POINTS_MIN, symbol="max_points")
+    a = parse_number("--app-max", "app_max_um", cont["app_max"])
+    r = checked_option("--rtol", check_range, "rtol", cont["rtol"], SHOOTING_RTOL_RANGE[0], True,
                  upper=SHOOTING_RTOL_RANGE[1])
-    return _mapped(_CONTINUATION_OPTIONS, ContinuationSettings, fmin_hz=lo, fmax_hz=hi,
+    return mapped_options(_CONTINUATION_OPTIONS, ContinuationSettings, fmin_hz=lo, fmax_hz=hi,
                    pa_min=pa_range[0], pa_max=pa_range[1], max_points=n, app_max_um=a, rtol=r,
                    tol=max(100 * r, 1e-11), excitation=cont.get("level_kind", "force"))
 
@@ -68,21 +68,21 @@ def _below_app_max(starts, app_max_um: float, fe: float) -> None:
 def _in_range(option: str, symbol: str, text_or_value, lo: float, hi: float, names: tuple[str, str],
               unit: str = "") -> float:
     """A value that must lie in [lo, hi], the range set by the options ``names``."""
-    return _checked(option, check_range, symbol, text_or_value, lo, True, unit, upper=hi,
+    return checked_option(option, check_range, symbol, text_or_value, lo, True, unit, upper=hi,
                     lower_name=names[0], upper_name=names[1], names=_CONTINUATION_OPTIONS)
 
 
 def _pa_range(pa_min: str, pa_max: str) -> tuple[float, float]:
     """--pa-min < --pa-max, both P_a levels > 0 [Q]."""
-    lo = _pa_level(pa_min, "--pa-min")
-    hi = _checked("--pa-max", check_range, "P_a/Q", pa_max, lo, False, lower_name="pa_min",
+    lo = parse_pa_level(pa_min, "--pa-min")
+    hi = checked_option("--pa-max", check_range, "P_a/Q", pa_max, lo, False, lower_name="pa_min",
                   names=_CONTINUATION_OPTIONS)
-    hi = _checked("--pa-max", check_range, "P_a/Q", hi, None, unit=PA_NOTE, upper=PA_MAX)
+    hi = checked_option("--pa-max", check_range, "P_a/Q", hi, None, unit=PA_NOTE, upper=PA_MAX)
     return lo, hi
 
 
 def _continuation_options(f):
-    f = _law_options(f)
+    f = law_options(f)
     """The options every continuation command takes; the command receives them as keyword
     arguments (``**cont``)."""
     f = level_kind_option(f)
@@ -101,9 +101,9 @@ def _continuation_options(f):
                      help="Override a model parameter by its paper symbol (M, g, S, c_n, m2, h_n, l).")(f)
     f = click.option("--no-switch", is_flag=True,
                      help="Do not switch onto period-2k branches at period doublings.")(f)
-    f = click.option("--dataset", default=None, type=click.Path(), metavar="FILE",
-                     help="Resonance dataset (paper.nc, resonance.nc): also draw the branches over "
-                          "its resonance graph (overlay_<tag>.png).")(f)
+    f = click.option("--dataset", default=None, type=click.Path(), metavar="DATASET",
+                     help="Resonance dataset (paper.nc, resonance.nc, atlas.nc, or their folder): also draw "
+                          "the branches over its resonance graph (overlay_<tag>.png).")(f)
     return f
 
 
@@ -119,16 +119,9 @@ def _open_dataset(path, levels, kind: str = "force"):
     levels must be of the same kind (``--excitation``) and include ``levels``."""
     if path is None:
         return None
-    import xarray as xr
+    from contactvib.cli.common import open_dataset_argument
 
-    if not Path(path).is_file():
-        raise InputError(f"--dataset = {path}: no such file")
-    try:
-        ds = xr.load_dataset(path)
-    except Exception as e:  # not NetCDF, damaged
-        raise InputError(f"--dataset = {path}: not a readable NetCDF dataset ({type(e).__name__})") from None
-    if "branch_label" not in ds:
-        raise InputError(f"--dataset = {path}: not a contactvib resonance dataset")
+    _, ds = open_dataset_argument(path, "--dataset", load=True)
     import numpy as np
 
     stored_kind = str(ds.attrs.get("excitation", "force"))
@@ -201,33 +194,33 @@ def _summary(bset, parameter="f_e"):
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
 def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, **cont):
     """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point."""
-    model = _model(cont["settings"])
+    model = parse_model(cont["settings"])
     dataset = cont["dataset"]
     kind = cont["level_kind"]
     by_pa = parameter == "pa"
     if by_pa and kind != "force":
         raise InputError(f"--parameter pa: continuation in P_a needs a force level, not --excitation {kind}; "
                          "continue in f_e instead")
-    p = _levels((pa,), kind)[0]
+    p = parse_levels((pa,), kind)[0]
     if by_pa and dataset is not None:
         raise InputError("--dataset draws over a resonance graph in f_e: not with --parameter pa")
     ds = _open_dataset(dataset, [p], kind)
-    fe = _positive("--from-fe", "f_e", from_fe, "Hz")
+    fe = parse_positive("--from-fe", "f_e", from_fe, "Hz")
     lo, hi = (_pa_range(pa_min, pa_max) if by_pa
-              else (_pa_level(pa_min, "--pa-min"), _pa_level(pa_max, "--pa-max")))
+              else (parse_pa_level(pa_min, "--pa-min"), parse_pa_level(pa_max, "--pa-max")))
     if by_pa:
         _in_range("--pa", "P_a/Q", p, lo, hi, ("pa_min", "pa_max"))
-    s = _settings(cont, (lo, hi) if by_pa else (0.0, 2.0))
+    s = continuation_settings(cont, (lo, hi) if by_pa else (0.0, 2.0))
     if not by_pa:
         _in_range("--from-fe", "f_e", fe, s.fmin_hz, s.fmax_hz, ("f_min", "f_max"), "Hz")
-    n = None if attractor is None else _int("--attractor", attractor, 0)
-    _feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
-    exc = _checked("--from-fe" if kind == "force" else "--pa", s.excitation_at, model, p, fe)
-    _output_folder(out)
+    n = None if attractor is None else parse_int("--attractor", attractor, 0)
+    feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
+    exc = checked_option("--from-fe" if kind == "force" else "--pa", s.excitation_at, model, p, fe)
+    checked_output_folder(out)
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.steady.attractors import find_attractors
 
-    with _ctrl_c():
+    with ctrl_c():
         found = find_attractors(model, exc)
     if n is not None and n >= len(found):
         raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
@@ -242,7 +235,7 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     paths, fig = _write(bset, Path(out), tag, title, ds, p,
                         parameter="P_a" if by_pa else "f_e")
     if as_json:
-        _echo_json(bset.to_json())
+        echo_json(bset.to_json())
         return
     _summary(bset, "P_a" if by_pa else "f_e")
     for m in msgs:
@@ -261,11 +254,11 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
 def bifurcations(pa, seed_fe, out, as_json, **cont):
     """All branches, seeded from every attractor at several frequencies, for each P_a."""
-    model = _model(cont["settings"])
+    model = parse_model(cont["settings"])
     kind = cont["level_kind"]
-    levels = _levels(pa, kind)
+    levels = parse_levels(pa, kind)
     ds = _open_dataset(cont["dataset"], levels, kind)
-    s = _settings(cont)
+    s = continuation_settings(cont)
     from contactvib.continuation.diagram import DEFAULT_SEED_FE
 
     if seed_fe is None:
@@ -275,8 +268,8 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
                  for t in seed_fe.split(",") if t.strip()]
     if not seeds:
         raise InputError("--seed-fe: no seed frequency inside [--fmin, --fmax]")
-    _feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
-    _output_folder(out)
+    feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
+    checked_output_folder(out)
     from contactvib.continuation.branch import BranchSet
     from contactvib.continuation.diagram import bifurcation_diagram
 
@@ -289,13 +282,13 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
             click.echo(f"{level_text(p, kind, 6)}: {len(bset)} branches, {len(bset.special_points)} special points")
     (Path(out) / "bifurcations.json").write_text(allb.to_json(indent=1))
     if as_json:
-        _echo_json(allb.to_json())
+        echo_json(allb.to_json())
     else:
         click.echo(f"wrote {Path(out)}/")
 
 
 @click.command()
-@_law_options
+@law_options
 @click.option("--order", default="2", show_default=True,
               help=f"m of the 1/m resonance (1..{EVOLUTION_ORDER_MAX}).")
 @click.option("--pa-min", default="0.3", show_default=True, metavar="Q", help="Lowest P_a [Q].")
@@ -309,11 +302,11 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     """Two-parameter continuation of the folds and period doublings of the 1/m resonance."""
-    model = _model(settings)
-    m = _int("--order", order, 1, EVOLUTION_ORDER_MAX)
+    model = parse_model(settings)
+    m = parse_int("--order", order, 1, EVOLUTION_ORDER_MAX)
     lo, hi = _pa_range(pa_min, pa_max)
-    n = _int("--levels", levels, 2, symbol="n_levels")
-    outp = _output_folder(out)
+    n = parse_int("--levels", levels, 2, symbol="n_levels")
+    outp = checked_output_folder(out)
     from contactvib.continuation.evolution import evolution as run
     from contactvib.plotting.branches import evolution_figure
     from contactvib.plotting.figures import save_figure
@@ -324,7 +317,7 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     save_figure(evolution_figure(res, f"evolution of the 1/{m} resonance: folds and period doublings"),
                 outp / f"evolution_order{m}.png")
     if as_json:
-        _echo_json(res.to_json())
+        echo_json(res.to_json())
         return
     for line in msgs:
         click.echo(line)

@@ -8,29 +8,29 @@ from functools import partial
 import click
 
 from contactvib.cli.common import (
-    _LAW,
+    LAW_OPTIONS,
     InputError,
     RunInterrupted,
-    _excitation,
-    _feasible_frequencies,
-    _int,
-    _law_options,
-    _levels,
-    _mapped,
-    _model,
-    _positive,
+    feasible_frequencies,
+    law_options,
+    mapped_options,
+    parse_excitation,
+    parse_int,
+    parse_levels,
+    parse_model,
+    parse_positive,
 )
 
 
 @contextmanager
 def _law_of(point):
     """Within: the page's law options are the command's (``--law``, ``--law-file``,
-    ``--damping``, ``--preload``, read by ``_model``), in this thread only."""
-    token = _LAW.set(point.law_options())
+    ``--damping``, ``--preload``, read by ``parse_model``), in this thread only."""
+    token = LAW_OPTIONS.set(point.law_options())
     try:
         yield
     finally:
-        _LAW.reset(token)
+        LAW_OPTIONS.reset(token)
 
 
 def _check(point):
@@ -41,15 +41,15 @@ def _check(point):
 
     try:
         with _law_of(point):
-            model = _model(point.settings())
-        return model, _excitation(model, point.fields["pa"].strip(), None, point.fields["fe"].strip())
+            model = parse_model(point.settings())
+        return model, parse_excitation(model, point.fields["pa"].strip(), None, point.fields["fe"].strip())
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
 
 
 def _find(model, exc):
     """The search of ``contactvib attractors`` with its default options."""
-    from contactvib.cli.steady import _find as find
+    from contactvib.cli.steady import search_attractors as find
     from contactvib.explore.state import BadInput
 
     try:
@@ -71,7 +71,7 @@ def _continue(point, model, exc, result, n):
     """The branch through attractor ``n`` of ``result`` in f_e, as ``contactvib continue``
     computes it over the page's window (:func:`contactvib.explore.continuation_view.window_hz`),
     and that command: ``(branch, command)``."""
-    from contactvib.cli.continuation import _settings
+    from contactvib.cli.continuation import continuation_settings
     from contactvib.continuation.diagram import continue_attractors
     from contactvib.continuation.shooting import ContinuationError
     from contactvib.explore.continuation_view import window_hz
@@ -82,7 +82,7 @@ def _continue(point, model, exc, result, n):
                f"{point.fields['fe'].strip()} --attractor {n} --no-switch --fmin {lo} --fmax {hi} "
                f"--max-points {CONTINUATION_POINTS} --rtol {CONTINUATION_RTOL}" + point.command_options())
     try:
-        s = _settings({"fmin": lo, "fmax": hi, "max_points": str(CONTINUATION_POINTS), "app_max": "2000",
+        s = continuation_settings({"fmin": lo, "fmax": hi, "max_points": str(CONTINUATION_POINTS), "app_max": "2000",
                        "rtol": CONTINUATION_RTOL})
         branches = continue_attractors(model, exc.pa_over_q, exc.f_e, n, s, switch=False,
                                        attractors=result, parameter="f_e")
@@ -106,9 +106,9 @@ def _graph_grid(fmin, fmax, df) -> tuple[str, str, str]:
     from contactvib.model import ContactModel
     from contactvib.sweeps.sweep import SweepSettings
 
-    st = _mapped(_GRAPH_OPTIONS, SweepSettings, fmin_hz=fmin, fmax_hz=fmax,
-                 df_hz=_positive("--graph-df", "df", df, "Hz"))
-    _feasible_frequencies(ContactModel(), st.fmin_hz, st.fmax_hz, ("--graph-fmin", "--graph-fmax"))
+    st = mapped_options(_GRAPH_OPTIONS, SweepSettings, fmin_hz=fmin, fmax_hz=fmax,
+                 df_hz=parse_positive("--graph-df", "df", df, "Hz"))
+    feasible_frequencies(ContactModel(), st.fmin_hz, st.fmax_hz, ("--graph-fmin", "--graph-fmax"))
     return fmin.strip(), fmax.strip(), df.strip()
 
 
@@ -117,7 +117,7 @@ def _level_inputs(point, grid):
     [--law .. --damping .. --preload .. --set ..]`` computes it for one level (its other options
     at their defaults), checked as that command checks them (same one-line messages):
     ``(model, P_a [Q], SweepSettings, command)``."""
-    from contactvib.cli.sweeps import _sweep_inputs, resonance
+    from contactvib.cli.sweeps import resonance, sweep_inputs
     from contactvib.explore.state import BadInput
 
     fmin, fmax, df = grid
@@ -126,9 +126,9 @@ def _level_inputs(point, grid):
     sweep = {**{p.name: p.default for p in resonance.params}, "fmin": fmin, "fmax": fmax, "df": df,
              "settings": point.settings()}
     try:
-        level = _levels((pa,))[0]
+        level = parse_levels((pa,))[0]
         with _law_of(point):
-            model, st, _workers = _sweep_inputs(sweep)
+            model, st, _workers = sweep_inputs(sweep)
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
     return model, level, st, command
@@ -140,8 +140,8 @@ def _start_point():
     anything is served."""
     from contactvib.explore.state import Point
 
-    opts = _LAW.get() or {}
-    _model(())
+    opts = LAW_OPTIONS.get() or {}
+    parse_model(())
     point = Point(law_file=opts.get("law_file"))
     point.fields.update(law=opts.get("law") or "power", damping=opts.get("damping") or "power")
     if opts.get("model_file") is not None:  # a saved model (contactvib fit --save-model)
@@ -154,9 +154,9 @@ def _start_point():
 def _model_fields(point, path) -> None:
     """The page's fields from a model file (``--model``): its law, damping, preload and
     parameters; a table law's rows cannot be fields (start with --law table --law-file)."""
-    from contactvib.cli.common import _model_file
+    from contactvib.cli.common import read_model_file
 
-    p = _model_file(path)
+    p = read_model_file(path)
     if "table" in p:
         raise InputError(f"--model = {path}: a table law's model: start explore with --law table --law-file FILE.csv")
     point.fields.update(law=str(p.get("law", "power")), damping=str(p.get("damping", "power")),
@@ -182,7 +182,7 @@ def _model_fields(point, path) -> None:
               help="Without DATASET: frequency step [Hz] of that graph.")
 @click.option("--graph-time-limit", default="300", show_default=True,
               help="Stop the computation of that graph after this many seconds.")
-@_law_options
+@law_options
 def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax, graph_df,
             graph_time_limit):
     """The contact oscillator live in the browser: every attractor at the P_a and f_e you type.
@@ -194,10 +194,10 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
 
     --law, --law-file, --damping and --preload set the page's first contact law (the page's
     choosers change it; --law table needs --law-file, and only then does the page offer it)."""
-    port = _int("--port", port, 0, 65535, symbol="port")
-    limit = _positive("--time-limit", "time_limit", time_limit, "s")
+    port = parse_int("--port", port, 0, 65535, symbol="port")
+    limit = parse_positive("--time-limit", "time_limit", time_limit, "s")
     grid = _graph_grid(graph_fmin, graph_fmax, graph_df)
-    graph_limit = _positive("--graph-time-limit", "time_limit", graph_time_limit, "s")
+    graph_limit = parse_positive("--graph-time-limit", "time_limit", graph_time_limit, "s")
     start = _start_point()
     host = host.strip()
     if not host or any(c.isspace() for c in host):
@@ -212,8 +212,7 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
         try:
             levels = DatasetLevels(dataset)
         except DatasetError as e:
-            why = str(e).removeprefix(f"{dataset}: ")
-            raise InputError(f"DATASET = {dataset}: {why}") from None
+            raise InputError(f"DATASET = {e}") from None
     from contactvib.explore.server import serve
 
     def ready(url):

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, _ctrl_c, _error, _output_folder
+from contactvib.cli.common import InputError, checked_output_folder, ctrl_c, option_error
 from contactvib.model import ParameterError, level_text
 
 _FILM_OPTIONS = {"fps": "--fps", "width": "--size", "height": "--size"}
@@ -26,7 +26,7 @@ def _output_file(out: str, gif: bool) -> Path:
     path = Path(out)
     if path.is_dir():
         raise InputError(f"--out = {out}: is a folder; give the film's file name (e.g. evolution.mp4)")
-    _output_folder(path.parent, file=out)  # created and writable, or one line naming --out
+    checked_output_folder(path.parent, file=out)  # created and writable, or one line naming --out
     want = ".gif" if gif else ".mp4"
     if path.suffix.lower() != want:
         hint = "with --gif the film is a GIF" if gif else "or in .gif with --gif"
@@ -52,7 +52,7 @@ def animate(dataset, out, fps, gif, size):
     try:
         fps_, width, height = check_film(fps, *_size(size))
     except ParameterError as e:
-        raise _error(_FILM_OPTIONS.get(e.symbol, e.symbol), e) from None
+        raise option_error(_FILM_OPTIONS.get(e.symbol, e.symbol), e) from None
     path = _output_file(out, gif)
     try:
         source = open_levels(dataset)
@@ -60,7 +60,7 @@ def animate(dataset, out, fps, gif, size):
         raise InputError(f"DATASET = {e}") from None
     from contactvib.sweeps import film
 
-    with _ctrl_c():
+    with ctrl_c():
         res = film.animate(source, path, fps=fps_, size=(width, height), gif=gif)
     kind = str(source.ds.attrs.get("excitation", "force"))
     sym, unit = level_text(1.0, kind).split(" = 1 ")

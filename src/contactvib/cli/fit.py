@@ -8,14 +8,14 @@ import click
 
 from contactvib.cli.common import (
     InputError,
-    _checked,
-    _ctrl_c,
-    _echo_json,
-    _error,
-    _int,
-    _model,
-    _number,
-    _output_folder,
+    checked_option,
+    checked_output_folder,
+    ctrl_c,
+    echo_json,
+    option_error,
+    parse_int,
+    parse_model,
+    parse_number,
 )
 from contactvib.model import PARAMETER_UNITS, ParameterError
 
@@ -41,7 +41,7 @@ def _pairs(option: str, items, names) -> dict:
 
 
 def _fixes(items) -> dict:
-    return {k: _number(f"--fix {k}", k, v) for k, v in _pairs("--fix", items, FIX_NAMES).items()}
+    return {k: parse_number(f"--fix {k}", k, v) for k, v in _pairs("--fix", items, FIX_NAMES).items()}
 
 
 def _bounds(items) -> dict:
@@ -50,14 +50,14 @@ def _bounds(items) -> dict:
         parts = v.split(":")
         if len(parts) != 2:
             raise InputError(f"--bounds {k}={v}: expected NAME=LOWER:UPPER")
-        out[k] = (_number(f"--bounds {k}", k, parts[0]), _number(f"--bounds {k}", k, parts[1]))
+        out[k] = (parse_number(f"--bounds {k}", k, parts[0]), parse_number(f"--bounds {k}", k, parts[1]))
     return out
 
 
 def _read(kind: str, path):
     from contactvib.fitting.data import load
 
-    return _checked(_DATA_OPTIONS[kind], load, kind, path) if path is not None else None
+    return checked_option(_DATA_OPTIONS[kind], load, kind, path) if path is not None else None
 
 
 @click.command()
@@ -92,28 +92,28 @@ def fit(static, decay, frf, settings, fix, bounds, starts, seed, save_model, out
         raise InputError("fit: give at least one of --static, --decay, --frf")
     if not any(s.split("=", 1)[0].strip() == "M" for s in settings):
         raise InputError("--set M=...: the slider mass M [kg] must be given (it is never fitted)")
-    model = _model(settings)
+    model = parse_model(settings)
     fixes, box = _fixes(fix), _bounds(bounds)
-    n_starts = _int("--starts", starts, 0, 1000)
-    n_seed = _int("--seed", seed, 0)
+    n_starts = parse_int("--starts", starts, 0, 1000)
+    n_seed = parse_int("--seed", seed, 0)
     if out is not None:
-        out = _output_folder(out)
+        out = checked_output_folder(out)
     if save_model is not None:
         _save_model_folder(save_model)
     data = {k: _read(k, p) for k, p in (("static", static), ("decay", decay), ("frf", frf))}
     options = {**_DATA_OPTIONS, **{k: f"--fix {k}" for k in FIX_NAMES}, **{k: f"--bounds {k}" for k in BOUND_NAMES}}
     code = 0
     try:
-        with _ctrl_c():
+        with ctrl_c():
             result = fit_data(**data, model=model, fix=fixes, bounds=box, n_starts=n_starts, seed=n_seed,
                               progress=not no_progress and not as_json)
     except ParameterError as e:
-        raise _error(options.get(e.symbol, e.symbol), e, options) from None
+        raise option_error(options.get(e.symbol, e.symbol), e, options) from None
     except FitError as e:
         click.echo(f"contactvib: error: {e}", err=True)
         result, code = e.result, 1
     if as_json:
-        _echo_json(result.to_dict())
+        echo_json(result.to_dict())
     else:
         click.echo(result.table())
     if save_model is not None:
@@ -134,7 +134,7 @@ def _save_model_folder(path) -> None:
         raise InputError(f"--save-model = {path}: not a file name") from None
     if "\0" in str(path) or Path(path).is_dir():
         raise InputError(f"--save-model = {path}: not a file name (a folder, or a NUL character)")
-    _output_folder(folder, "--save-model", file=path)
+    checked_output_folder(folder, "--save-model", file=path)
 
 
 def _write_model(path, result) -> None:

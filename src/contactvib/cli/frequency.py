@@ -7,19 +7,19 @@ import json
 import click
 
 from contactvib.cli.common import (
-    _checked,
-    _echo_json,
-    _excitation,
-    _feasible_frequencies,
-    _frequency_range,
-    _int,
-    _law_options,
-    _levels,
-    _model,
-    _operating_point_options,
-    _output_folder,
-    _positive,
+    checked_option,
+    checked_output_folder,
+    echo_json,
+    feasible_frequencies,
+    law_options,
     level_kind_option,
+    operating_point_options,
+    parse_excitation,
+    parse_frequency_range,
+    parse_int,
+    parse_levels,
+    parse_model,
+    parse_positive,
 )
 from contactvib.model import HARMONICS_MAX, LEVEL_TAGS, PA_NOTE, check_range, excitation_at, level_text
 from contactvib.model.checks import PA_MAX
@@ -28,7 +28,7 @@ _CONV_ORDERS_MAX = 80
 
 
 @click.command()
-@_operating_point_options
+@operating_point_options
 @click.option("--order", default="40", show_default=True, metavar="N",
               help="Number of terms N of the series in P_a/Q (1..400).")
 @click.option("--summation", type=click.Choice(["pade", "plain"]), default="pade",
@@ -39,8 +39,8 @@ _CONV_ORDERS_MAX = 80
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
 def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     """Perturbation series of the steady state, its validity, and a comparison with the numerics."""
-    model = _model(settings)
-    exc = _excitation(model, pa, pa_newton, fe)
+    model = parse_model(settings)
+    exc = parse_excitation(model, pa, pa_newton, fe)
     from contactvib.frequency.perturbation import (
         MAX_ORDER,
         convergence_table,
@@ -48,17 +48,17 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
         steady_counterpart,
     )
 
-    n = _int("--order", order, 1, MAX_ORDER)
+    n = parse_int("--order", order, 1, MAX_ORDER)
     if out is not None:
-        out = _output_folder(out)
+        out = checked_output_folder(out)
 
     res = perturbation_series(model, exc, n, summation)
     if as_json and out is None:
-        _echo_json(res.to_json())
+        echo_json(res.to_json())
         return
     num = steady_counterpart(model, exc, res)
     if as_json:
-        _echo_json(res.to_json())
+        echo_json(res.to_json())
     else:
         click.echo(f"P_a = {exc.pa_over_q:g} Q, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz, "
                    f"order N = {n} ({summation} summation)")
@@ -106,7 +106,7 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 
 
 @click.command()
-@_law_options
+@law_options
 @click.option("--pa", default="0.65", show_default=True, metavar="Q",
               help="Excitation amplitude P_a as a multiple of Q = M g.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
@@ -124,19 +124,19 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
 @level_kind_option
 def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kind):
     """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
-    model = _model(settings)
+    model = parse_model(settings)
     if level_kind == "force":
-        pa_q = _checked("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
-        pa_q = _checked("--pa", check_range, "P_a/Q", pa_q, None, unit=PA_NOTE, upper=PA_MAX)
+        pa_q = checked_option("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)
+        pa_q = checked_option("--pa", check_range, "P_a/Q", pa_q, None, unit=PA_NOTE, upper=PA_MAX)
     else:
-        pa_q = _levels((pa,), level_kind)[0]
-    H = _int("--harmonics", harmonics, 1, HARMONICS_MAX)
-    f1, f2 = _frequency_range(fmin, fmax)
-    _feasible_frequencies(model, f1, f2)
+        pa_q = parse_levels((pa,), level_kind)[0]
+    H = parse_int("--harmonics", harmonics, 1, HARMONICS_MAX)
+    f1, f2 = parse_frequency_range(fmin, fmax)
+    feasible_frequencies(model, f1, f2)
     if level_kind != "force":  # the inertial force at the top of the range must be allowed
-        _checked("--pa", excitation_at, model, pa_q, f2, level_kind)
-    etol = _positive("--energy-tol", "energy_tol", energy_tol)
-    outp = _output_folder(out)
+        checked_option("--pa", excitation_at, model, pa_q, f2, level_kind)
+    etol = parse_positive("--energy-tol", "energy_tol", energy_tol)
+    outp = checked_output_folder(out)
     from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 
     hs = HBSettings(energy_tol=etol)
@@ -162,7 +162,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kin
                      (f1, f2), f"Harmonic balance, ${sym}$ = {rest}{base} (dots: loss of contact){law}")
     path = save_figure(fig, outp / f"hbm_branch_{LEVEL_TAGS[level_kind]}{pa_q:g}_H{H}.png")
     if as_json:
-        _echo_json(payload)
+        echo_json(payload)
         return
     for name, b in branches:
         click.echo(f"branch {name}: {len(b)} points, f_e {b.fe_hz.min():.1f}..{b.fe_hz.max():.1f} Hz, "

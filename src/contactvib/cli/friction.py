@@ -10,18 +10,18 @@ import numpy as np
 
 from contactvib.cli.common import (
     InputError,
-    _ctrl_c,
-    _echo_json,
-    _excitation,
-    _mapped,
-    _model,
-    _operating_point_options,
-    _output_folder,
-    _positive,
-    _scoped,
-    _search_options,
+    checked_output_folder,
+    ctrl_c,
+    echo_json,
+    mapped_options,
+    operating_point_options,
+    parse_excitation,
+    parse_model,
+    parse_positive,
+    scoped_options,
+    search_options,
 )
-from contactvib.cli.steady import _excitation_text, _find, _search
+from contactvib.cli.steady import excitation_text, search_attractors, search_settings
 
 #: The tangential model's options (kept out of the signature by ``_friction_options``).
 _FRICTION: contextvars.ContextVar = contextvars.ContextVar("contactvib_friction", default=None)
@@ -37,7 +37,7 @@ def _friction_options(f):
     """--vd, --mu, --kt-ratio, --kt-law, --kd, --cd, --beta, and the grids --fe-range/--df and
     --vd-range/--nvd."""
     names = ("vd", "mu", "kt_ratio", "kt_law", "kd", "cd", "beta", "fe_range", "df", "vd_range", "nvd", "drive", "ft")
-    f = _scoped(_FRICTION, names, f)
+    f = scoped_options(_FRICTION, names, f)
     opts = [
         ("--ft", dict(default=None, metavar="N",
                       help="The constant tangential force F_T [N] of --drive force (c_d: a damper to the ground).")),
@@ -106,7 +106,7 @@ def friction_spec(text):
     names = {sym: f"--friction {key}" for key, sym in SPEC_KEYS.items()}
     if kw.get("drive", "velocity") == "force" and "ft" not in kw:
         raise InputError("--friction drive=force: needs the tangential force ft=N")
-    return _mapped(names, FrictionModel, **kw)
+    return mapped_options(names, FrictionModel, **kw)
 
 
 def _friction_model():
@@ -122,14 +122,14 @@ def _friction_model():
         kw.update(drive="force", ft=o["ft"])
     elif o["ft"] is not None:
         raise InputError("--ft: belongs to --drive force (a constant tangential force), not to the velocity drive")
-    return _mapped(_FRICTION_NAMES, FrictionModel, mu=o["mu"], kt_law=o["kt_law"], kd=o["kd"], cd=o["cd"],
+    return mapped_options(_FRICTION_NAMES, FrictionModel, mu=o["mu"], kt_law=o["kt_law"], kd=o["kd"], cd=o["cd"],
                    vd=o["vd"], beta=o["beta"], **kw)
 
 
 def _frequencies(o) -> np.ndarray:
-    fmin, fmax = _mapped({"f_min": "--fe-range FMIN", "f_max": "--fe-range FMAX"}, _frequency_range_values,
+    fmin, fmax = mapped_options({"f_min": "--fe-range FMIN", "f_max": "--fe-range FMAX"}, _frequency_range_values,
                          *o["fe_range"])
-    df = _positive("--df", "df", o["df"], "Hz")
+    df = parse_positive("--df", "df", o["df"], "Hz")
     n = int(np.floor((fmax - fmin) / df + 1e-9)) + 1
     if n > FE_POINTS_MAX:
         raise InputError(f"--df = {o['df']}: {n} frequencies over --fe-range; at most {FE_POINTS_MAX}")
@@ -154,7 +154,7 @@ def _belongs(o) -> None:
 def _grid_excitation(model, pa, pa_newton, f):
     """The excitation at a frequency of --fe-range (its checks named by --fe-range)."""
     try:
-        return _excitation(model, pa, pa_newton, repr(float(f)))
+        return parse_excitation(model, pa, pa_newton, repr(float(f)))
     except InputError as e:
         raise InputError(f"--fe-range: at {f:g} Hz: {e}") from None
 
@@ -163,7 +163,7 @@ def _header(model, exc, fm) -> str:
     drive = (f"F_T = {fm.ft:g} N ({fm.ft / (fm.mu * model.W):.4g} mu W), c_d = {fm.cd:g} N s/m" if fm.drive == "force"
              else f"k_d = {fm.kd:g} N/m, c_d = {fm.cd:g} N s/m, v_d = {fm.vd:g} mm/s")
     beta = f", beta = {fm.beta:g}" if fm.beta != 1.0 else ""
-    return (f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz; friction: mu = {fm.mu:g}, "
+    return (f"{excitation_text(exc)}, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz; friction: mu = {fm.mu:g}, "
             f"k_t = {fm.kt_ratio:.4g} dF_s/dy ({fm.kt_law}), {drive}{beta}")
 
 
@@ -185,7 +185,7 @@ def _one_point(model, exc, found, fm, out, as_json) -> None:
     from contactvib.friction import FrictionError, friction_at
 
     results = []
-    with _ctrl_c():
+    with ctrl_c():
         for a in found:
             try:
                 results.append(friction_at(model, exc, a, fm))
@@ -195,7 +195,7 @@ def _one_point(model, exc, found, fm, out, as_json) -> None:
         items = [{"period": a.period, "app_um": a.app_um, "contact_loss_fraction": a.contact_loss_fraction,
                   "basin_fraction": a.basin_fraction, **({} if r is None else r.to_dict())}
                  for a, r in zip(found, results)]
-        _echo_json({"fn0_hz": model.f_n0, "y0_um": model.units.y_um, "pa_over_q": exc.pa_over_q, "fe_hz": exc.f_e,
+        echo_json({"fn0_hz": model.f_n0, "y0_um": model.units.y_um, "pa_over_q": exc.pa_over_q, "fe_hz": exc.f_e,
                     "friction": fm.parameters(), "model": model.parameters(), "attractors": items})
     else:
         force = fm.drive == "force"
@@ -242,7 +242,7 @@ def _sweep_out(sweep, x, out, as_json) -> None:
             click.echo(str(out / f"{stem}.csv"))
             click.echo(str(png))
     if as_json:
-        _echo_json(sweep.to_dict())
+        echo_json(sweep.to_dict())
 
 
 def _print_sweep_rows(rows) -> None:
@@ -257,8 +257,8 @@ _SWEEP_HEAD = (f"{'f_e [Hz]':>8} {'v_d[mm/s]':>9} {'#':>2} {'period':>6} {'A_pp 
 
 
 @click.command()
-@_operating_point_options
-@_search_options
+@operating_point_options
+@search_options
 @_friction_options
 @click.option("--out", "out", default=None, type=click.Path(file_okay=False),
               help="Folder for the figures (time histories, or the friction against f_e or v_d), CSV and JSON.")
@@ -267,8 +267,8 @@ def friction(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     """Friction under normal contact vibration: the slider dragged along the slideway by a drive
     spring moving at v_d, a Jenkins contact (tangential stiffness k_t, Coulomb slip at mu R(t)),
     R(t) the normal contact force of each normal attractor (issue 26)."""
-    model = _model(settings)
-    exc = _excitation(model, pa, pa_newton, fe)
+    model = parse_model(settings)
+    exc = parse_excitation(model, pa, pa_newton, fe)
     fm = _friction_model()
     o = _FRICTION.get() or {}
     if o["fe_range"] is not None and o["vd_range"] is not None:
@@ -277,9 +277,9 @@ def friction(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     excs = None if o["fe_range"] is None else [_grid_excitation(model, pa, pa_newton, f) for f in _frequencies(o)]
     from contactvib.friction.sweep import check_velocities, friction_vs_frequency, friction_vs_velocity
 
-    vds = None if o["vd_range"] is None else _mapped(_FRICTION_NAMES, check_velocities, *o["vd_range"], o["nvd"])
-    search = _search(starts, seed, kmax, max_periods)
-    out = None if out is None else _output_folder(out)
+    vds = None if o["vd_range"] is None else mapped_options(_FRICTION_NAMES, check_velocities, *o["vd_range"], o["nvd"])
+    search = search_settings(starts, seed, kmax, max_periods)
+    out = None if out is None else checked_output_folder(out)
     if excs is not None:
         if not as_json:
             click.echo(_header(model, excs[0], fm).replace(f", f_e = {excs[0].f_e:g} Hz", ""))
@@ -288,13 +288,13 @@ def friction(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
         def show(_exc, new):
             if not as_json and new:
                 _print_sweep_rows({k: [r[k] for r in new] for k in new[0]})
-        with _ctrl_c():
+        with ctrl_c():
             sweep = friction_vs_frequency(model, excs, fm, {**search, "seeds": not no_seeds}, on_point=show)
         _sweep_out(sweep, "fe_hz", out, as_json)
         return
-    found = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
+    found = search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds)
     if vds is not None:
-        with _ctrl_c():
+        with ctrl_c():
             sweep = friction_vs_velocity(model, exc, list(found), vds, fm)
         if not as_json:
             click.echo(_header(model, exc, fm))

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, LevelsCommand, _int, _output_folder
+from contactvib.cli.common import InputError, LevelsCommand, checked_output_folder, open_dataset_argument, parse_int
 from contactvib.model import EVOLUTION_ORDER_MAX
 
 __all__: list = []
@@ -24,29 +24,6 @@ class OrdersCommand(LevelsCommand):
     """``--orders 2 3``: the values right after ``--orders`` are its orders."""
 
     multi = ("--orders", "orders m of the 1/m resonances")
-
-
-def _open_dataset(text: str):
-    """The resonance dataset of DATASET (a file, or a folder holding atlas.nc, paper.nc or
-    resonance.nc), opened; one-line errors otherwise."""
-    import xarray as xr
-
-    from contactvib.sweeps.dataset import FORMAT
-    from contactvib.sweeps.regimes import find_dataset
-
-    try:
-        path = find_dataset(text)
-    except LookupError as e:
-        raise InputError(f"DATASET = {e}") from None
-    try:
-        ds = xr.open_dataset(path)
-    except Exception as e:  # not NetCDF, damaged
-        raise InputError(f"DATASET = {path}: not a readable NetCDF dataset ({type(e).__name__})") from None
-    need = {"pa_over_q", "fe_hz", "resonance", "period", "loses_contact", "lyapunov_per_period"}
-    if not need <= set(ds.variables) or ds.attrs.get("format") != FORMAT:
-        ds.close()
-        raise InputError(f"DATASET = {path}: not a contactvib resonance dataset of layout {FORMAT}")
-    return path, ds
 
 
 def _model_of(ds, path):
@@ -76,7 +53,7 @@ def map_(dataset, orders, curves_dir, out):
     ratio of a dataset swept with --friction)."""
     from contactvib.sweeps.regimes import load_curves
 
-    ms = sorted({_int("--orders", t, 1, EVOLUTION_ORDER_MAX) for t in orders})
+    ms = sorted({parse_int("--orders", t, 1, EVOLUTION_ORDER_MAX) for t in orders})
     if ms and curves_dir is not None:
         raise InputError("--curves: give either --orders (compute the curves) or --curves (reuse them)")
     curves = []
@@ -85,7 +62,7 @@ def map_(dataset, orders, curves_dir, out):
             curves = load_curves(curves_dir)
         except LookupError as e:
             raise InputError(f"--curves = {e}") from None
-    path, ds = _open_dataset(dataset)
+    path, ds = open_dataset_argument(dataset)
     with ds:
         levels = sorted(set(ds["pa_over_q"].values.tolist()))
         model = _model_of(ds, path) if ms else None
@@ -94,7 +71,7 @@ def map_(dataset, orders, curves_dir, out):
                              f"levels ({ds.attrs['level_symbol']} [{ds.attrs['level_unit']}])")
         if ms and len(levels) < 2:
             raise InputError(f"--orders: the curves need a range of P_a; DATASET = {path} has one level")
-        outp = _output_folder(out)
+        outp = checked_output_folder(out)
         run(ds, outp, curves, model, ms, (levels[0], levels[-1]) if levels else None)
 
 

@@ -9,20 +9,20 @@ import click
 
 from contactvib.cli.common import (
     InputError,
-    _ctrl_c,
-    _echo_json,
-    _error,
-    _excitation,
-    _int,
-    _mapped,
-    _max_periods,
-    _model,
-    _model_blamed,
-    _number,
-    _operating_point_options,
-    _output_folder,
-    _scoped,
-    _search_options,
+    checked_output_folder,
+    ctrl_c,
+    echo_json,
+    mapped_options,
+    model_blamed,
+    operating_point_options,
+    option_error,
+    parse_excitation,
+    parse_int,
+    parse_max_periods,
+    parse_model,
+    parse_number,
+    scoped_options,
+    search_options,
 )
 from contactvib.model import LEVEL_TAGS, ContactModel, ParameterError
 
@@ -31,36 +31,36 @@ _SEARCH_OPTIONS = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax",
                    "max_periods": "--max-periods"}
 
 
-def _search(starts, seed, kmax, max_periods) -> dict:
+def search_settings(starts, seed, kmax, max_periods) -> dict:
     """The search options, checked by the library (ranges and memory; we name the options)."""
     from contactvib.steady.attractors import check_search
 
-    kw = {name: _number(option, name, text) for (name, option), text
+    kw = {name: parse_number(option, name, text) for (name, option), text
           in zip(_SEARCH_OPTIONS.items(), (starts, seed, kmax))}
-    kw["max_periods"] = _max_periods(max_periods)
-    return dict(zip(_SEARCH_OPTIONS, _mapped(_SEARCH_OPTIONS, check_search, **kw)))
+    kw["max_periods"] = parse_max_periods(max_periods)
+    return dict(zip(_SEARCH_OPTIONS, mapped_options(_SEARCH_OPTIONS, check_search, **kw)))
 
 
-def _find(model, exc, starts, seed, kmax, max_periods, no_seeds, progress=None):
+def search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds, progress=None):
     """find_attractors with the search options (it checks them; we name the options);
     ``progress`` as find_attractors'."""
     from contactvib.steady.attractors import find_attractors
 
-    kw = _search(starts, seed, kmax, max_periods)
+    kw = search_settings(starts, seed, kmax, max_periods)
     names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
-    with _ctrl_c():
+    with ctrl_c():
         try:
             return find_attractors(model, exc, seeds=not no_seeds, progress=progress, **kw)
         except ParameterError as e:
-            blamed = _model_blamed(model, e, _work_within_reach(exc, kw, no_seeds))
-            raise (blamed or _error(names.get(e.symbol, e.symbol), e, names)) from None
+            blamed = model_blamed(model, e, _work_within_reach(exc, kw, no_seeds))
+            raise (blamed or option_error(names.get(e.symbol, e.symbol), e, names)) from None
         finally:
             getattr(progress, "close", lambda: None)()  # the bar off stderr before any message
 
 
 def _work_within_reach(exc, kw: dict, no_seeds: bool):
     """Whether the search of ``kw`` at ``exc``'s excitation is within the work limit for a
-    model (a test for :func:`_model_blamed`)."""
+    model (a test for :func:`model_blamed`)."""
     import dataclasses
 
     from contactvib.steady.attractors import ballistic_seeds, default_max_periods
@@ -93,12 +93,12 @@ def _header(model, exc, no_seeds, max_periods=None, header=True):
             return
         n_seeds = 0 if no_seeds else ballistic_seeds(exc)[0].shape[0]
         if header:
-            click.echo(f"{_excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
+            click.echo(f"{excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
                        f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
                        f"{total - n_seeds} box starts + {n_seeds} seeds")
             if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
                 click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")
-        seconds = estimated_seconds(check_work(exc, total, _max_periods(max_periods) or default_max_periods(exc)))
+        seconds = estimated_seconds(check_work(exc, total, parse_max_periods(max_periods) or default_max_periods(exc)))
         if seconds > LONG_SEARCH_S:
             from tqdm import tqdm
 
@@ -113,7 +113,7 @@ def _header(model, exc, no_seeds, max_periods=None, header=True):
     return progress
 
 
-def _excitation_text(exc) -> str:
+def excitation_text(exc) -> str:
     """``P_a = 0.65 Q (1.343 N)``, with the harmonics, or the base motion and its inertial force."""
     if exc.kind == "base":
         sym, val, unit = exc.level
@@ -136,20 +136,20 @@ def _none_settled(result) -> None:
 
 
 @click.command()
-@_operating_point_options
-@_search_options
+@operating_point_options
+@search_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
 def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, as_json):
     """All coexisting attractors at one operating point (P_a, f_e)."""
-    model = _model(settings)
-    exc = _excitation(model, pa, pa_newton, fe)
+    model = parse_model(settings)
+    exc = parse_excitation(model, pa, pa_newton, fe)
     if as_json:
-        result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds,
+        result = search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds,
                        _header(model, exc, no_seeds, max_periods, header=False))
-        _echo_json(result.to_json())
+        echo_json(result.to_json())
         _none_settled(result)
         return
-    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds,
+    result = search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds,
                    _header(model, exc, no_seeds, max_periods))
     base = any(a.slider_app_um is not None for a in result)
     head = (f"{'#':>2} {'period':>6} {'minima':>6} {'A_pp [um]':>11} {'y_min [um]':>11} "
@@ -184,7 +184,7 @@ _RANDOM_NAMES = {"S_F": "--random-psd", "f_lo": "--band FLO", "f_hi": "--band FH
 
 def _random_options(f):
     """--random-psd, --band, --duration: a random force instead of the attractors."""
-    f = _scoped(_RANDOM, ("random_psd", "band", "duration"), f)
+    f = scoped_options(_RANDOM, ("random_psd", "band", "duration"), f)
     f = click.option("--duration", default=None, metavar="S",
                      help="Duration [s] of the response to --random-psd, after its start transient (default 1).")(f)
     f = click.option("--band", nargs=2, default=None, metavar="FLO FHI",
@@ -216,11 +216,11 @@ def _random_force(seed):
         raise InputError("--random-psd: needs its band --band FLO FHI [Hz]")
     from contactvib.steady.random_response import RandomForce
 
-    sf = _number("--random-psd", "S_F", opts["random_psd"])
-    lo, hi = (_number(f"--band {o}", s, t) for o, s, t in zip(("FLO", "FHI"), ("f_lo", "f_hi"), opts["band"]))
-    seed = _int("--seed", seed, 0, symbol="seed")
-    duration = 1.0 if opts.get("duration") is None else _number("--duration", "duration", opts["duration"])
-    return _mapped(_RANDOM_NAMES, RandomForce, sf, lo, hi, seed=seed), duration
+    sf = parse_number("--random-psd", "S_F", opts["random_psd"])
+    lo, hi = (parse_number(f"--band {o}", s, t) for o, s, t in zip(("FLO", "FHI"), ("f_lo", "f_hi"), opts["band"]))
+    seed = parse_int("--seed", seed, 0, symbol="seed")
+    duration = 1.0 if opts.get("duration") is None else parse_number("--duration", "duration", opts["duration"])
+    return mapped_options(_RANDOM_NAMES, RandomForce, sf, lo, hi, seed=seed), duration
 
 
 def _simulate_random(model, force, duration, out) -> None:
@@ -228,9 +228,9 @@ def _simulate_random(model, force, duration, out) -> None:
     statistics on stdout."""
     from contactvib.steady.random_response import check_random, random_response
 
-    _mapped(_RANDOM_NAMES, check_random, model, force, duration)
-    out = _output_folder(out)
-    with _ctrl_c():
+    mapped_options(_RANDOM_NAMES, check_random, model, force, duration)
+    out = checked_output_folder(out)
+    with ctrl_c():
         resp = random_response(model, force, duration)
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.random import random_figure
@@ -251,8 +251,8 @@ def _simulate_random(model, force, duration, out) -> None:
 
 
 @click.command()
-@_operating_point_options
-@_search_options
+@operating_point_options
+@search_options
 @click.option("--out", "out", default="simulate", show_default=True, type=click.Path(file_okay=False),
               help="Output folder for the figures and attractors.json.")
 @click.option("--from-state", nargs=2, default=None, metavar="Y_UM YDOT_MM_S",
@@ -264,37 +264,37 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
              from_state, periods):
     """Time histories and phase portraits (one figure per attractor, as Figs. 4–9); with
     --random-psd the response to a random band-limited Gaussian force."""
-    model = _model(settings)
+    model = parse_model(settings)
     random = _random_force(seed)
     if random is not None:
         _simulate_random(model, *random, out)
         return
-    exc = _excitation(model, pa, pa_newton, fe)
+    exc = parse_excitation(model, pa, pa_newton, fe)
     if from_state is not None:
-        y = _number("--from-state", "y", from_state[0])
-        yd = _number("--from-state", "ydot", from_state[1])
-        n = _int("--periods", periods, 1, symbol="n_periods")
+        y = parse_number("--from-state", "y", from_state[0])
+        yd = parse_number("--from-state", "ydot", from_state[1])
+        n = parse_int("--periods", periods, 1, symbol="n_periods")
         from contactvib.steady.simulate import check_start
 
-        y, yd, n, _ = _mapped({"y": "--from-state", "ydot": "--from-state", "n_periods": "--periods"},
+        y, yd, n, _ = mapped_options({"y": "--from-state", "ydot": "--from-state", "n_periods": "--periods"},
                               check_start, model, y, yd, n)
     else:
-        _search(starts, seed, kmax, max_periods)
+        search_settings(starts, seed, kmax, max_periods)
     from contactvib.plotting.figures import attractor_figure, history_figure, save_figure
     from contactvib.steady.simulate import attractor_history
     from contactvib.steady.simulate import simulate as run
 
-    out = _output_folder(out)
+    out = checked_output_folder(out)
     tag = f"{LEVEL_TAGS[exc.level_kind]}{exc.level[1]:g}_fe{exc.f_e:g}"
     if from_state is not None:
-        h = _mapped({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
+        h = mapped_options({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
         sym, rest = h.level.split(" = ", 1)
         fig = history_figure(h, f"${sym}$ = {rest}{' (base motion)' if h.base_um is not None else ''}, "
                                 f"$f_e$ = {exc.f_e:g} Hz, from y = {y:g} µm, ẏ = {yd:g} mm/s")
         path = save_figure(fig, out / f"trajectory_{tag}.png")
         click.echo(str(path))
         return
-    result = _find(model, exc, starts, seed, kmax, max_periods, no_seeds)
+    result = search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds)
     _none_settled(result)
     (out / "attractors.json").write_text(result.to_json(indent=1))
     for i, a in enumerate(result):

@@ -15,19 +15,20 @@ from contactvib.cli.common import (
     InputError,
     LevelsCommand,
     RunInterrupted,
-    _checked,
-    _echo_json,
-    _feasible_frequencies,
-    _frequency_range,
-    _int,
-    _law_options,
-    _levels,
-    _mapped,
-    _model,
-    _number,
-    _output_folder,
-    _positive,
+    checked_option,
+    checked_output_folder,
+    echo_json,
+    feasible_frequencies,
+    law_options,
     level_kind_option,
+    mapped_options,
+    open_dataset_argument,
+    parse_frequency_range,
+    parse_int,
+    parse_levels,
+    parse_model,
+    parse_number,
+    parse_positive,
 )
 from contactvib.cli.friction import friction_spec_option
 from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
@@ -36,7 +37,7 @@ __all__: list = []
 
 
 @contextmanager
-def _writing_into(out: Path):
+def writing_into(out: Path):
     """Hold the output folder's lock for the whole command (sweeps and figures); the library's
     lock and resume refusals become one-line errors (exit 2), Ctrl-C the one line
     ``contactvib: interrupted: N levels kept in OUT/.chunks; rerun with --resume`` (exit 130)."""
@@ -58,8 +59,8 @@ def _writing_into(out: Path):
                          "(use another --out, or delete the chunk)") from None
 
 
-def _sweep_options(f):
-    f = _law_options(f)
+def sweep_options(f):
+    f = law_options(f)
     """The options of a sweep; the command receives them as keyword arguments (``**sweep``)."""
     for opt in reversed([
         click.option("--fmin", default="30", show_default=True, metavar="HZ", help="Lowest f_e [Hz]."),
@@ -93,7 +94,7 @@ _SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "-
 
 
 def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, **_other):
-    """SweepSettings of the sweep options (the dict of :func:`_sweep_options`; the options that
+    """SweepSettings of the sweep options (the dict of :func:`sweep_options`; the options that
     are not settings are ignored): the frequency range and the integers are checked by the
     library's checks, the rest by SweepSettings itself."""
     per_octave = multistart_per_octave
@@ -102,25 +103,25 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
     level_kind = _other.get("level_kind", "force")
     from contactvib.cli.friction import friction_spec
 
-    lo, hi = _frequency_range(fmin, fmax)
-    kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=_positive("--df", "df", df, "Hz"),
-              multistart_per_octave=_number("--multistart-per-octave", "multistart_per_octave",
+    lo, hi = parse_frequency_range(fmin, fmax)
+    kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=parse_positive("--df", "df", df, "Hz"),
+              multistart_per_octave=parse_number("--multistart-per-octave", "multistart_per_octave",
                                             per_octave),
-              multistart_starts=_int("--starts", starts, 0), seed=_int("--seed", seed, 0),
-              kmax=_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind,
+              multistart_starts=parse_int("--starts", starts, 0), seed=parse_int("--seed", seed, 0),
+              kmax=parse_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind,
               friction=friction_spec(_other.get("friction")))
-    return _mapped(_SWEEP_OPTIONS, SweepSettings, **kw)
+    return mapped_options(_SWEEP_OPTIONS, SweepSettings, **kw)
 
 
-def _sweep_levels(pa: tuple, model, st) -> list[float]:
+def sweep_levels(pa: tuple, model, st) -> list[float]:
     """The levels of ``--pa``: P_a [Q] each > 0, or for ``--excitation base-um``/``base-g`` U [µm]
     or A [g] each > 0 whose inertial force stays within the allowed P_a up to ``--fmax``."""
     from contactvib.sweeps.resonance import check_sweep_level
 
-    levels = _levels(pa, st.excitation)
+    levels = parse_levels(pa, st.excitation)
     if st.excitation != "force":
         for v in levels:
-            _checked("--pa", check_sweep_level, model, v, st)
+            checked_option("--pa", check_sweep_level, model, v, st)
     return levels
 
 
@@ -129,41 +130,41 @@ def _level_file_tag(level: float, kind: str) -> str:
     return {"force": f"pa{level:.2f}", "base-um": f"U{level:g}um", "base-g": f"A{level:g}g"}[kind]
 
 
-def _sweep_inputs(sweep: dict):
+def sweep_inputs(sweep: dict):
     """The model, the SweepSettings and the worker count of the sweep options, all checked (the
     grid's ends must be frequencies the model can be integrated at)."""
     from contactvib.steady.transients import check_damped
 
-    model = _model(sweep["settings"])
-    _checked("--set h_n", check_damped, model, "a resonance sweep")
+    model = parse_model(sweep["settings"])
+    checked_option("--set h_n", check_damped, model, "a resonance sweep")
     st = _sweep_settings(**sweep)
     n_workers = _workers(sweep["workers"])
-    _feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
+    feasible_frequencies(model, st.fmin_hz, st.fmax_hz)
     return model, st, n_workers
 
 
 def _workers(text):
-    return None if text is None else _int("--workers", text, 1, WORKERS_MAX)
+    return None if text is None else parse_int("--workers", text, 1, WORKERS_MAX)
 
 
 @click.command(cls=LevelsCommand)
 @click.option("--pa", multiple=True, default=("0.65",), show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
-@_sweep_options
+@sweep_options
 @friction_spec_option
 @click.option("--out", default="resonance", show_default=True, type=click.Path(file_okay=False),
               help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
                    "diagram per level.")
 def resonance(pa, out, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
-    model, st, n_workers = _sweep_inputs(sweep)
-    levels = _sweep_levels(pa, model, st)
+    model, st, n_workers = sweep_inputs(sweep)
+    levels = sweep_levels(pa, model, st)
     from contactvib.interrupts import check_interrupt
     from contactvib.sweeps.paper import write_level_figures
     from contactvib.sweeps.resonance import resonance_dataset
 
-    out = _output_folder(out)
-    with _writing_into(out):
+    out = checked_output_folder(out)
+    with writing_into(out):
         ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
                                progress=not sweep["no_progress"])
         for p in sorted(set(levels)):
@@ -174,25 +175,6 @@ def resonance(pa, out, **sweep):
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 
 
-#: The datasets a folder given to ``query`` may hold, in the order they are looked for.
-_DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
-
-
-def _dataset_file(dataset: str) -> Path:
-    """The file of ``query``'s DATASET: the file itself, or in a folder (an atlas, paper or
-    resonance output folder) its atlas.nc, paper.nc or resonance.nc."""
-    path = Path(dataset)
-    if path.is_dir():
-        for name in _DATASET_NAMES:
-            if (path / name).is_file():
-                return path / name
-        raise InputError(f"DATASET = {dataset}: a folder without {', '.join(_DATASET_NAMES[:-1])} "
-                         f"or {_DATASET_NAMES[-1]}")
-    if not path.is_file():
-        raise InputError(f"DATASET = {dataset}: no such file")
-    return path
-
-
 @click.command()
 @click.argument("dataset", type=click.Path())
 @click.option("--pa", required=True, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
@@ -200,33 +182,23 @@ def _dataset_file(dataset: str) -> Path:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels).")
 def query(dataset, pa, fe, as_json):
     """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one (P_a, f_e)."""
-    p = _number("--pa", "P_a/Q", pa)
-    f = _positive("--fe", "f_e", fe, "Hz")
-    path = _dataset_file(dataset)
-    import xarray as xr
-
+    p = parse_number("--pa", "P_a/Q", pa)
+    f = parse_positive("--fe", "f_e", fe, "Hz")
     from contactvib.sweeps.stored import DamagedDataset, attractors_at
 
-    try:
-        ds = xr.open_dataset(path)
-    except Exception as e:  # not NetCDF, damaged
-        raise InputError(f"DATASET = {dataset}: not a readable NetCDF dataset ({type(e).__name__})") from None
+    path, ds = open_dataset_argument(dataset)
     with ds:
-        if "branch_label" not in ds:
-            raise InputError(f"DATASET = {dataset}: not a contactvib resonance dataset")
-        if "format" not in ds.attrs:
-            raise InputError(f"DATASET = {dataset}: written by an older contactvib: recompute it")
         try:
             res = attractors_at(ds, p, f)
         except DamagedDataset as e:
-            raise InputError(f"DATASET = {dataset}: {e}") from None
+            raise InputError(f"DATASET = {path}: {e}") from None
         except LookupError as e:
             raise InputError(str(e)) from None
         except (OSError, RuntimeError, ValueError, TypeError, IndexError) as e:  # unreadable values
-            raise InputError(f"DATASET = {dataset}: damaged: its values cannot be read ({type(e).__name__}: "
+            raise InputError(f"DATASET = {path}: damaged: its values cannot be read ({type(e).__name__}: "
                              f"{e}): recompute it") from None
     if as_json:
-        _echo_json(res)
+        echo_json(res)
         return
     kind = res.get("excitation", "force")
     unit = LEVEL_KINDS[kind][1]
@@ -245,17 +217,17 @@ def query(dataset, pa, fe, as_json):
 @click.command()
 @click.option("--out", default="paper", show_default=True, type=click.Path(file_okay=False),
               help="Output folder: paper.nc, .chunks/, fig2*/fig3* per level, fig4–fig9, index.md.")
-@_sweep_options
+@sweep_options
 def paper(out, **sweep):
     """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
     if sweep.get("level_kind", "force") != "force":
         raise InputError(f"--excitation {sweep['level_kind']}: the paper's levels are force amplitudes "
                          "P_a [Q]; sweep base motion with `contactvib resonance` or `atlas`")
-    model, st, n_workers = _sweep_inputs(sweep)
-    folder = _output_folder(out)
+    model, st, n_workers = sweep_inputs(sweep)
+    folder = checked_output_folder(out)
     from contactvib.sweeps.paper import reproduce_paper
 
-    with _writing_into(folder):
+    with writing_into(folder):
         res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"],
                               workers=n_workers, progress=not sweep["no_progress"])
     ds = res.dataset

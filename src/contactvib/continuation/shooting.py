@@ -46,6 +46,7 @@ from contactvib.continuation.engine import (
     continue_branch,
     correct,
 )
+from contactvib.errors import ContactvibError
 from contactvib.model import (
     SHOOTING_RTOL_RANGE,
     ContactModel,
@@ -64,7 +65,7 @@ __all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "
 _IP = {"f_e": 4, "P_a": 3}
 
 
-class ContinuationError(RuntimeError):
+class ContinuationError(ContactvibError, RuntimeError):
     """The seed orbit could not be refined (Newton shooting failed)."""
 
 

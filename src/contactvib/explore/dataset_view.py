@@ -4,7 +4,7 @@ atlas): one P_a level at a time, read lazily, drawn as the paper's Fig. 2 (Bokeh
 :class:`DatasetLevels` opens the dataset once (only ``pa_over_q`` is read whole) and reads one
 level's points when the page asks for it; :func:`graph_figure` draws it as
 :func:`contactvib.plotting.figures.resonance_graph` does (A_pp [µm, log] against f_e [Hz]; colour
-= resonance order with the same colours, :func:`contactvib.sweeps.labels.order_colour`; dashed
+= resonance order with the same colours, :func:`contactvib.plotting.style.order_colour`; dashed
 after period doubling; dotted = bouncing orbits; red dots = non-periodic attractors; a gold
 underlay on parts no laboratory sweep reaches) with the page's current attractors on top; for a
 dataset swept with friction (``--friction``), :func:`friction_figure` draws the friction ratio of
@@ -16,13 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactvib.sweeps.stored import DatasetError, open_dataset
+
 __all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "friction_figure", "DatasetError"]
 
 _VARS = ("fe_hz", "app_um", "branch_index", "kind", "resonance")
-
-
-class DatasetError(ValueError):
-    """A dataset that cannot be shown; the text is one line naming the path."""
 
 
 @dataclass(frozen=True)
@@ -50,27 +48,9 @@ class DatasetLevels:
     """A resonance dataset opened for the page: ``levels`` [Q] (increasing) and :meth:`level`."""
 
     def __init__(self, path):
-        import xarray as xr
-
-        from contactvib.sweeps.dataset import FORMAT
-        from contactvib.sweeps.regimes import find_dataset
-
-        try:
-            self.path = find_dataset(path)
-        except LookupError as e:
-            raise DatasetError(str(e)) from None
-        try:
-            self.ds = xr.open_dataset(self.path)
-        except Exception as e:  # not NetCDF, damaged, unreadable
-            raise DatasetError(f"{self.path}: not a readable NetCDF dataset ({type(e).__name__})") from None
-        if any(v not in self.ds for v in (*_VARS, "pa_over_q")) or self.ds.attrs.get("format") != FORMAT:
-            self.ds.close()
-            raise DatasetError(f"{self.path}: not a contactvib resonance dataset of this version "
-                               f"(made by paper, resonance or atlas)")
+        self.path, self.ds = open_dataset(path)  # DatasetError: one line
         self._pa = np.round(self.ds["pa_over_q"].values.astype(float), 6)
         self.levels = tuple(float(p) for p in np.unique(self._pa))
-        if not self.levels:
-            raise DatasetError(f"{self.path}: holds no level")
         self._cache: dict[float, LevelPoints] = {}
 
     def nearest_level(self, pa_over_q: float) -> float | None:
@@ -114,7 +94,8 @@ def level_points(ds, pa_over_q: float, pa_rounded=None) -> LevelPoints:
 def _lines(lv: LevelPoints):
     """Per style, the branch segments to draw: {(colour, width, dash, legend): (xs, ys)}, the
     isolated segments (xs, ys) and the non-periodic points (x, y)."""
-    from contactvib.sweeps.labels import label_family, order_colour
+    from contactvib.labels import label_family
+    from contactvib.plotting.style import order_colour
 
     styles: dict = {}
     iso_x, iso_y = [], []

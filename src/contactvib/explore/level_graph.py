@@ -3,9 +3,9 @@ background, as ``contactvib resonance`` sweeps it.
 
 A :class:`LevelRun` is one level's sweep (:func:`contactvib.sweeps.resonance.resonance_dataset`,
 one worker: in the calling thread) with the page's model. :func:`sweep_level` runs it in a worker
-thread: its progress is the sweep's own (:func:`contactvib.sweeps.backends.report_points`, sent
-to the run through :func:`~contactvib.sweeps.backends.points_to`: f_e points done, two fifths after
-the up/down sweeps, then with each multi-start frequency); it stops when the page sets the run's
+thread: its progress is the sweep's own (:func:`contactvib.sweeps.level_progress.report_points`,
+sent to the run through :func:`~contactvib.sweeps.level_progress.points_to`: f_e points done, two
+fifths after the up/down sweeps, then with each multi-start frequency); it stops when the page sets the run's
 flag (a new P_a or model) or after its own time limit (:func:`.state.run_limited`: the sweep
 stops at its next check between kernel calls, :func:`contactvib.interrupts.check_interrupt`); its
 result is the level's points as the dataset mode reads them (:func:`.dataset_view.level_points`),
@@ -62,7 +62,7 @@ def sweep_level(run: LevelRun, limit_s: float = GRAPH_TIME_LIMIT_S):
     stopped it), or ``("error", message)`` (one line; never an exception)."""
     from contactvib.explore.dataset_view import level_points
     from contactvib.model import ParameterError
-    from contactvib.sweeps.backends import points_to
+    from contactvib.sweeps.level_progress import points_to
     from contactvib.sweeps.resonance import resonance_dataset
 
     if run.flag[0]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contactvib.errors import ContactvibError
 from contactvib.model.laws import DAMPING_NAMES, EXPONENTIAL_DEFAULTS, HUNT_CROSSLEY_DEFAULT, LAW_NAMES
 from contactvib.model.oscillator import FAMILY_PARAMETERS, PAPER_DEFAULTS
 
@@ -83,7 +84,7 @@ class Point:
 
     def law_options(self) -> dict:
         """The CLI's law options (``--law``, ``--law-file``, ``--damping``, ``--preload``) as
-        :func:`contactvib.cli.common._law_options` hands them to ``_model``; a preload of 0 is
+        :func:`contactvib.cli.common.law_options` hands them to ``parse_model``; a preload of 0 is
         none."""
         law, preload = self.fields["law"].strip(), self.fields["preload"].strip()
         return {"law": law, "law_file": self.law_file if law == "table" else None,
@@ -107,7 +108,7 @@ class Point:
         return "".join(f" {shlex.quote(a)}" for a in self.model_args())
 
 
-class BadInput(ValueError):
+class BadInput(ContactvibError, ValueError):
     """An input refused by the checks; its text is the CLI's one-line message."""
 
 
@@ -116,7 +117,7 @@ def derived(model) -> dict[str, float]:
     return {"f_n0": model.f_n0, "y0": model.units.y_um, "zeta": model.zeta}
 
 
-class Stopped(Exception):
+class Stopped(ContactvibError):
     """A computation stopped at the time limit."""
 
 
@@ -165,11 +166,11 @@ N_HARMONICS = 64
 
 def resonance_of(attractor, history, fn0_hz: float) -> str:
     """The resonance an attractor belongs to, named as the datasets name it
-    (:func:`contactvib.sweeps.labels.resonance_label`: "main", "1/3", "1/2 period-2",
+    (:func:`contactvib.labels.resonance_label`: "main", "1/3", "1/2 period-2",
     "subharmonic 1/2 bouncing", …; a non-periodic one by its type, "chaotic", …). The harmonics
     |Y_j| (frequency j f_e/k) come from one orbit period of ``history`` (sampled from phase 0,
     ``len(t) - 1`` samples per whole number of excitation periods)."""
-    from contactvib.sweeps.labels import dominant_ratio, resonance_label
+    from contactvib.labels import dominant_ratio, resonance_label
 
     if attractor.period is None:
         return attractor.kind

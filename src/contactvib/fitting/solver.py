@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactvib.errors import ContactvibError
 from contactvib.model import ContactModel, ParameterError
 
 from .forward import CONTACT_NAMES, LOG_NAMES, UNITS, guess_contact, make_model, make_set
@@ -57,7 +58,7 @@ DECAY_WINDOWS = (4, 10, None)
 FD_STEP = 1e-3
 
 
-class FitError(RuntimeError):
+class FitError(ContactvibError, RuntimeError):
     """The fit did not converge; ``result`` holds the best point found."""
 
     def __init__(self, message: str, result: FitResult):

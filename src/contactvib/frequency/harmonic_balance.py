@@ -45,7 +45,7 @@ import numpy as np
 from contactvib._kernels.shooting import is_stable
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
 from contactvib.frequency.aft import AFT as _AFT
-from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, _eval, _extrema, _top_fraction
+from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, series_extrema, series_value, top_fraction
 from contactvib.model import (
     HARMONICS_MAX,
     LEVEL_KINDS,
@@ -153,7 +153,7 @@ def _newton(X, r, par, aft, tol, max_iter):
 
 
 def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
-    lo, hi = _extrema(X)
+    lo, hi = series_extrema(X)
     mult = np.empty(0, complex)
     closure = math.nan
     if stability:
@@ -161,7 +161,7 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
         from contactvib._kernels.status import STATUS_OK
 
         r = fe / model.f_n0
-        z = np.array([_eval(X, 0.0)[0], r * _eval(X, 0.0, 1)[0]])
+        z = np.array([series_value(X, 0.0)[0], r * series_value(X, 0.0, 1)[0]])
         if isinstance(par, np.ndarray):
             kpar = par.copy()
             kpar[4] = r
@@ -174,7 +174,7 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
             closure = float(np.max(np.abs(out_z - z)) / state_scale(z[0], z[1]))
     return HBSolution(fe_hz=fe, pa_over_q=exc_pa, harmonics=aft.H, app_um=(hi - lo) * y0_um,
                       ymin_um=lo * y0_um, ymax_um=hi * y0_um, loses_contact=bool(lo < 0.0),
-                      top_energy_fraction=_top_fraction(X), residual=res,
+                      top_energy_fraction=top_fraction(X), residual=res,
                       floquet_multipliers=mult, closure=closure, y0_um=y0_um,
                       coefficients=X.copy())
 

@@ -13,11 +13,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib._kernels.shooting import is_stable
+from contactvib.errors import ContactvibError
 
 __all__ = ["HBSolution", "HBBranch", "HBError"]
 
 
-class HBError(RuntimeError):
+class HBError(ContactvibError, RuntimeError):
     """Harmonic-balance Newton did not converge."""
 
 
@@ -78,7 +79,7 @@ class HBSolution:
         return np.concatenate([[(X[0] - 1.0) * self.y0_um], a])
 
 
-def _eval(X, th, deriv=0):
+def series_value(X, th, deriv=0):
     H = (X.size - 1) // 2
     k = np.arange(1, H + 1)
     a, b = X[1::2], X[2::2]
@@ -90,7 +91,7 @@ def _eval(X, th, deriv=0):
     return -(np.cos(ang) @ (k * k * a) + np.sin(ang) @ (k * k * b))
 
 
-def _extrema(X):
+def series_extrema(X):
     """(x_min, x_max) of the series: samples on 64 H points (zero-padded inverse FFT), then
     Newton on x_θ = 0 inside the sampling bracket."""
     H = (X.size - 1) // 2
@@ -103,21 +104,21 @@ def _extrema(X):
     for i in (int(np.argmin(s)), int(np.argmax(s))):
         t = 2.0 * math.pi * i / n
         for _ in range(20):
-            d2 = _eval(X, t, 2)[0]
+            d2 = series_value(X, t, 2)[0]
             if d2 == 0.0:
                 break
-            step = _eval(X, t, 1)[0] / d2
+            step = series_value(X, t, 1)[0] / d2
             if abs(step) > 2.0 * math.pi / n:  # stay in the bracket (corner of a contact orbit)
                 break
             t -= step
             if abs(step) < 1e-14:
                 break
-        out.append(float(_eval(X, t)[0]))
+        out.append(float(series_value(X, t)[0]))
     lo, hi = min(out[0], float(s.min())), max(out[1], float(s.max()))
     return lo, hi
 
 
-def _top_fraction(X):
+def top_fraction(X):
     H = (X.size - 1) // 2
     e = X[1::2] ** 2 + X[2::2] ** 2
     tot = e.sum()

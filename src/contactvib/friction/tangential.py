@@ -28,6 +28,7 @@ from contactvib._kernels.contact import contact_force_array
 from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import sample_records
 from contactvib._kernels.status import STATUS_INTERRUPTED, STATUS_OK, status_message
+from contactvib.errors import ContactvibError
 from contactvib.friction.model import FrictionModel
 from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
@@ -59,7 +60,7 @@ JMAX = 8
 _GL_NODES = 12
 
 
-class FrictionError(RuntimeError):
+class FrictionError(ContactvibError, RuntimeError):
     """The tangential motion of an attractor could not be computed (a non-periodic normal
     attractor, an integration failure)."""
 

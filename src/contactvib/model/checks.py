@@ -15,6 +15,8 @@ import math
 import numbers
 import re
 
+from contactvib.errors import ContactvibError
+
 __all__ = ["ParameterError", "check_finite", "check_range", "check_int", "check_choice",
            "check_frequency_range", "check_pa_level", "format_number", "PA_NOTE", "SHOOTING_RTOL_RANGE",
            "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX", "EVOLUTION_ORDER_MAX",
@@ -48,7 +50,7 @@ R_RANGE = (1e-4, 1e3)
 MEMORY_MAX = 2 * 1024**3
 
 
-class ParameterError(ValueError):
+class ParameterError(ContactvibError, ValueError):
     """A parameter is outside its allowed range.
 
     Attributes
@@ -83,7 +85,7 @@ class ParameterError(ValueError):
 
 def _fmt(value) -> str:
     try:
-        return format_number(_to_float(value))
+        return format_number(to_float(value))
     except (TypeError, ValueError, OverflowError):
         return repr(value)
 
@@ -102,7 +104,7 @@ def _suffix(unit: str) -> str:
 _NUMBER_TEXT = re.compile(r"\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*", re.ASCII)
 
 
-def _to_float(value) -> float:
+def to_float(value) -> float:
     """``float(value)``; text must be plain ASCII decimal or scientific notation (ValueError)."""
     if isinstance(value, (str, bytes)):
         text = value.decode("ascii", "replace") if isinstance(value, bytes) else value
@@ -120,7 +122,7 @@ def check_finite(symbol: str, value) -> float:
     if isinstance(value, bool):
         raise ParameterError(symbol, value, "must be a finite number")
     try:
-        v = _to_float(value)
+        v = to_float(value)
     except (TypeError, ValueError, OverflowError):
         raise ParameterError(symbol, value, "must be a finite number") from None
     if not math.isfinite(v):
@@ -198,7 +200,7 @@ def check_int(symbol: str, value, lower: int | None = None, upper: int | None = 
         n = int(value)
     else:
         try:
-            v = _to_float(value)
+            v = to_float(value)
         except (TypeError, ValueError, OverflowError):
             raise ParameterError(symbol, value, allowed) from None
         if not math.isfinite(v) or v != math.floor(v):

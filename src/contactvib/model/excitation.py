@@ -11,6 +11,9 @@ import numpy as np
 
 from contactvib.model.checks import PA_MAX, PA_NOTE, R_RANGE, ParameterError, check_range, format_number
 
+#: What an Excitation asks of its model (every :class:`ContactModel` has them)
+_MODEL_MEMBERS = ("f_n0", "Q", "M", "spring_law", "require_paper_family")
+
 if TYPE_CHECKING:  # the model module imports this one
     from contactvib.model.oscillator import ContactModel
 
@@ -62,9 +65,8 @@ class Excitation:
     base_g: float | None = None
 
     def __post_init__(self):
-        from contactvib.model.oscillator import ContactModel
-
-        if not isinstance(self.model, ContactModel):
+        # a ContactModel, known by what it offers (the model module imports this one, not back)
+        if not all(hasattr(type(self.model), a) for a in _MODEL_MEMBERS):
             raise ParameterError("model", self.model, "must be a ContactModel")
         f_e = check_range("f_e", self.f_e, 0.0, False, "Hz")
         f_n0 = self.model.f_n0

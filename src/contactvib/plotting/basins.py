@@ -6,23 +6,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib.plotting.figures import _ax, new_figure
+from contactvib.plotting.figures import axes_or_new, new_figure
+from contactvib.plotting.style import NO_ATTRACTOR_COLOUR, label_colours
 from contactvib.steady.basins import BasinMap
 
-__all__ = ["plot_basins", "basins_figure", "label_colors", "label_text"]
+__all__ = ["plot_basins", "basins_figure", "label_text"]
 
-#: Colour of the starts that reached no attractor (label −1).
-NONE_COLOR = "0.6"
 #: Markers of the strobe points, by label (cycled).
 _MARKERS = ("o", "s", "D", "^", "v", "P", "X", "*", "h", "<", ">")
-
-
-def label_colors(n: int) -> list:
-    """``n`` distinct colours for the labels 0..n−1 (tab10, then tab20)."""
-    from matplotlib import colormaps
-
-    cmap = colormaps["tab10" if n <= 10 else "tab20"]
-    return [cmap(i % cmap.N) for i in range(n)]
 
 
 def label_text(bmap: BasinMap, label: int) -> str:
@@ -47,10 +38,10 @@ def plot_basins(bmap: BasinMap, ax=None, legend: bool = True):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    ax = _ax(ax, (7.5, 5.0))
+    ax = axes_or_new(ax, (7.5, 5.0))
     n = len(bmap.attractors)
-    colors = label_colors(n)
-    cmap = ListedColormap([NONE_COLOR, *colors])
+    colors = label_colours(n)
+    cmap = ListedColormap([NO_ATTRACTOR_COLOUR, *colors])
     norm = BoundaryNorm(np.arange(-1.5, n + 0.5), cmap.N)
     ax.pcolormesh(bmap.y_um, bmap.ydot_mm_s, bmap.labels, cmap=cmap, norm=norm, shading="nearest",
                   rasterized=True)
@@ -67,7 +58,7 @@ def plot_basins(bmap: BasinMap, ax=None, legend: bool = True):
     ax.set_xlim(x0, x1)
     ax.set_ylim(v0, v1)
     if np.any(bmap.labels < 0):
-        handles.append(Patch(facecolor=NONE_COLOR, edgecolor="k"))
+        handles.append(Patch(facecolor=NO_ATTRACTOR_COLOUR, edgecolor="k"))
         texts.append(label_text(bmap, -1))
     ax.set_xlabel("initial displacement y [µm] (y > 0: contact deflection)")
     ax.set_ylabel("initial velocity dy/dt [mm/s]")

@@ -8,20 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib.plotting.figures import axes_or_new
+from contactvib.plotting.style import branch_period_colour
+
 __all__ = ["plot_branches", "plot_evolution", "branches_figure", "branches_over_dataset_figure",
            "evolution_figure"]
 
-_COLORS = {1: "k", 2: "tab:blue", 3: "tab:green", 4: "tab:purple", 6: "tab:olive", 8: "tab:cyan"}
 _MARKERS = {"fold": ("o", "tab:red"), "period-doubling": ("s", "tab:orange"),
             "neimark-sacker": ("D", "tab:pink"), "grazing": ("v", "0.45")}
-
-
-def _ax(ax, size=(7.5, 4.5)):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots(figsize=size)
-    return ax
 
 
 def _runs(mask):
@@ -38,12 +32,12 @@ def plot_branches(branches, ax=None, title: str | None = None, specials=True,
     dashed, special points marked."""
     from matplotlib.lines import Line2D
 
-    ax = _ax(ax)
+    ax = axes_or_new(ax, (7.5, 4.5))
     periods = set()
     for b in branches:
         if len(b) == 0:
             continue
-        c = _COLORS.get(b.period, "tab:brown")
+        c = branch_period_colour(b.period)
         periods.add(b.period)
         for i0, i1 in _runs(b.stable):
             j1 = min(i1 + 1, len(b))  # join the runs
@@ -65,7 +59,7 @@ def plot_branches(branches, ax=None, title: str | None = None, specials=True,
     ax.set_ylabel("peak-to-peak amplitude $A_{pp}$ [µm]")
     handles = [Line2D([], [], color="k", ls="-", label="stable"),
                Line2D([], [], color="k", ls="--", label="unstable")]
-    handles += [Line2D([], [], color=_COLORS.get(k, "tab:brown"), label=f"period {k}")
+    handles += [Line2D([], [], color=branch_period_colour(k), label=f"period {k}")
                 for k in sorted(periods) if k != 1]
     handles += [Line2D([], [], ls="none", marker=_MARKERS[t][0], color=_MARKERS[t][1],
                        mfc="none" if t == "grazing" else _MARKERS[t][1], label=t)
@@ -81,7 +75,7 @@ def plot_evolution(result, ax=None, title: str | None = None):
     """Fold and period-doubling curves of a 1/m resonance in the (f_e, P_a) plane."""
     from matplotlib.lines import Line2D
 
-    ax = _ax(ax, (7.0, 4.5))
+    ax = axes_or_new(ax, (7.0, 4.5))
     styles = {"fold": ("tab:red", "-"), "period-doubling": ("tab:orange", "--")}
     for curve in result.curves:
         c, ls = styles[curve.type]

@@ -8,15 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib.labels import label_family
+from contactvib.plotting.style import order_colour
 from contactvib.steady.results import Attractor, TimeHistory
-from contactvib.sweeps.labels import label_family
 
 __all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph", "save_figure",
            "history_figure", "new_figure",
            "extrema_diagram"]
 
 
-def _ax(ax, size=(6, 3.2)):
+def axes_or_new(ax, size=(6, 3.2)):
     """``ax``, or the axes of a new pyplot figure of ``size`` inches when None."""
     if ax is None:
         import matplotlib.pyplot as plt
@@ -58,7 +59,7 @@ def mark_equilibrium_and_gap(ax, t_ms, y_um, y0_um: float, gap) -> None:
 
 def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
     """y(t) [µm vs ms] with y0 marked and the gap (y < 0) shaded."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     ax.plot(history.t_ms, history.y_um, color="k", lw=1.0,
             label=label or ("contact deflection y (relative)" if history.base_um is not None else None))
     if history.base_um is not None:  # base motion: the slider's absolute motion and the base's
@@ -73,7 +74,7 @@ def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
 
 def plot_phase_portrait(history: TimeHistory, ax=None):
     """Phase portrait ẏ [mm/s] against y [µm]; the contact boundary y = 0 dotted."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     ax.plot(history.y_um, history.ydot_mm_s, color="k", lw=0.9)
     ax.axvline(0.0, color="tab:red", ls=":", lw=0.8, label="y = 0 (contact boundary)")
     ax.plot([history.y0_um], [0.0], "+", color="0.3", ms=8, label="equilibrium")
@@ -108,11 +109,6 @@ def attractor_figure(history: TimeHistory, attractor: Attractor, title: str | No
 
 
 # ---------------------------------------------------------------- resonance graphs (Figs. 2, 3)
-
-def _order_color(m):
-    from contactvib.sweeps.labels import order_colour
-
-    return order_colour(m)
 
 
 def level_title(ds, level: float) -> str:
@@ -158,7 +154,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     just above the level's smallest amplitude).
     """
 
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     sel = _level(ds, pa_over_q)
     fe = ds["fe_hz"].values[sel]
     app = ds["app_um"].values[sel]
@@ -180,7 +176,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
         if m is None:
             style = dict(color="0.55", lw=0.6, ls=":") if lab != "non-resonant" else dict(color="0.35", lw=0.8)
         else:
-            style = dict(color=_order_color(m), lw=1.1 if not variant else 0.9,
+            style = dict(color=order_colour(m), lw=1.1 if not variant else 0.9,
                          ls="-" if not variant else "--")
         # split at grid gaps so that a branch is never drawn across a hole
         gaps = np.nonzero(np.diff(fe[pts]) > 1.5 * np.min(np.diff(np.unique(fe))) if fe.size > 1 else [])[0]
@@ -198,7 +194,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     if annotate:
         for m, (f, a) in best.items():
             ax.annotate("main" if m == 1 else f"1/{m}", (f, a), xytext=(2, 3),
-                        textcoords="offset points", fontsize=7, color=_order_color(m))
+                        textcoords="offset points", fontsize=7, color=order_colour(m))
     fn0 = fn0_hz if fn0_hz is not None else float(ds.attrs["fn0_hz"])
     ax.set_yscale("log")
     lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
@@ -229,7 +225,7 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     together; y < 0 is loss of contact.
     """
 
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     sel = _level(ds, pa_over_q)
     fe = ds["fe_hz"].values[sel]
     e0 = ds["extrema_start"].values[sel]

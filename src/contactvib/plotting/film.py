@@ -15,8 +15,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib.model import level_text
-from contactvib.plotting.figures import _order_color, new_figure
+from contactvib.plotting.figures import new_figure
 from contactvib.plotting.paper import draw_level
+from contactvib.plotting.style import order_colour
 
 __all__ = ["FrameText", "film_frame", "FRAME_DPI", "REFERENCE_SIZE"]
 
@@ -105,7 +106,7 @@ def _captions(fig, text: FrameText) -> None:
     x = 0.245
     step = min(0.15, 0.74 / max(len(text.stages), 1))
     for m, stage in sorted(text.stages.items()):
-        fig.text(x, 0.135, f"1/{m}: {stage}", fontsize=11, va="center", color=_order_color(m),
+        fig.text(x, 0.135, f"1/{m}: {stage}", fontsize=11, va="center", color=order_colour(m),
                  weight="bold" if stage not in ("absent", "grows") else "normal")
         x += step
     if text.statement:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib.plotting.figures import _ax, new_figure
+from contactvib.plotting.figures import axes_or_new, new_figure
 from contactvib.steady.results import TimeHistory
 
 __all__ = ["overlay_figure", "plot_convergence", "plot_branch", "convergence_figure", "hbm_figure"]
@@ -48,7 +48,7 @@ def plot_convergence(rows_by_label: dict, ax=None):
     ``rows_by_label`` maps a label to rows ``(N, A_pp, rel_error, estimate_um, valid)`` and
     the reference A_pp is implied by the rows (estimate / A_pp is drawn).
     """
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     for (label, rows), colour in zip(rows_by_label.items(), ["tab:blue", "tab:red", "tab:green"]):
         rows = np.array([(n, a, e, est) for n, a, e, est, _v in rows], float)
         err = np.maximum(rows[:, 2], 1e-16)
@@ -65,7 +65,7 @@ def plot_convergence(rows_by_label: dict, ax=None):
 
 def plot_branch(branch, ax=None, label: str = "HB branch", colour: str = "k"):
     """A_pp [µm] against f_e [Hz]: stable solid, unstable dashed, contact loss marked."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     f, a, s = branch.fe_hz, branch.app_um, branch.stable
     # split into runs of equal stability so that each run is one line
     start = 0

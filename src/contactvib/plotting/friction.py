@@ -9,11 +9,10 @@ import numpy as np
 
 from contactvib.friction.sweep import FrictionSweep
 from contactvib.friction.tangential import FrictionHistory, FrictionResult
-from contactvib.plotting.figures import _ax, new_figure
+from contactvib.plotting.figures import axes_or_new, new_figure
+from contactvib.plotting.style import FRICTION_PERIOD_COLOURS, friction_period_colour
 
 __all__ = ["plot_friction_sweep", "friction_sweep_figure", "plot_friction_history", "friction_history_figure"]
-
-_PERIOD_COLORS = {1: "C0", 2: "C1", 3: "C2", 4: "C3"}
 
 
 def plot_friction_sweep(sweep: FrictionSweep, x: str = "fe_hz", ax=None):
@@ -21,7 +20,7 @@ def plot_friction_sweep(sweep: FrictionSweep, x: str = "fe_hz", ax=None):
     against ``x`` ("fe_hz" or "vd_mm_s"), one marker per normal attractor, coloured by its period
     (hollow: the tangential motion did not become periodic, its long-time mean); the no-vibration
     value 1 dashed. Returns the axes."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     rows = sweep.rows
     periods = np.minimum(rows["period"].astype(int), 5) if len(sweep) else np.empty(0, int)
     if x == "vd_mm_s":  # one curve per attractor of the operating point
@@ -35,9 +34,9 @@ def plot_friction_sweep(sweep: FrictionSweep, x: str = "fe_hz", ax=None):
     settled = rows["settled"].astype(bool) if len(sweep) else np.empty(0, bool)
     for k in sorted(set(periods.tolist())):
         sel = periods == k
-        color = _PERIOD_COLORS.get(k, "C4")
+        color = friction_period_colour(k)
         ax.plot(rows[x][sel & settled], rows["friction_ratio"][sel & settled], "o", ms=3.5, color=color,
-                label=f"normal period {k}" if k in _PERIOD_COLORS else "normal period > 4")
+                label=f"normal period {k}" if k in FRICTION_PERIOD_COLOURS else "normal period > 4")
         ax.plot(rows[x][sel & ~settled], rows["friction_ratio"][sel & ~settled], "o", ms=4.5, mfc="none",
                 color=color)
     if len(sweep) and not settled.all():

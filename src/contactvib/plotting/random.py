@@ -4,7 +4,7 @@ y on log axes, in one figure (``contactvib simulate --random-psd``)."""
 
 from __future__ import annotations
 
-from contactvib.plotting.figures import _ax, mark_equilibrium_and_gap, new_figure
+from contactvib.plotting.figures import axes_or_new, mark_equilibrium_and_gap, new_figure
 from contactvib.steady.random_response import RandomResponse
 
 __all__ = ["plot_random_history", "plot_contact_force_pdf", "plot_response_psd", "random_figure"]
@@ -17,7 +17,7 @@ PSD_DECADES = 1e-10
 
 def plot_random_history(resp: RandomResponse, ax=None, span_ms: float = HISTORY_SPAN_MS):
     """y(t) [µm vs ms] over the first ``span_ms`` of the record, y0 dashed, the gap (y ≤ 0) shaded."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     t = resp.t_ms
     sel = t <= t[0] + span_ms
     ax.plot(t[sel], resp.y_um[sel], color="k", lw=0.6)
@@ -32,7 +32,7 @@ def plot_random_history(resp: RandomResponse, ax=None, span_ms: float = HISTORY_
 def plot_contact_force_pdf(resp: RandomResponse, ax=None):
     """Probability density [1/N] of the contact force R [N] (the flight's R = 0 included), the
     static load W and the mean of R marked."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     edges = resp.pdf_edges_n
     ax.stairs(resp.pdf_per_n, edges, color="k", lw=0.9, fill=True, alpha=0.25)
     ax.stairs(resp.pdf_per_n, edges, color="k", lw=0.9)
@@ -50,7 +50,7 @@ def plot_contact_force_pdf(resp: RandomResponse, ax=None):
 def plot_response_psd(resp: RandomResponse, ax=None):
     """One-sided PSD of y [µm²/Hz] against f [Hz], log axes; the force's band shaded, f_n0 and its
     multiples marked."""
-    ax = _ax(ax)
+    ax = axes_or_new(ax)
     f, p = resp.psd_f_hz, resp.psd_um2_hz
     ok = (f > 0.0) & (p > 0.0)
     ax.loglog(f[ok], p[ok], color="k", lw=0.9)

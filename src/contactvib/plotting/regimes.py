@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from contactvib.plotting.figures import _ax, _order_color, new_figure
+from contactvib.plotting.figures import axes_or_new, new_figure
+from contactvib.plotting.style import order_colour
 
 __all__ = ["plot_regime_map", "regime_figure", "PANEL_TITLES"]
 
@@ -53,7 +54,7 @@ def _discrete(values: np.ndarray, cmap_name: str):
 
 
 def _curve_style(curve):
-    return {"color": _order_color(curve.order), "ls": "-" if curve.type == "fold" else (0, (4, 2)), "lw": 2.0}
+    return {"color": order_colour(curve.order), "ls": "-" if curve.type == "fold" else (0, (4, 2)), "lw": 2.0}
 
 
 def _draw_curves(ax, curves):
@@ -77,7 +78,7 @@ def plot_regime_map(maps, name: str, curves=(), ax=None, log_f: bool = True):
     """The map ``name`` (one of :data:`PANEL_TITLES`) over f_e [Hz] × P_a [Q] with its colour
     bar, the fold and period-doubling ``curves`` (:class:`~contactvib.sweeps.regimes.MapCurve`)
     on top, and ticks at the dataset's levels on the right-hand axis."""
-    ax = _ax(ax, (9.0, 4.6))
+    ax = axes_or_new(ax, (9.0, 4.6))
     fe = maps["fe_hz"].values
     pa = maps["pa_over_q"].values
     z = maps[name].values

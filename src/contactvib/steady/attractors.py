@@ -159,7 +159,7 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
     return n_failed, n_unsettled, n_unsettled_box, labels
 
 
-def _check_pair(model: ContactModel, excitation: Excitation) -> None:
+def check_pair(model: ContactModel, excitation: Excitation) -> None:
     """Refuse an excitation made for another model (its r = f_e/f_n0 and P_a/Q would be wrong)."""
     if not isinstance(model, ContactModel):
         raise ParameterError("model", model, "must be a ContactModel")
@@ -279,7 +279,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     AttractorSet
         With ``n_unsettled`` starts that did not settle (an ``UnsettledWarning`` says so).
     """
-    _check_pair(model, excitation)
+    check_pair(model, excitation)
     check_damped(model, "the attractor search")
     n_starts, seed, kmax, max_periods = check_search(n_starts, seed, kmax, max_periods)
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)

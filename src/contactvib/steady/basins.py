@@ -35,8 +35,8 @@ import numpy as np
 from contactvib.model import ContactModel, Excitation, check_int, check_range
 from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.attractors import (
-    _check_pair,
     box_half_width,
+    check_pair,
     check_search,
     default_max_periods,
     find_attractors,
@@ -223,7 +223,7 @@ def basins(model: ContactModel, excitation: Excitation, grid=(400, 400), box=Non
     BasinMap
         Labels (−1: no attractor within ``max_periods``), the attractors and their fractions.
     """
-    _check_pair(model, excitation)
+    check_pair(model, excitation)
     check_damped(model, "basins of attraction")
     grid, box, kmax, max_periods, n_starts, seed = check_basins(grid, box, kmax, max_periods, n_starts, seed)
     block_starts = check_int("block_starts", block_starts, 1)

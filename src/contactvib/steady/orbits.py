@@ -15,6 +15,7 @@ import numpy as np
 from contactvib._kernels.orbit import measure_orbit, record_steps, sample_records
 from contactvib._kernels.shooting import newton_orbit, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
+from contactvib.errors import ContactvibError
 from contactvib.model import ContactModel, Excitation
 from contactvib.steady.results import Attractor
 
@@ -29,7 +30,7 @@ CLOSE_TOL = 1e-10
 SAME_TOL = 1e-6
 
 
-class OrbitError(RuntimeError):
+class OrbitError(ContactvibError, RuntimeError):
     """Shooting or integration of an orbit failed."""
 
 

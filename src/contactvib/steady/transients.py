@@ -22,7 +22,7 @@ Non-periodic or unsettled
     spacing of points within a window (a transient drifts out of its earlier window; an
     attractor's cloud refills it) and keeps its spread (not below :data:`SPREAD_RATIO_MIN` of
     the window before: a spiral into a focus shrinks), and (ii) its largest Lyapunov exponent of the stroboscopic
-    map is not negative (λ ≥ −:data:`~contactvib.sweeps.labels.LYAPUNOV_ZERO`; a negative one
+    map is not negative (λ ≥ −:data:`~contactvib.labels.LYAPUNOV_ZERO`; a negative one
     means it is still converging, e.g. to an orbit of period above ``kmax``). Others are
     *unsettled* and are counted, not reported.
 """

@@ -15,11 +15,11 @@ same chunks and the same merged dataset:
   not once per task. A task re-run after a worker died rewrites its chunk with the same bytes
   through the same atomic rename: never a duplicated or partial chunk.
 
-Progress inside running levels: a level's task calls :func:`report_points` with the frequency
-points it has done; the pool's workers send them through a ``multiprocessing`` queue, Dask's
+Progress inside running levels: a level's task calls :func:`.level_progress.report_points` with
+the frequency points it has done; the pool's workers send them through a ``multiprocessing`` queue, Dask's
 through the worker's event log (``log_event`` / ``Client.subscribe_topic``), and ``run_levels``
 hands them to ``progress(pa, points)`` in this process while it waits; a thread may send its own
-levels' reports elsewhere (:func:`points_to`).
+levels' reports elsewhere (:func:`.level_progress.points_to`).
 
 SIGINT (deferred by the caller, :mod:`contactvib.interrupts`) is honoured within 0.2 s while
 waiting: the pool's workers are terminated, the Dask tasks cancelled and a LocalCluster closed.
@@ -29,13 +29,12 @@ from __future__ import annotations
 
 import os
 import re
-import threading
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from contactvib.interrupts import check_interrupt
+from contactvib.interrupts import check_interrupt, end_with_parent
 from contactvib.model import WORKERS_MAX, ParameterError, check_int
+from contactvib.sweeps.level_progress import points_to, report_points, sink_for_process
 
 __all__ = ["LocalPool", "DaskBackend", "run_levels", "check_scheduler_address", "kernel_cache_cold",
            "report_points", "points_to"]
@@ -44,36 +43,6 @@ _ADDRESS = re.compile(r"^(?:(tcp|tls|ws|wss|ucx)://)?([A-Za-z0-9._\-]+|\[[0-9A-F
 
 #: Seconds to wait for a running scheduler to answer before refusing its address.
 CONNECT_TIMEOUT_S = 3.0
-
-#: Where this process sends ``(pa, points)`` for a running level (None: nowhere): set in a pool
-#: worker, on a Dask worker for its task, or by :func:`run_levels` for levels run here.
-_POINTS_SINK = None
-_THREAD = threading.local()  # .sink: a Dask task's own (tasks of other runs share the worker)
-
-
-def report_points(pa: float, points: int) -> None:
-    """Tell the parent that the level ``pa`` has ``points`` frequency points done (a no-op when
-    nobody listens; never fails a level)."""
-    sink = getattr(_THREAD, "sink", None) or _POINTS_SINK
-    if sink is not None:
-        try:
-            sink((float(pa), int(points)))
-        except Exception:  # progress is news, not a result
-            pass
-
-
-@contextmanager
-def points_to(sink):
-    """Within (in this thread): :func:`report_points` calls ``sink((pa, points))``, before any
-    sink of the run (a Dask task's topic; the page of ``contactvib explore``, whose level runs in
-    one of its threads)."""
-    previous = getattr(_THREAD, "sink", None)
-    _THREAD.sink = sink
-    try:
-        yield
-    finally:
-        _THREAD.sink = previous
-
 
 def check_scheduler_address(address) -> str:
     """A Dask scheduler address ``[tcp://]HOST:PORT`` (``tls://``, ``ws://``, ``wss://``,
@@ -118,13 +87,12 @@ def run_levels(tasks: dict, fn, backend, finished, progress=None, warm_up=None) 
     """Run ``fn(*tasks[pa])`` for every level ``pa`` of ``tasks`` on ``backend`` (a
     :class:`LocalPool`, a :class:`DaskBackend`, or None: the default pool), calling
     ``finished(pa, result)`` in this process as each ends and ``progress(pa, points)`` as the
-    running levels report frequency points done (:func:`report_points`); highest levels first
-    (the slowest). ``warm_up = (call, args)``, given on a first run: a local pool of two or more
+    running levels report frequency points done (:func:`.level_progress.report_points`); highest
+    levels first (the slowest). ``warm_up = (call, args)``, given on a first run: a local pool of two or more
     workers runs ``call(*args)`` before the levels, on one worker while another starts the first
     level, so the two compile different kernels at once (its result is dropped).
 
     Raises ParameterError ``scheduler`` when no scheduler answers at the address."""
-    global _POINTS_SINK
     backend = LocalPool() if backend is None else backend
     progress = progress or (lambda pa, points: None)
     order = sorted(tasks, key=lambda p: -p)
@@ -132,13 +100,13 @@ def run_levels(tasks: dict, fn, backend, finished, progress=None, warm_up=None) 
         return _run_on_dask(order, tasks, fn, backend, finished, progress)
     n_workers = backend.workers or min(len(order), os.cpu_count() or 1)
     if n_workers <= 1 or len(order) <= 1:
-        previous, _POINTS_SINK = _POINTS_SINK, (lambda item: progress(*item))
+        previous = sink_for_process(lambda item: progress(*item))
         try:
             for pa in tasks:
                 finished(pa, fn(*tasks[pa]))
                 check_interrupt()
         finally:
-            _POINTS_SINK = previous
+            sink_for_process(previous)
         return None
     return _run_in_pool(order, tasks, fn, n_workers, finished, progress, warm_up)
 
@@ -148,9 +116,9 @@ def kernel_cache_cold() -> bool:
     sources (:mod:`contactvib._kernels`) holds no index file yet."""
     from numba.core import config
 
-    from contactvib._kernels import _kernel_cache_dir
+    from contactvib._kernels import kernel_cache_dir
 
-    folder = _kernel_cache_dir() or (Path(config.CACHE_DIR) if config.CACHE_DIR else None)
+    folder = kernel_cache_dir() or (Path(config.CACHE_DIR) if config.CACHE_DIR else None)
     if folder is None or not folder.is_dir():
         return True
     return next(folder.rglob("*.nbi"), None) is None
@@ -158,15 +126,25 @@ def kernel_cache_cold() -> bool:
 
 # ------------------------------------------------------------------ local process pool
 
-def _pool_worker_init(parent: int, points) -> None:
-    """A pool worker (:func:`contactvib.sweeps.resonance._worker_init`) that sends its levels'
-    points done through the queue ``points``."""
-    global _POINTS_SINK
-    from contactvib.sweeps.resonance import _worker_init
+def _worker_init(parent: int | None = None):
+    """A pool worker: one numba thread, SIGINT ignored (the parent handles it and terminates
+    the workers), ends when ``parent`` does (even on SIGKILL)."""
+    import signal
 
+    import numba
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if parent is not None:
+        end_with_parent(parent)
+    numba.set_num_threads(1)
+
+
+def _pool_worker_init(parent: int, points) -> None:
+    """A pool worker (:func:`_worker_init`) that sends its levels' points done through the
+    queue ``points``."""
     _worker_init(parent)
     points.cancel_join_thread()  # a worker never waits at exit for news nobody reads
-    _POINTS_SINK = points.put
+    sink_for_process(points.put)
 
 
 def _drain_points(points, progress) -> None:

@@ -57,15 +57,15 @@ class KernelWarmUp(WorkerPlugin):
 def dask_task(threads: int, topic: str, fn, *args):
     """``fn(*args)`` on a worker with ``threads`` numba threads (set per task: numba's thread
     count belongs to the calling thread); the level's points done
-    (:func:`contactvib.sweeps.backends.report_points`) go to the event topic ``topic``."""
+    (:func:`contactvib.sweeps.level_progress.report_points`) go to the event topic ``topic``."""
     import numba
     from distributed import get_worker
 
-    from contactvib.sweeps import backends
+    from contactvib.sweeps.level_progress import points_to
 
     numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
     worker = get_worker()
-    with backends.points_to(lambda item: worker.log_event(topic, list(item))):
+    with points_to(lambda item: worker.log_event(topic, list(item))):
         return fn(*args)
 
 

@@ -37,10 +37,14 @@ import math
 import numpy as np
 
 from contactvib._kernels.status import STOP_FAILED, STOP_GRID_END, STOP_KNOWN, STOP_TABLE_FULL, status_message
+from contactvib.labels import attractor_type, level_labels
 from contactvib.model import LEVEL_KINDS, ContactModel, excitation_at
-from contactvib.sweeps.labels import attractor_type, level_labels
 
-__all__ = ["level_dataset", "merge_levels", "write_atomic", "check_consistency", "STOP_REASONS"]
+__all__ = ["level_dataset", "merge_levels", "write_atomic", "check_consistency", "STOP_REASONS", "TRACE_ROOTS"]
+
+#: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
+#: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
+TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation")
 
 #: Layout version written into every dataset (``format`` attribute); chunks and datasets of
 #: another version are recomputed (resume) or refused (query).
@@ -185,7 +189,6 @@ def level_dataset(model: ContactModel, level, settings: dict):
     import xarray as xr
 
     from contactvib._kernels.describe import NP_RECORD
-    from contactvib.sweeps.sweep import TRACE_ROOTS
 
     rows, pa, f, u = level.rows, level.pa_over_q, level.f_hz, model.units
     n = level.n_rows

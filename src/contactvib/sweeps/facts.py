@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contactvib.sweeps.labels import resonance_order
+from contactvib.labels import resonance_order
 
 __all__ = ["ResonanceFacts", "resonance_facts", "level_stages", "coexisting_resonances", "max_coexistence",
            "intervals", "SUPERHARMONIC_ORDERS"]

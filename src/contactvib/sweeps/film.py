@@ -7,10 +7,10 @@ MP4 (H.264, yuv420p) is written through the ffmpeg binary of the ``imageio-ffmpe
 system ffmpeg needed); GIF through imageio's pillow plugin. Files are written under a temporary
 name and renamed when complete.
 
-:func:`open_levels` reads a dataset file, or a folder holding exactly one dataset
-(``DATASET_NAMES``); what it returns, ``LevelSource``, hands the film one level at a time,
-so that a store that can load one level without the rest (the atlas) extends it by overriding
-:meth:`LevelSource.level`.
+:func:`open_levels` reads a dataset file, or a folder holding one
+(``contactvib.sweeps.stored.open_dataset``, as every command does); what it returns,
+``LevelSource``, hands the film one level at a time, so that a store that can load one
+level without the rest (the atlas) extends it by overriding :meth:`LevelSource.level`.
 """
 
 from __future__ import annotations
@@ -22,21 +22,15 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.model.checks import ParameterError, check_int, check_range
+from contactvib.sweeps.stored import DatasetError, open_dataset
 
-__all__ = ["DATASET_NAMES", "FPS_RANGE", "SIZE_RANGE", "DatasetError", "LevelSource", "open_levels",
+__all__ = ["FPS_RANGE", "SIZE_RANGE", "DatasetError", "LevelSource", "open_levels",
            "check_film", "film_limits", "FilmResult", "animate"]
 
-#: The dataset files a folder given to :func:`open_levels` may hold (exactly one of them).
-DATASET_NAMES = ("paper.nc", "atlas.nc", "resonance.nc")
 #: Frame rate [frames per second]: 0 < fps <= 60.
 FPS_RANGE = (0.0, 60.0)
 #: Frame width and height [pixels]: even integers (H.264 with yuv420p) in this range.
 SIZE_RANGE = (64, 4096)
-
-
-class DatasetError(ValueError):
-    """The dataset cannot be filmed: missing, not a contactvib resonance dataset, or no levels.
-    The message is one line."""
 
 
 @dataclass
@@ -57,42 +51,12 @@ class LevelSource:
         return float(self.ds.attrs["fn0_hz"])
 
 
-def _dataset_file(path: Path) -> Path:
-    if path.is_dir():
-        found = [path / n for n in DATASET_NAMES if (path / n).is_file()]
-        if len(found) != 1:
-            what = "none" if not found else ", ".join(p.name for p in found)
-            raise DatasetError(f"{path}: a folder must hold exactly one of {', '.join(DATASET_NAMES)} "
-                               f"(found {what})")
-        return found[0]
-    if not path.is_file():
-        raise DatasetError(f"{path}: no such file or folder")
-    return path
-
-
 def open_levels(path) -> LevelSource:
     """The levels of a resonance dataset: a ``.nc`` file written by ``paper``/``resonance`` (or
-    the atlas), or a folder holding exactly one of ``DATASET_NAMES``. Raises
+    the atlas), or a folder holding one (``contactvib.sweeps.stored.find_dataset``). Raises
     ``DatasetError`` (one line) when it cannot be read or holds no level."""
-    import xarray as xr
-
-    from contactvib.sweeps.dataset import FORMAT
-
-    file = _dataset_file(Path(path))
-    try:
-        ds = xr.load_dataset(file)
-    except Exception as e:  # not NetCDF, damaged, unreadable
-        raise DatasetError(f"{file}: not a readable NetCDF dataset ({type(e).__name__})") from None
-    needed = ("pa_over_q", "fe_hz", "app_um", "branch_index", "extremum_y_um", "branch_reached_by_sweep")
-    if any(v not in ds for v in needed) or "fn0_hz" not in ds.attrs or "settings" not in ds.attrs:
-        raise DatasetError(f"{file}: not a contactvib resonance dataset")
-    if ds.attrs.get("format") != FORMAT:
-        raise DatasetError(f"{file}: written by another contactvib version "
-                           f"(format {ds.attrs.get('format')!r}, not {FORMAT!r}): recompute it")
-    levels = tuple(float(p) for p in np.unique(ds["pa_over_q"].values))
-    if not levels:
-        raise DatasetError(f"{file}: holds no P_a level")
-    return LevelSource(file, ds, levels)
+    file, ds = open_dataset(path, load=True)
+    return LevelSource(file, ds, tuple(float(p) for p in np.unique(ds["pa_over_q"].values)))
 
 
 def check_film(fps, width, height) -> tuple[float, int, int]:

@@ -15,7 +15,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from contactvib.model import ContactModel
-    from contactvib.sweeps.sweep import _Level
+    from contactvib.sweeps.sweep import LevelState
 
 __all__ = ["NEWTON_MIN_RATIO", "NEWTON_SEEDS", "newton_seeds", "late_newton_seeds"]
 
@@ -45,10 +45,10 @@ NEWTON_LOOSE_RTOL = 1e-7
 NEWTON_LOOSE_CLOSE = 1e-6
 
 
-def newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray, stage: int) -> None:
+def newton_seeds(lv: LevelState, i: int, Zb: np.ndarray, par: np.ndarray, stage: int) -> None:
     """The Newton seeds of ``stage`` (:data:`NEWTON_SEEDS`) at grid index ``i`` from the box
     starts ``Zb``: trace every new stable orbit up and down."""
-    from contactvib._kernels.settle import _refine
+    from contactvib._kernels.settle import refine_stable_orbit
     from contactvib._kernels.shooting import newton_orbit
     from contactvib._kernels.status import STATUS_OK
     from contactvib.interrupts import check_interrupt
@@ -71,12 +71,12 @@ def newton_seeds(lv: _Level, i: int, Zb: np.ndarray, par: np.ndarray, stage: int
                 if s != STATUS_OK:
                     continue
                 z0 = oz.copy()
-            ok, k, _res = _refine(z0, period, par, st.rtol, st.close_tol, oz, oM)
+            ok, k, _res = refine_stable_orbit(z0, period, par, st.rtol, st.close_tol, oz, oM)
             if ok and lv.known_slot(i, oz, k, 0) < 0:
                 lv.trace_both_ways(oz.copy(), k, 0, i, "multi-start")
 
 
-def late_newton_seeds(lv: _Level, model: ContactModel, pa_over_q: float, starts) -> None:
+def late_newton_seeds(lv: LevelState, model: ContactModel, pa_over_q: float, starts) -> None:
     """The stage-1 Newton seeds at every multi-start frequency, from the same box starts."""
     from contactvib.steady.attractors import start_box
 

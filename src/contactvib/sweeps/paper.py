@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from contactvib.labels import resonance_order
 from contactvib.model import ContactModel
-from contactvib.sweeps.labels import resonance_order
 from contactvib.sweeps.paper_index import write_index
 from contactvib.sweeps.sweep import SweepSettings
 

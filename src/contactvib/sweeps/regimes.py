@@ -6,7 +6,7 @@ that bound its regions.
 
 * ``n_attractors`` — coexisting attractors at the grid point;
 * ``max_order`` — the highest m among the 1/m resonance labels present (``"main…"`` = 1;
-  :func:`~contactvib.sweeps.labels.resonance_order`), 0 where every label is non-resonant or
+  :func:`~contactvib.labels.resonance_order`), 0 where every label is non-resonant or
   sub-/ultrasubharmonic;
 * ``contact_loss_share`` — the fraction of the attractors that lose contact (y < 0 on the orbit);
 * ``chaotic`` — 1 where a non-periodic attractor has λ > ``LYAPUNOV_ZERO``;
@@ -33,13 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
-from contactvib.sweeps.labels import LYAPUNOV_ZERO, resonance_order
+from contactvib.labels import LYAPUNOV_ZERO, resonance_order
 
 __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves_dataset", "curve_crossings",
-           "count_changes", "find_dataset", "DATASET_NAMES", "MAP_VARIABLES", "FRICTION_MAPS"]
-
-#: File names looked for in a folder given as the dataset, in this order.
-DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
+           "count_changes", "MAP_VARIABLES", "FRICTION_MAPS"]
 
 #: The maps, in the order of the figures.
 MAP_VARIABLES = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period")
@@ -62,20 +59,6 @@ _ATTRS = {
     "friction_ratio_max": {"units": "1", "long_name": "highest friction ratio <F_drive>/(mu W) of the attractors",
                            "comment": "NaN = no attractor with a friction ratio stored"},
 }
-
-
-def find_dataset(path) -> Path:
-    """The dataset file of ``path``: the file itself, or in a folder the first of
-    :data:`DATASET_NAMES` it holds. Raises ``LookupError`` with a one-line message otherwise."""
-    p = Path(path)
-    if p.is_file():
-        return p
-    if p.is_dir():
-        for name in DATASET_NAMES:
-            if (p / name).is_file():
-                return p / name
-        raise LookupError(f"{path}: a folder without {', '.join(DATASET_NAMES)}")
-    raise LookupError(f"{path}: no such file or folder")
 
 
 def _grid(ds):

@@ -27,7 +27,7 @@ import re
 from contextlib import contextmanager
 from pathlib import Path
 
-from contactvib.interrupts import Interrupted, check_interrupt, deferred_sigint, end_with_parent
+from contactvib.interrupts import Interrupted, check_interrupt, deferred_sigint
 from contactvib.model import (
     LEVEL_KINDS,
     WORKERS_MAX,
@@ -151,19 +151,6 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
                 except OSError:
                     pass
     return removed
-
-
-def _worker_init(parent: int | None = None):
-    """A pool worker: one numba thread, SIGINT ignored (the parent handles it and terminates
-    the workers), ends when ``parent`` does (even on SIGKILL)."""
-    import signal
-
-    import numba
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if parent is not None:
-        end_with_parent(parent)
-    numba.set_num_threads(1)
 
 
 def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None, on_level=None,

@@ -1,19 +1,34 @@
-"""The attractors stored in a resonance dataset at one (level, f_e), and the checks that refuse a
-damaged dataset in one line (``contactvib query``, the paper's time figures, the explorer)."""
+"""Stored resonance datasets: where a dataset is found and how it is opened (one place for every
+command that reads one: ``query``, ``map``, ``animate``, ``explore``, ``continue --dataset``:
+:func:`find_dataset`, :func:`open_dataset`), the attractors stored at one (level, f_e), and the
+checks that refuse a damaged dataset in one line (``contactvib query``, the paper's time
+figures, the explorer)."""
 
 from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 
+from contactvib.errors import ContactvibError
 from contactvib.sweeps.dataset import FORMAT
 
-__all__ = ["attractors_at", "check_damage", "DamagedDataset"]
+__all__ = ["DATASET_NAMES", "find_dataset", "open_dataset", "attractors_at", "check_damage", "DatasetError",
+           "DamagedDataset"]
+
+#: The dataset files a folder (an atlas, paper or resonance output folder) may hold, in the order
+#: they are looked for: the first one found is the folder's dataset.
+DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
 
 
-class DamagedDataset(LookupError):
+class DatasetError(ContactvibError, ValueError):
+    """A resonance dataset that cannot be used: missing, not a contactvib resonance dataset of
+    this version, or without levels. The message is one line naming the path."""
+
+
+class DamagedDataset(ContactvibError, LookupError):
     """A resonance dataset whose variables are missing, not finite where they must be, or
     refer outside their arrays; the message says where (one line)."""
 
@@ -26,9 +41,58 @@ _QUERY_POINT = ("pa_over_q", "fe_hz", "period", "kind", "minima_per_period", "ap
                 "attractor_type")
 _QUERY_OTHER = ("extremum_t_ms", "extremum_y_um", "extremum_is_min", "strobe_y_um", "strobe_ydot_mm_s",
                 "branch_id", "branch_label", "branch_reached_by_sweep")
+#: Attributes every reader of a dataset may need (the model, the sweep's grid, f_n0).
+_ATTRIBUTES = ("model", "settings", "fn0_hz")
 #: Variables that must be finite everywhere (the others may hold NaN: basin, Lyapunov, ...).
 _FINITE = ("pa_over_q", "fe_hz", "app_um", "ymin_um", "ymax_um", "contact_loss_fraction",
            "extremum_t_ms", "extremum_y_um", "strobe_y_um", "strobe_ydot_mm_s")
+
+
+def find_dataset(path) -> Path:
+    """The dataset file of ``path``: the file itself, or in a folder the first of
+    :data:`DATASET_NAMES` it holds. Raises :class:`DatasetError` (one line) otherwise."""
+    p = Path(path)
+    if p.is_file():
+        return p
+    if p.is_dir():
+        for name in DATASET_NAMES:
+            if (p / name).is_file():
+                return p / name
+        raise DatasetError(f"{path}: a folder without {', '.join(DATASET_NAMES[:-1])} or {DATASET_NAMES[-1]}")
+    raise DatasetError(f"{path}: no such file or folder")
+
+
+def open_dataset(path, load: bool = False):
+    """``(file, dataset)``: the resonance dataset of ``path`` (:func:`find_dataset`) opened with
+    xarray (read into memory with ``load``; else lazily, to be closed by the caller).
+
+    Raises :class:`DatasetError` with a one-line message naming the file when it is not NetCDF,
+    not a contactvib resonance dataset, of another layout version (:data:`.dataset.FORMAT`),
+    without one of the variables or attributes of the layout, or without a level. The values
+    themselves are checked where they are read (:func:`check_damage`)."""
+    import xarray as xr
+
+    file = find_dataset(path)
+    try:
+        ds = xr.load_dataset(file) if load else xr.open_dataset(file)
+    except Exception as e:  # not NetCDF, damaged, unreadable
+        raise DatasetError(f"{file}: not a readable NetCDF dataset ({type(e).__name__})") from None
+    try:
+        if "branch_label" not in ds or "pa_over_q" not in ds:
+            raise DatasetError(f"{file}: not a contactvib resonance dataset (made by paper, resonance or atlas)")
+        if ds.attrs.get("format") != FORMAT:
+            raise DatasetError(f"{file}: written by another contactvib version (format "
+                               f"{ds.attrs.get('format')!r}, not {FORMAT!r}): recompute it")
+        missing = [f"variable {v!r}" for v in _QUERY_POINT + _QUERY_OTHER if v not in ds]
+        missing += [f"attribute {a!r}" for a in _ATTRIBUTES if a not in ds.attrs]
+        if missing:
+            raise DatasetError(f"{file}: damaged: {missing[0]} is missing: recompute it")
+        if ds["pa_over_q"].size == 0:
+            raise DatasetError(f"{file}: holds no P_a level")
+    except BaseException:
+        ds.close()
+        raise
+    return file, ds
 
 
 def check_damage(ds) -> str | None:

@@ -59,6 +59,8 @@ from contactvib.model import (
     ContactModel,
     ParameterError,
 )
+from contactvib.sweeps.dataset import TRACE_ROOTS
+from contactvib.sweeps.level_progress import report_points
 from contactvib.sweeps.newton_seeds import late_newton_seeds, newton_seeds
 from contactvib.sweeps.settings import SweepSettings, frequency_grid, multistart_indices
 
@@ -76,10 +78,6 @@ _MAXA = 48  # attractors per frequency in the shared table
 #: there never converges and costs up to a second an attempt. Every stored orbit is far below:
 #: the largest strobe point of paper.nc is x = 1.8e4 (4 mm, in flight near 30 Hz at 0.90 Q).
 SEED_STATE_MAX = 1e6
-
-#: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
-#: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
-TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation")
 
 
 @dataclass(frozen=True)
@@ -145,7 +143,7 @@ class LevelTrace:
         return int(self.rows.i.size)
 
 
-class _Level:
+class LevelState:
     """Shared table and accumulated rows of one P_a level (internal)."""
 
     def __init__(self, model: ContactModel, pa_over_q: float, f: np.ndarray, st: SweepSettings):
@@ -233,7 +231,7 @@ class _Level:
                           stops=self.stops, pa_over_q=float(pa_over_q))
 
 
-def _settle_from(level: _Level, i: int, z, phase: float = 0.0):
+def _settle_from(level: LevelState, i: int, z, phase: float = 0.0):
     from contactvib._kernels.settle import SETTLE_NONPERIODIC, SETTLE_PERIODIC, settle
 
     st = level.st
@@ -257,7 +255,7 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     The series (order 24, Padé-summed, :mod:`contactvib.frequency.perturbation`) is the small-amplitude
     solution continued to this frequency; used only as a Newton start, valid or not.
     """
-    from contactvib._kernels.settle import _refine
+    from contactvib._kernels.settle import refine_stable_orbit
     from contactvib.frequency.perturbation import series_state
 
     if not model.is_paper_family or exc.kind != "force":
@@ -270,11 +268,11 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
         return None
     oz = np.empty(2)
     oM = np.empty((2, 2))
-    ok, k, _res = _refine(z, 1, par, st.rtol, st.close_tol, oz, oM)
+    ok, k, _res = refine_stable_orbit(z, 1, par, st.rtol, st.close_tol, oz, oM)
     return oz.copy() if ok and k == 1 else None
 
 
-def _multistart_at(lv: _Level, model: ContactModel, pa_over_q: float, i: int) -> list:
+def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int) -> list:
     """Perturbation seed and multi-start at grid index ``i``: trace every new attractor up and
     down; returns the basin observations [(row, fraction of the box starts)]."""
     from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
@@ -338,7 +336,7 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
     As the level goes on it reports the frequency points done so far
-    (``contactvib.sweeps.backends.report_points``, a no-op unless a run listens): two fifths
+    (``contactvib.sweeps.level_progress.report_points``, a no-op unless a run listens): two fifths
     of the grid once the sweeps (and their reverse traces) are done, four fifths once the
     multi-start frequencies are (the last fifth is the level's dataset: descriptions, Lyapunov
     exponents). It changes nothing computed.
@@ -353,14 +351,12 @@ def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) 
 
     st = settings
     f = frequency_grid(st)
-    lv = _Level(model, pa_over_q, f, st)
+    lv = LevelState(model, pa_over_q, f, st)
     for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
         res = _settle_from(lv, i0, (1.0, 0.0))
         if res is not None:
             lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
     lv.drain()
-    from contactvib.sweeps.backends import report_points
-
     starts = multistart_indices(st)
     report_points(pa_over_q, 2 * f.size // 5)
     observations = []
@@ -400,7 +396,7 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
     exc = model.excitation(0.1, f0)
     par = exc.kernel_parameters()
     z = np.array([1.0, 0.0])
-    lv = _Level(model, 0.1, np.array([f0]), st)
+    lv = LevelState(model, 0.1, np.array([f0]), st)
     k1 = np.int64(1)
     find_known(lv.table, np.int64(0), z.copy(), k1, np.int64(0), st.same_tol)
     tk.stays_on_branch(z.copy(), z.copy(), z.copy())

@@ -91,7 +91,7 @@ def _stable_again(branch) -> list:
 
 def _seed_in(lv, branch, a, b, k):
     """A refined stable orbit of period k at a grid index inside the segment [a, b], or None."""
-    from contactvib._kernels.settle import _refine
+    from contactvib._kernels.settle import refine_stable_orbit
 
     fe = branch.fe_hz[a:b + 1]
     if fe.size < 2:
@@ -107,9 +107,9 @@ def _seed_in(lv, branch, a, b, k):
     par[4] = lv.r[i]
     oz = np.empty(2)
     oM = np.empty((2, 2))
-    ok, kk, _res = _refine(np.asarray(branch.state[j], float), k, par, lv.st.rtol,
+    ok, kk, _res = refine_stable_orbit(np.asarray(branch.state[j], float), k, par, lv.st.rtol,
                            lv.st.close_tol, oz, oM)
-    if not ok or kk != k:  # _refine accepts stable orbits only
+    if not ok or kk != k:  # refine_stable_orbit accepts stable orbits only
         return None
     return i, oz.copy()
 
@@ -119,7 +119,7 @@ def continue_unstable_parts(lv, model, pa_over_q: float) -> int:
 
     Parameters
     ----------
-    lv : contactvib.sweeps.sweep._Level
+    lv : contactvib.sweeps.sweep.LevelState
         The level's shared table and rows after the sweeps and multi-start.
     model : ContactModel
     pa_over_q : float

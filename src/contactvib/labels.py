@@ -19,7 +19,7 @@ import numpy as np
 # One threshold on the largest Lyapunov exponent for the sweep's labels and the attractor search.
 from contactvib.steady.transients import LYAPUNOV_ZERO
 
-__all__ = ["ORDER_COLOURS", "order_colour", "dominant_ratio", "resonance_label", "smooth_labels",
+__all__ = ["dominant_ratio", "resonance_label", "smooth_labels",
            "attractor_type", "level_labels", "resonance_order", "label_family", "period_one_order",
            "LYAPUNOV_ZERO", "LABEL_FLICKER"]
 
@@ -29,17 +29,6 @@ def resonance_order(label) -> int | None:
     ``"non-periodic (1/m)"`` → m; None for non-resonant and sub-/ultrasubharmonic labels."""
     m, _variant = label_family(label)
     return m
-
-
-#: Colours of resonance orders m = 2, 3, … in every figure (matplotlib's "tab10", cycled); the
-#: main resonance (m = 1) is black. Hex text, so the browser page uses the same colours.
-ORDER_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
-                 "#7f7f7f", "#bcbd22", "#17becf")
-
-
-def order_colour(m: int) -> str:
-    """The colour of resonance order ``m`` (1: main, black)."""
-    return "#000000" if m == 1 else ORDER_COLOURS[(m - 2) % len(ORDER_COLOURS)]
 
 
 def label_family(label) -> tuple[int | None, str]:
