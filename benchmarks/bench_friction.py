@@ -8,8 +8,8 @@ and the ratios with/without of the medians, measured within this one run.
 
 Run from the repository root::
 
-    PYTHONPATH=src python benchmarks/bench_friction.py               # writes benchmarks/results_friction.json
-    PYTHONPATH=src python benchmarks/bench_friction.py --fmax 700     # a shorter grid
+    python -m benchmarks friction               # writes benchmarks/results_friction.json
+    python -m benchmarks friction --fmax 700    # a shorter grid
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
+from benchmarks import result_path
 
 
 def _run(args) -> dict:
@@ -54,15 +54,15 @@ def _points(path: Path) -> dict:
     return out
 
 
-def main() -> None:
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pa", default="0.65")
     ap.add_argument("--fmin", default="30")
     ap.add_argument("--fmax", default="2000")
     ap.add_argument("--friction", default="default", help="the --friction value of the run with friction")
     ap.add_argument("--repeats", type=int, default=2)
-    ap.add_argument("--out", default=str(HERE / "results_friction.json"))
-    a = ap.parse_args()
+    ap.add_argument("--out", default=str(result_path(__name__)))
+    a = ap.parse_args(argv)
     base = ["resonance", "--pa", a.pa, "--fmin", a.fmin, "--fmax", a.fmax, "--df", "1", "--workers", "1",
             "--no-progress"]
     runs = {"without": [], "with": []}
