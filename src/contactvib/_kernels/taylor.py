@@ -9,7 +9,9 @@ the solution about ``τ0`` follow from a recurrence (automatic differentiation):
     a_k = [δ_k0 + p γ_k] / m2                              flight mode  (x ≤ 0)
 
 with Cauchy products for the powers (the contact law's recurrence, :func:`.contact.series_contact`)
-and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. A step of order
+and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. The exponential spring ``b (e^{ax} − 1)`` has a
+recurrence too, from ``G = e^{ax}``, ``G' = a x' G`` (:func:`.contact.series_exponential`):
+``G_{k+1} = a/(k+1) Σ_{i≤k} (x')_i G_{k−i}``. :func:`series_law` says which applies. A step of order
 ``N`` has length ``h = SAFETY · min_{k=N−1,N} (tol·s / |c_k|)^(1/k)`` (Jorba & Zou 2005), ``c_k``
 the last coefficients of x and v and ``s = 1 + |x0|`` or ``1 + |v0|`` (``atol = rtol = tol``):
 no step is ever rejected. The step's polynomial is its own dense output. A crossing of
@@ -22,8 +24,8 @@ The step is cut there and the mode switches; no step is re-taken. For the paper'
 (about 20 steps of 0.22 µs at 360 Hz).
 
 This integrates the state only (no variational equation, no step records): it is the
-transient integrator of :mod:`.settle` and of the ensembles. Non-integer exponents fall back to
-:func:`.flow.advance` (:func:`advance_state`).
+transient integrator of :mod:`.settle` and of the ensembles. Non-integer exponents, the table
+law and the multi-frequency excitations fall back to :func:`.flow.advance` (:func:`advance_state`).
 
 References
 ----------
@@ -45,10 +47,12 @@ from .contact import (
     P_EXCITATION,
     P_S1,
     P_SPRING,
+    SPRING_EXPONENTIAL,
     SPRING_POWER,
     forcing_amplitude,
     is_paper_family,
     series_contact,
+    series_exponential,
 )
 from .flow import REC_WIDTH, _crosses, advance, illinois_trial, illinois_update
 from .status import (
@@ -91,6 +95,29 @@ def is_polynomial_law(par):
             and 0.0 <= l <= MAX_EXPONENT)
 
 
+#: What :func:`series_law` answers: no series (DOP853), the power spring's polynomial
+#: recurrence (:func:`.contact.series_contact`), the exponential spring's
+#: (:func:`.contact.series_exponential`).
+SERIES_NONE, SERIES_POWER, SERIES_EXPONENTIAL = 0, 1, 2
+
+
+@njit(cache=True)
+def series_law(par):
+    """Which Taylor recurrence integrates this law's contact mode (``SERIES_*``): the polynomial
+    laws (:func:`is_polynomial_law`), and the exponential spring with Hunt–Crossley damping or
+    power damping of integer exponent l ≤ MAX_EXPONENT under a force or base motion at f_e;
+    ``SERIES_NONE`` (DOP853) for any other law or excitation."""
+    if is_polynomial_law(par):
+        return SERIES_POWER
+    if par.shape[0] <= P_SPRING or par[P_EXCITATION] > EXCITATION_BASE:
+        return SERIES_NONE
+    if par[P_SPRING] == SPRING_EXPONENTIAL:
+        l = par[1]
+        if par[P_DAMPING] == DAMPING_HUNT_CROSSLEY or (l == math.floor(l) and 0.0 <= l <= MAX_EXPONENT):
+            return SERIES_EXPONENTIAL
+    return SERIES_NONE
+
+
 @njit(cache=True)
 def order_for(tol):
     """Series order for a local tolerance: about −0.6 ln(tol) + 6 (15 at 1e-7, 18 at 1e-9, 23 at
@@ -107,16 +134,17 @@ def _rotation(k, ct, st):
     return ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
 
 
-#: Row of the series work array (:func:`series_work`) that holds p r^k/k!; row 0 holds E_k and
-#: rows 1..MAX_EXPONENT + 1 the powers of x.
+#: Row of the series work array (:func:`series_work`) that holds p r^k/k!; row 0 holds E_k,
+#: rows 1..MAX_EXPONENT + 1 the powers of x and row EXP_ROW the series of exp(a x).
 FORCING_ROW = MAX_EXPONENT + 2
+EXP_ROW = MAX_EXPONENT + 3
 
 
 @njit(cache=True)
 def series_work(par, N):
     """Work array of :func:`series_prepared`, with the forcing magnitudes p r^k/k! (k < N) that
-    do not depend on τ0 computed once: shape (MAX_EXPONENT + 3, N + 1)."""
-    W = np.empty((MAX_EXPONENT + 3, N + 1))  # every entry read is written first
+    do not depend on τ0 computed once: shape (MAX_EXPONENT + 4, N + 1)."""
+    W = np.empty((MAX_EXPONENT + 4, N + 1))  # every entry read is written first
     fk = forcing_amplitude(par)  # p r^k / k!
     r = par[4]
     for k in range(N):
@@ -151,7 +179,8 @@ def series_prepared(contact, t, x0, v0, par, N, X, V, W):
     """Taylor coefficients X[0..N], V[0..N] of x and x' about τ = t.
 
     Flight: ``m2 x'' = E``; contact: the contact law's recurrence ``m2 x'' = E − f(x, x')``
-    (:func:`.contact.series_contact`, about 90 ns for order 14 for the paper's law), with E the
+    (:func:`.contact.series_contact`, about 90 ns for order 14 for the paper's law, or
+    :func:`.contact.series_exponential` for the exponential spring), with E the
     coefficients of 1 + p cos rτ. ``W``: work array from :func:`series_work` (same par, N).
     """
     m2 = par[0]
@@ -160,7 +189,10 @@ def series_prepared(contact, t, x0, v0, par, N, X, V, W):
     E = W[0]
     _excitation_series(t, par[4], N, W[FORCING_ROW], E)
     if contact:
-        series_contact(E, X, V, W, N, m2, damping_exponent(par), par[2])
+        if par.shape[0] > P_SPRING and par[P_SPRING] == SPRING_EXPONENTIAL:
+            series_exponential(E, X, V, W, W[EXP_ROW], N, par)
+        else:
+            series_contact(E, X, V, W, N, m2, damping_exponent(par), par[2])
         return
     inv_m2 = 1.0 / m2
     for k in range(N):  # flight: x'' = (1 + p cos rτ)/m2
@@ -357,11 +389,12 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
 
 @njit(cache=True)
 def advance_state(y, t, t_end, contact, h, par, tol, max_steps):
-    """State-only flow from τ = ``t`` to ``t_end``: Taylor series for polynomial laws, else DOP853.
+    """State-only flow from τ = ``t`` to ``t_end``: Taylor series for the laws that have one
+    (:func:`series_law`), else DOP853.
 
     Returns ``(contact, h, n_steps, t_flight, n_events, status)``.
     """
-    if is_polynomial_law(par):
+    if series_law(par) != SERIES_NONE:
         return advance_taylor(y, t, t_end, contact, par, tol, max_steps)
     contact, h, _i, ns, tf, ne, st = advance(y, t, t_end, contact, h, par, tol, tol,
                                              np.empty((0, REC_WIDTH)), np.int64(0),
