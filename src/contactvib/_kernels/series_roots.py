@@ -155,15 +155,18 @@ def _monotone_root(X, V, N, target, h):
 
 
 @njit(cache=True)
-def segment_event(X, V, XU, VU, N, h, lo, hi, S):
+def segment_event(contact, X, V, XU, VU, N, h, lo, hi, S):
     """First s ∈ (0, h] where x on a table segment reaches its lower bound ``lo`` (returns
     (s, −1)) or its upper bound ``hi`` (returns (s, +1)); (−1, 0) if neither (:func:`crossing` on
     x − lo and on hi − x, the upper only before the lower's s). Fast path: where x is
-    monotone on [0, h] (Σ_{k≥1} |v_k| h^k < |v_0|), x(h) tells whether the bound ahead is
-    reached, and its root is found on the bracket [0, h] at once."""
+    monotone on [0, h] (Σ_{k≥1} |v_k| h^k < |v_0|) and starts inside or on an end moving away
+    from it, x(h) tells whether the bound ahead is reached, and its root is found on the
+    bracket [0, h] at once. ``contact``: True, the caller's mode flag (a run-time bool, so that
+    :func:`crossing` is compiled for one signature, not for the literal True as well)."""
     x0 = X[0]
     v0 = V[0]
-    if lo < x0 < hi:
+    # strictly inside, or on an end (a step right after an event) moving away from it
+    if (lo < x0 < hi) or (x0 == lo and v0 > 0.0) or (x0 == hi and v0 < 0.0):
         drift = 0.0
         hk = 1.0
         for k in range(1, N + 1):
@@ -180,7 +183,7 @@ def segment_event(X, V, XU, VU, N, h, lo, hi, S):
     for k in range(N + 1):
         XU[k] = X[k]
     XU[0] = X[0] - lo
-    s_lo = crossing(True, XU, V, N, h, S)
+    s_lo = crossing(contact, XU, V, N, h, S)
     if hi == math.inf:
         return s_lo, -1 if s_lo >= 0.0 else 0
     XU[0] = hi - X[0]
@@ -188,7 +191,7 @@ def segment_event(X, V, XU, VU, N, h, lo, hi, S):
     for k in range(1, N + 1):
         XU[k] = -X[k]
         VU[k] = -V[k]
-    s_hi = crossing(True, XU, VU, N, s_lo if s_lo >= 0.0 else h, S)
+    s_hi = crossing(contact, XU, VU, N, s_lo if s_lo >= 0.0 else h, S)
     if s_hi >= 0.0 and (s_lo < 0.0 or s_hi < s_lo):
         return s_hi, 1
     return s_lo, -1 if s_lo >= 0.0 else 0

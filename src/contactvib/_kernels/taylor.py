@@ -341,9 +341,9 @@ def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
         n_steps += 1
         if contact:
             hi = par[o + seg + 1] if seg < n_rows - 1 else math.inf
-            s_ev, side = segment_event(X, V, XU, VU, M, h, par[o + seg], hi, S)
+            s_ev, side = segment_event(contact, X, V, XU, VU, M, h, par[o + seg], hi, S)
         else:
-            s_ev = crossing(False, X, V, M, h, S)
+            s_ev = crossing(contact, X, V, M, h, S)
             side = 1
         if s_ev >= 0.0:
             y[1] = poly(V, M, s_ev, 0)
