@@ -377,7 +377,8 @@ def series_exponential(E, X, V, W, G, N, par):
     ``G_{k+1} = a/(k+1) Σ_{i=0..k} V_i G_{k−i}``, started at ``G_0 = exp(a x_0)``; the spring's
     coefficients are ``b G_k`` (k ≥ 1) and ``b expm1(a x_0)`` (k = 0, without cancellation). Then
     ``x_{k+1} = v_k/(k+1)``, ``v_{k+1} = [E_k − b Ĝ_k − (f_d)_k] / (κ (k+1))``, with
-    ``(x^l x')_k = (k+1)/(l+1) (x^{l+1})_{k+1}`` (:func:`power_table_update`) or
+    ``(x^l x')_k = (k+1)/(l+1) (x^{l+1})_{k+1}`` (:func:`power_table_update`; for l = 1 the
+    symmetric sum of ``(x²)_{k+1}``) or
     ``((e^{ax} − 1) x')_k = R_k + V_k expm1(a x_0)``, where ``R_k = Σ_{i<k} V_i G_{k−i}`` is the
     sum that also gives ``G_{k+1} = a/(k+1) (R_k + V_k G_0)``.
 
@@ -408,7 +409,7 @@ def series_exponential(E, X, V, W, G, N, par):
     G[0] = math.exp(a * x0)
     em = math.expm1(a * x0)
     g0 = G[0]
-    if not hunt_crossley:
+    if not hunt_crossley and il != 1:
         W[1, 0] = x0
         for q in range(2, il + 2):
             W[q, 0] = W[q - 1, 0] * x0
@@ -422,6 +423,14 @@ def series_exponential(E, X, V, W, G, N, par):
         f = E[k] - b * (em if k == 0 else G[k])
         if hunt_crossley:
             f -= c * b * (r + V[k] * em)
+        elif il == 1:  # (x²)_n, the symmetric sum
+            s2 = 0.0
+            for j in range((n + 1) // 2):
+                s2 += X[j] * X[n - j]
+            s2 = 2.0 * s2
+            if n % 2 == 0:
+                s2 += X[n // 2] * X[n // 2]
+            f -= c * n * 0.5 * s2
         elif c != 0.0:
             power_table_update(n, X, W, il + 1)
             f -= c * n / (il + 1) * W[il + 1, n]
