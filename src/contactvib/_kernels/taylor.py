@@ -12,7 +12,7 @@ with Cauchy products for the powers (the contact law's recurrence, :func:`.conta
 and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. The exponential spring ``b (e^{ax} − 1)`` has a
 recurrence too, from ``G = e^{ax}``, ``G' = a x' G`` (:func:`.contact.series_exponential`):
 ``G_{k+1} = a/(k+1) Σ_{i≤k} (x')_i G_{k−i}``. The table law's PCHIP spring is a cubic on each
-interval between rows, so its series there is exact (:func:`.contact.series_table`); it is only
+interval between rows, so its series there is exact (:func:`.contact_table.series_table`); it is only
 C¹ at the rows, which :func:`advance_taylor_table` treats as events like x = 0 (a step ends on
 the row, the next one takes the next interval's cubic), at a lower order (TABLE_ORDER), since
 those steps are short. :func:`series_law` says which applies. A step of order
@@ -105,7 +105,8 @@ def is_polynomial_law(par):
 
 #: What :func:`series_law` answers: no series (DOP853), the power spring's polynomial
 #: recurrence (:func:`.contact.series_contact`), the exponential spring's
-#: (:func:`.contact.series_exponential`).
+#: (:func:`.contact.series_exponential`), the table law's (:func:`.contact_table.series_table`,
+#: on :func:`advance_taylor_table`).
 SERIES_NONE, SERIES_POWER, SERIES_EXPONENTIAL, SERIES_TABLE = 0, 1, 2, 3
 
 
