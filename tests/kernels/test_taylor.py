@@ -13,15 +13,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contactvib import ContactModel
+from contactvib import ContactModel, TableLaw
 from contactvib._kernels.flow import REC_WIDTH, STATUS_OK, advance, initial_mode
 from contactvib._kernels.taylor import (
     N_SUB,
+    SERIES_EXPONENTIAL,
+    SERIES_NONE,
+    SERIES_TABLE,
     advance_state,
     advance_taylor,
+    advance_taylor_table,
     crossing,
     is_polynomial_law,
     order_for,
+    series_law,
 )
 from contactvib.testing import scipy_in_contact
 
@@ -31,8 +36,8 @@ MODEL = ContactModel()
 
 def _taylor(z, t0, t1, par, tol):
     y = np.array(z, float)
-    contact, _h, _ns, t_flight, n_events, st = advance_taylor(
-        y, t0, t1, initial_mode(y[0], y[1]), par, tol, 10**7)
+    flow = advance_taylor_table if series_law(par) == SERIES_TABLE else advance_taylor
+    contact, _h, _ns, t_flight, n_events, st = flow(y, t0, t1, initial_mode(y[0], y[1]), par, tol, 10**7)
     assert st == STATUS_OK
     return y, n_events, t_flight
 
@@ -197,3 +202,142 @@ def test_hunt_crossley_on_the_power_spring_takes_the_taylor_flow(kw, exc):
     for other in ({"law": "exponential", "damping": "hunt-crossley"}, {"damping": "hunt-crossley", "m2": 1.5,
                                                                        "c_n": 1e13}):
         assert not is_polynomial_law(ContactModel(**other).excitation(0.3, 900.0).kernel_parameters())
+
+
+EXPONENTIAL_CASES = [({"law": "exponential"}, ("force", 0.65, 360.0)),
+                     ({"law": "exponential", "l": 2.0}, ("force", 0.8, 700.0)),
+                     ({"law": "exponential", "l": 0.0, "h_n": 1e3}, ("force", 0.9, 1200.0)),
+                     ({"law": "exponential", "damping": "hunt-crossley", "preload": 0.5}, ("force", 0.8, 700.0)),
+                     ({"law": "exponential"}, ("base", 0.05, 900.0))]
+
+
+def _excitation(model, exc):
+    from contactvib import Excitation
+
+    return model.excitation(exc[1], exc[2]) if exc[0] == "force" else Excitation.base(model, exc[2], u_um=exc[1])
+
+
+@pytest.mark.parametrize("kw, exc", EXPONENTIAL_CASES)
+def test_exponential_law_takes_the_taylor_flow(kw, exc):
+    """The exponential spring b (e^{ax} − 1) with power damping of integer exponent or
+    Hunt–Crossley damping has its own Taylor recurrence (series of e^{ax} from G' = a x' G): the
+    Taylor flow takes it, through loss of contact and impacts, and agrees with the DOP853 kernel
+    (1e-13) to 1e-8 with the same crossings and time in flight."""
+    par = _excitation(ContactModel(**kw), exc).kernel_parameters()
+    assert series_law(par) == SERIES_EXPONENTIAL and not is_polynomial_law(par)
+    assert _taylor_against_dop853(par) > 0
+    for other in ({"law": "exponential", "l": 1.5, "h_n": 1e6},):
+        assert series_law(ContactModel(**other).excitation(0.3, 900.0).kernel_parameters()) == SERIES_NONE
+
+
+@pytest.mark.parametrize("kw, exc", EXPONENTIAL_CASES[::2])
+def test_exponential_law_matches_the_si_scipy_reference(kw, exc):
+    """Three periods from a contact-losing start: the Taylor flow at 1e-12 equals scipy DOP853
+    (rtol 1e-12) on the SI equation written independently (``scipy_contact.model_ode``, located
+    contact events) to 1e-8 of the state, with the same number of contact switches."""
+    from scipy_contact import integrate_contact, model_ode
+
+    model = ContactModel(**kw)
+    e = _excitation(model, exc)
+    par = e.kernel_parameters()
+    w_n0 = 2.0 * math.pi * model.f_n0
+    T = 2.0 * math.pi / par[4]
+    z0 = np.array([2.0, -0.5])
+    y, n_events, _tf = _taylor(z0, 0.0, 3 * T, par, 1e-12)
+    tr = integrate_contact(model_ode(model, e), z0[0] * model.y0, z0[1] * model.y0 * w_n0, 0.0,
+                           3 * T / w_n0, rtol=1e-12, y_scale=model.y0, v_scale=model.y0 * w_n0)
+    assert n_events == tr.n_switches > 0
+    assert _rel_err(y, [tr.y / model.y0, tr.ydot / (model.y0 * w_n0)]) < 1e-8
+
+
+def _table_reference(model, e, z0, n_periods, rtol=1e-12):
+    """End state (x, x') and contact switches of the table law from ``z0`` (nondimensional),
+    integrated in SI by scipy DOP853 segment by segment: on each of the table's intervals the
+    spring is scipy's own PCHIP cubic of that interval (continued past its ends), and reaching a
+    row or y = 0 is a terminal event, so no step straddles a row (where the curve is only C¹)."""
+    from scipy.integrate import solve_ivp
+    from scipy.interpolate import PchipInterpolator
+
+    d, F = model.table.deflection_m, model.table.load_n
+    pp = PchipInterpolator(d, F)
+    slope_end = float(pp.derivative()(d[-1]))
+    n = d.size
+    M, Q = model.M, model.M * model.g
+    W = Q + model.preload
+    w, w_n0 = 2.0 * math.pi * e.f_e, 2.0 * math.pi * model.f_n0
+
+    def spring(y, seg):
+        if seg == n - 1:
+            return F[-1] + slope_end * (y - d[-1])
+        u = y - d[seg]
+        c = pp.c[:, seg]
+        return ((c[0] * u + c[1]) * u + c[2]) * u + c[3]
+
+    def rate(y, seg):
+        return model.alpha * spring(y, seg) if model.damping == "hunt-crossley" else model.S * model.h_n * y**model.l
+
+    def bound(level, direction):
+        def ev(t, s):
+            return s[0] - level
+
+        ev.terminal, ev.direction = True, direction
+        return ev
+
+    s = np.array([z0[0] * model.y0, z0[1] * model.y0 * w_n0])
+    t, t1 = 0.0, n_periods / e.f_e
+    contact = s[0] > 0.0
+    seg = min(int(np.searchsorted(d, s[0], side="right")) - 1, n - 1) if contact else 0
+    switches = 0
+    while t < t1:
+        if contact:
+            events = [bound(d[seg], -1.0)] + ([bound(d[seg + 1], 1.0)] if seg < n - 1 else [])
+
+            def rhs(tt, q, g=seg):
+                return [q[1], (W + e.pa_over_q * Q * math.cos(w * tt) - spring(q[0], g) - rate(q[0], g) * q[1]) / M]
+        else:
+            events = [bound(0.0, 1.0)]
+
+            def rhs(tt, q):
+                return [q[1], (W + e.pa_over_q * Q * math.cos(w * tt)) / M]
+        sol = solve_ivp(rhs, (t, t1), s, method="DOP853", rtol=rtol,
+                        atol=rtol * np.array([model.y0, model.y0 * w_n0]), events=events)
+        t, s = float(sol.t[-1]), sol.y[:, -1].copy()
+        if sol.status != 1:
+            break
+        hit = next(i for i, te in enumerate(sol.t_events) if te.size)
+        if not contact or (seg == 0 and hit == 0):
+            contact, seg, s[0] = not contact, 0, 0.0
+            switches += 1
+        else:
+            seg += 1 if hit == 1 else -1
+            s[0] = d[seg] if hit == 1 else d[seg + 1]
+    return np.array([s[0] / model.y0, s[1] / (model.y0 * w_n0)]), switches
+
+
+def _tables():
+    even = TableLaw.from_function(lambda y: 0.0009 * 4.52e16 * y**2, 3e-6, 31, source="power law, 31 rows")
+    y = 3e-6 * np.linspace(0.0, 1.0, 25) ** 1.5  # rows closer near the origin, as measured ones often are
+    uneven = TableLaw(y, 0.0009 * 4.52e16 * y**2 * (1.0 + 2e5 * y), source="uneven")
+    return even, uneven
+
+
+@pytest.mark.parametrize("table, damping, pa, f_e, z0", [
+    (0, "power", 0.65, 360.0, [0.2, 2.0]), (0, "hunt-crossley", 0.8, 700.0, [3.0, -1.0]),
+    (1, "power", 0.8, 700.0, [-5.0, 0.5]), (1, "hunt-crossley", 0.65, 360.0, [15.0, 0.0])])
+def test_table_law_takes_the_taylor_flow_row_by_row(table, damping, pa, f_e, z0):
+    """The table law in contact: the Taylor series of each interval's cubic, every row an event.
+    Two periods through loss of contact and impacts (and from beyond the last row, on the linear
+    continuation) equal a scipy DOP853 reference integrated interval by interval on scipy's own
+    PCHIP (rtol 1e-12) to 1e-8, with the same number of contact switches (and the DOP853
+    kernel, whose steps straddle the rows, to 1e-6)."""
+    model = ContactModel(law=_tables()[table], damping=damping)
+    e = model.excitation(pa, f_e)
+    par = e.kernel_parameters()
+    assert series_law(par) == SERIES_TABLE
+    T = 2.0 * math.pi / par[4]
+    y, n_events, _tf = _taylor(z0, 0.0, 2 * T, par, 1e-12)
+    ref, switches = _table_reference(model, e, z0, 2)
+    assert n_events == switches > 0
+    assert _rel_err(y, ref) < 1e-8
+    yd, nd, _fd = _dop853(z0, 0.0, 2 * T, par, 1e-13)
+    assert nd == n_events and _rel_err(yd, ref) < 1e-6

@@ -15,7 +15,8 @@ Everything that evaluates the law is built from the functions here:
   ``x > 0``, by :func:`force_array` (harmonic balance, :class:`contactvib.model.PowerLaw`);
 * :func:`series_contact`: the Taylor-coefficient recurrence of the contact mode for integer
   exponents (the Taylor flow, :mod:`.taylor`), from the Cauchy products of the integer powers
-  (:func:`power_table_update`), with the symmetric-square specialisation for ``m2 = 2, l = 1``;
+  (:func:`power_table_update`), with the symmetric-square specialisation for ``m2 = 2, l = 1``,
+  and :func:`series_exponential`, the same for the exponential spring (series of ``e^{ax}``);
 * :func:`power_series_partial`: J. C. P. Miller's recurrence for the power series of
   ``(1 + u)^α`` (any real α), used by the perturbation series.
 
@@ -364,3 +365,73 @@ def power_series_partial(alpha, u, w, n, out):
             out[i] += a * u[k, i] * w[n - k, i]
     for i in range(M):
         out[i] /= n
+
+
+@njit(cache=True, inline="always")
+def series_exponential(E, X, V, W, G, N, par):
+    """Taylor coefficients of the contact mode ``κ x'' = E(τ) − b (e^{ax} − 1) − f_d(x, x')`` of
+    the exponential spring, with power damping ``c x^l x'`` (integer l) or Hunt–Crossley damping
+    ``c b (e^{ax} − 1) x'``.
+
+    The series of ``G = e^{ax}`` follows from ``G' = a x' G`` (Knuth, 4.7): with ``(x')_i = V_i``,
+    ``G_{k+1} = a/(k+1) Σ_{i=0..k} V_i G_{k−i}``, started at ``G_0 = exp(a x_0)``; the spring's
+    coefficients are ``b G_k`` (k ≥ 1) and ``b expm1(a x_0)`` (k = 0, without cancellation). Then
+    ``x_{k+1} = v_k/(k+1)``, ``v_{k+1} = [E_k − b Ĝ_k − (f_d)_k] / (κ (k+1))``, with
+    ``(x^l x')_k = (k+1)/(l+1) (x^{l+1})_{k+1}`` (:func:`power_table_update`; for l = 1 the
+    symmetric sum of ``(x²)_{k+1}``) or
+    ``((e^{ax} − 1) x')_k = R_k + V_k expm1(a x_0)``, where ``R_k = Σ_{i<k} V_i G_{k−i}`` is the
+    sum that also gives ``G_{k+1} = a/(k+1) (R_k + V_k G_0)``.
+
+    Parameters
+    ----------
+    E : float64[N]
+        Taylor coefficients of the excitation side (1 + e(τ) about τ0).
+    X, V : float64[N + 1]
+        X[0], V[0] given (x, x' at τ0); X[1..N], V[1..N] written.
+    W : float64[≥ l + 2, N + 1]
+        Work array for the powers of x (power damping; rows 1..l+1 written).
+    G : float64[N + 1]
+        Work row, receives the coefficients of e^{ax}.
+    N : int
+        Order.
+    par : float64[:]
+        Kernel parameters: κ = par[0], l = par[1], c = par[2], a = par[P_S1] = y0/λ,
+        b = par[P_S2] = S c_e / W.
+    """
+    kappa = par[0]
+    c = par[2]
+    a = par[P_S1]
+    b = par[P_S2]
+    hunt_crossley = par[P_DAMPING] == DAMPING_HUNT_CROSSLEY
+    il = int(par[1])
+    inv_kappa = 1.0 / kappa
+    x0 = X[0]
+    G[0] = math.exp(a * x0)
+    em = math.expm1(a * x0)
+    g0 = G[0]
+    if not hunt_crossley and il != 1:
+        W[1, 0] = x0
+        for q in range(2, il + 2):
+            W[q, 0] = W[q - 1, 0] * x0
+    for k in range(N):
+        n = k + 1
+        X[n] = V[k] * INV[n]
+        r = 0.0
+        for i in range(k):
+            r += V[i] * G[k - i]
+        G[n] = a * INV[n] * (r + V[k] * g0)
+        f = E[k] - b * (em if k == 0 else G[k])
+        if hunt_crossley:
+            f -= c * b * (r + V[k] * em)
+        elif il == 1:  # (x²)_n, the symmetric sum
+            s2 = 0.0
+            for j in range((n + 1) // 2):
+                s2 += X[j] * X[n - j]
+            s2 = 2.0 * s2
+            if n % 2 == 0:
+                s2 += X[n // 2] * X[n // 2]
+            f -= c * n * 0.5 * s2
+        elif c != 0.0:
+            power_table_update(n, X, W, il + 1)
+            f -= c * n / (il + 1) * W[il + 1, n]
+        V[n] = f * inv_kappa * INV[n]

@@ -9,7 +9,13 @@ the solution about ``τ0`` follow from a recurrence (automatic differentiation):
     a_k = [δ_k0 + p γ_k] / m2                              flight mode  (x ≤ 0)
 
 with Cauchy products for the powers (the contact law's recurrence, :func:`.contact.series_contact`)
-and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. A step of order
+and ``γ_k = r^k/k! · cos(rτ0 + kπ/2)``. The exponential spring ``b (e^{ax} − 1)`` has a
+recurrence too, from ``G = e^{ax}``, ``G' = a x' G`` (:func:`.contact.series_exponential`):
+``G_{k+1} = a/(k+1) Σ_{i≤k} (x')_i G_{k−i}``. The table law's PCHIP spring is a cubic on each
+interval between rows, so its series there is exact (:func:`.contact_table.series_table`); it is only
+C¹ at the rows, which :func:`advance_taylor_table` treats as events like x = 0 (a step ends on
+the row, the next one takes the next interval's cubic), at a lower order (TABLE_ORDER), since
+those steps are short. :func:`series_law` says which applies. A step of order
 ``N`` has length ``h = SAFETY · min_{k=N−1,N} (tol·s / |c_k|)^(1/k)`` (Jorba & Zou 2005), ``c_k``
 the last coefficients of x and v and ``s = 1 + |x0|`` or ``1 + |v0|`` (``atol = rtol = tol``):
 no step is ever rejected. The step's polynomial is its own dense output. A crossing of
@@ -22,8 +28,8 @@ The step is cut there and the mode switches; no step is re-taken. For the paper'
 (about 20 steps of 0.22 µs at 360 Hz).
 
 This integrates the state only (no variational equation, no step records): it is the
-transient integrator of :mod:`.settle` and of the ensembles. Non-integer exponents fall back to
-:func:`.flow.advance` (:func:`advance_state`).
+transient integrator of :mod:`.settle` and of the ensembles. Non-integer exponents and the
+multi-frequency excitations fall back to :func:`.flow.advance` (:func:`advance_state`).
 
 References
 ----------
@@ -44,13 +50,19 @@ from .contact import (
     P_DAMPING,
     P_EXCITATION,
     P_S1,
+    P_S2,
     P_SPRING,
+    SPRING_EXPONENTIAL,
     SPRING_POWER,
+    SPRING_TABLE,
     forcing_amplitude,
     is_paper_family,
     series_contact,
+    series_exponential,
 )
-from .flow import REC_WIDTH, advance, crosses_contact, illinois_trial, illinois_update
+from .contact_table import series_table, table_segment
+from .flow import REC_WIDTH, advance
+from .series_roots import N_SUB, crossing, poly, segment_event
 from .status import (
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -60,9 +72,9 @@ from .status import (
 )
 
 SAFETY = 0.8
-N_SUB = 8  # sub-intervals of a step searched for a crossing of x = 0
 MAX_EXPONENT = 8  # integer exponents up to this use the Taylor flow
 ORDER_MIN, ORDER_MAX = 8, 28
+TABLE_ORDER = 10  # series order in contact on the table law (its steps end at the rows)
 INV = np.array([0.0] + [1.0 / k for k in range(1, ORDER_MAX + 2)])  # 1/k without a division
 
 
@@ -91,6 +103,34 @@ def is_polynomial_law(par):
             and 0.0 <= l <= MAX_EXPONENT)
 
 
+#: What :func:`series_law` answers: no series (DOP853), the power spring's polynomial
+#: recurrence (:func:`.contact.series_contact`), the exponential spring's
+#: (:func:`.contact.series_exponential`), the table law's (:func:`.contact_table.series_table`,
+#: on :func:`advance_taylor_table`).
+SERIES_NONE, SERIES_POWER, SERIES_EXPONENTIAL, SERIES_TABLE = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def series_law(par):
+    """Which Taylor recurrence integrates this law's contact mode (``SERIES_*``): the polynomial
+    laws (:func:`is_polynomial_law`), and the exponential and table springs with Hunt–Crossley
+    damping or power damping of integer exponent l ≤ MAX_EXPONENT under a force or base motion
+    at f_e (the table's segment by segment, :func:`advance_taylor_table`); ``SERIES_NONE``
+    (DOP853) for any other law or excitation."""
+    if is_polynomial_law(par):
+        return SERIES_POWER
+    if par.shape[0] <= P_SPRING or par[P_EXCITATION] > EXCITATION_BASE:
+        return SERIES_NONE
+    l = par[1]
+    if not (par[P_DAMPING] == DAMPING_HUNT_CROSSLEY or (l == math.floor(l) and 0.0 <= l <= MAX_EXPONENT)):
+        return SERIES_NONE
+    if par[P_SPRING] == SPRING_EXPONENTIAL:
+        return SERIES_EXPONENTIAL
+    if par[P_SPRING] == SPRING_TABLE:
+        return SERIES_TABLE
+    return SERIES_NONE
+
+
 @njit(cache=True)
 def order_for(tol):
     """Series order for a local tolerance: about −0.6 ln(tol) + 6 (15 at 1e-7, 18 at 1e-9, 23 at
@@ -107,16 +147,17 @@ def _rotation(k, ct, st):
     return ct if m == 0 else (-st if m == 1 else (-ct if m == 2 else st))
 
 
-#: Row of the series work array (:func:`series_work`) that holds p r^k/k!; row 0 holds E_k and
-#: rows 1..MAX_EXPONENT + 1 the powers of x.
+#: Row of the series work array (:func:`series_work`) that holds p r^k/k!; row 0 holds E_k,
+#: rows 1..MAX_EXPONENT + 1 the powers of x and row EXP_ROW the series of exp(a x).
 FORCING_ROW = MAX_EXPONENT + 2
+EXP_ROW = MAX_EXPONENT + 3
 
 
 @njit(cache=True)
 def series_work(par, N):
     """Work array of :func:`series_prepared`, with the forcing magnitudes p r^k/k! (k < N) that
-    do not depend on τ0 computed once: shape (MAX_EXPONENT + 3, N + 1)."""
-    W = np.empty((MAX_EXPONENT + 3, N + 1))  # every entry read is written first
+    do not depend on τ0 computed once: shape (MAX_EXPONENT + 4, N + 1)."""
+    W = np.empty((MAX_EXPONENT + 4, N + 1))  # every entry read is written first
     fk = forcing_amplitude(par)  # p r^k / k!
     r = par[4]
     for k in range(N):
@@ -151,7 +192,8 @@ def series_prepared(contact, t, x0, v0, par, N, X, V, W):
     """Taylor coefficients X[0..N], V[0..N] of x and x' about τ = t.
 
     Flight: ``m2 x'' = E``; contact: the contact law's recurrence ``m2 x'' = E − f(x, x')``
-    (:func:`.contact.series_contact`, about 90 ns for order 14 for the paper's law), with E the
+    (:func:`.contact.series_contact`, about 90 ns for order 14 for the paper's law, or
+    :func:`.contact.series_exponential` for the exponential spring), with E the
     coefficients of 1 + p cos rτ. ``W``: work array from :func:`series_work` (same par, N).
     """
     m2 = par[0]
@@ -160,7 +202,10 @@ def series_prepared(contact, t, x0, v0, par, N, X, V, W):
     E = W[0]
     _excitation_series(t, par[4], N, W[FORCING_ROW], E)
     if contact:
-        series_contact(E, X, V, W, N, m2, damping_exponent(par), par[2])
+        if par.shape[0] > P_SPRING and par[P_SPRING] == SPRING_EXPONENTIAL:
+            series_exponential(E, X, V, W, W[EXP_ROW], N, par)
+        else:
+            series_contact(E, X, V, W, N, m2, damping_exponent(par), par[2])
         return
     inv_m2 = 1.0 / m2
     for k in range(N):  # flight: x'' = (1 + p cos rτ)/m2
@@ -185,115 +230,6 @@ def step_size(X, V, N, tol):
         if e > 0.0:
             h = min(h, (tol / e) ** (1.0 / k))
     return SAFETY * h
-
-
-@njit(cache=True)
-def poly(C, N, s, shift):
-    """Σ_{k≥shift} C[k] s^(k−shift) (Horner); shift = 1 gives x(s)/s when C[0] = 0."""
-    acc = 0.0
-    for k in range(N, shift - 1, -1):
-        acc = acc * s + C[k]
-    return acc
-
-
-@njit(cache=True)
-def poly_root(C, N, shift, a, b):
-    """Root of the polynomial (:func:`poly`) on [a, b], a sign change assumed (Illinois)."""
-    fa = poly(C, N, a, shift)
-    fb = poly(C, N, b, shift)
-    if fb == 0.0:
-        return b
-    if fa == 0.0:
-        return a
-    side = 0
-    c = b
-    for _ in range(200):
-        c = illinois_trial(a, b, fa, fb)
-        fc = poly(C, N, c, shift)
-        if fc == 0.0 or abs(b - a) <= 4e-16 * max(1.0, abs(b)):
-            return c
-        a, b, fa, fb, side = illinois_update(a, b, fa, fb, c, fc, side)
-    return c
-
-
-@njit(cache=True)
-def crossing(contact, X, V, N, h, S):
-    """First s ∈ (0, h] where x reaches the switching surface for this mode, or −1.
-
-    A crossing is a sign change of x, or an interior extremum of x (a sign change of x'
-    towards the surface) that lies on the far side. A step that starts on the surface
-    (``X[0] = 0``, right after a switch) is searched on x(s)/s, so that s = 0 is not a root.
-    ``S``: work array (2, N_SUB + 1).
-    """
-    # x = q(s) + R(s), q the quadratic part, |R| ≤ Σ_{k≥3} |x_k| h^k: no crossing if the extreme
-    # of q on [0, h] clears that bound
-    bound = 0.0
-    hk = h * h
-    for k in range(3, N + 1):
-        hk *= h
-        bound += abs(X[k]) * hk
-    q0 = X[0]
-    qh = X[0] + h * (X[1] + h * X[2])
-    qe = min(q0, qh) if contact else max(q0, qh)
-    if X[2] != 0.0:
-        s_v = -X[1] / (2.0 * X[2])
-        if 0.0 < s_v < h:
-            q_v = X[0] + s_v * (X[1] + s_v * X[2])
-            qe = min(qe, q_v) if contact else max(qe, q_v)
-    bound *= 1.0 + 1e-12
-    if (qe > bound) if contact else (qe < -bound):
-        return -1.0  # the polynomial cannot reach x = 0 on [0, h]
-    # x at the sub-interval ends, all points at once (independent Horner chains); between two
-    # of them x stays within (dh²/8) max|x''| of the chord: no crossing if all clear that margin
-    dh = h / N_SUB
-    for j in range(N_SUB + 1):
-        S[0, j] = X[N]
-    for k in range(N - 1, -1, -1):
-        for j in range(N_SUB + 1):
-            S[0, j] = S[0, j] * (dh * j) + X[k]
-    m2 = 0.0
-    hk = 1.0
-    for k in range(2, N + 1):
-        m2 += k * (k - 1) * abs(X[k]) * hk
-        hk *= h
-    margin = 0.125 * dh * dh * m2
-    clear = True
-    for j in range(N_SUB + 1):
-        if (S[0, j] <= margin) if contact else (S[0, j] >= -margin):
-            clear = False
-            break
-    if clear:
-        return -1.0
-    for j in range(N_SUB + 1):
-        S[1, j] = V[N]
-    for k in range(N - 1, -1, -1):
-        for j in range(N_SUB + 1):
-            S[1, j] = S[1, j] * (dh * j) + V[k]
-    shift = 1 if X[0] == 0.0 else 0
-    for j in range(1, N_SUB + 1):
-        s_prev = dh * (j - 1)
-        s = h if j == N_SUB else dh * j
-        v_prev = S[1, j - 1]
-        v_s = S[1, j]
-        # an extremum towards the surface in (s_prev, s): contact min (v − → +), flight max (+ → −)
-        towards = (v_prev < 0.0 and v_s > 0.0) if contact else (v_prev > 0.0 and v_s < 0.0)
-        # skip the root search when the extremum cannot reach the surface: x moves by at
-        # most max|x'|·(s − s_prev) on the sub-interval (x' is monotone there; factor 2 margin)
-        reach = 2.0 * max(abs(v_prev), abs(v_s)) * (s - s_prev)
-        if contact:
-            towards = towards and min(S[0, j - 1], S[0, j]) <= reach
-        else:
-            towards = towards and max(S[0, j - 1], S[0, j]) >= -reach
-        if towards:
-            s_ext = poly_root(V, N, 0, s_prev, s)
-            if crosses_contact(contact, poly(X, N, s_ext, 0)):
-                return poly_root(X, N, shift, s_prev, s_ext)
-        x_s = S[0, j]
-        if crosses_contact(contact, x_s):
-            if x_s == 0.0:
-                return s
-            return poly_root(X, N, shift, s_prev, s)
-    return -1.0
 
 
 @njit(cache=True)
@@ -356,12 +292,99 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
 
 
 @njit(cache=True)
+def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
+    """:func:`advance_taylor` for the table law: in contact the Taylor series of the segment's
+    cubic (:func:`.contact.series_table`), each arrival at a row x_i an event that ends the step
+    on x = x_i exactly and moves to the next segment (the PCHIP is only C¹ there; x = 0 leaves
+    the contact). Returns ``(contact, h_last, n_steps, t_flight, n_events, status)``, n_events
+    counting the contact/flight switches only."""
+    N = order_for(tol)
+    N_c = min(N, TABLE_ORDER)  # contact: steps end at the rows, a lower order does
+    X = np.empty(N + 1)
+    V = np.empty(N + 1)
+    XU = np.empty(N + 1)
+    VU = np.empty(N + 1)
+    W = series_work(par, N)
+    P = np.empty((4, N + 1))
+    S = np.empty((2, N_SUB + 1))
+    n_rows = int(par[P_S1])
+    o = int(par[P_S2])
+    seg = table_segment(y[0], par) if contact else 0
+    n_steps = 0
+    n_events = 0
+    t_flight = 0.0
+    h = 0.0
+    span = abs(t_end) + abs(t) + 1.0
+    status = STATUS_OK
+    while t < t_end:
+        if n_steps >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        X[0] = y[0]
+        V[0] = y[1]
+        M = N_c if contact else N
+        if contact:
+            _excitation_series(t, par[4], M, W[FORCING_ROW], W[0])
+            series_table(W[0], X, V, W, P, M, par, seg)
+        else:
+            series_prepared(False, t, y[0], y[1], par, N, X, V, W)
+        h = step_size(X, V, M, tol)
+        remaining = t_end - t
+        landing = h >= remaining
+        if landing:
+            h = remaining
+        if h < 1e-15 * span:
+            if landing:
+                t = t_end
+                break
+            status = STATUS_STEP_TOO_SMALL
+            break
+        n_steps += 1
+        if contact:
+            hi = par[o + seg + 1] if seg < n_rows - 1 else math.inf
+            s_ev, side = segment_event(contact, X, V, XU, VU, M, h, par[o + seg], hi, S)
+        else:
+            s_ev = crossing(contact, X, V, M, h, S)
+            side = 1
+        if s_ev >= 0.0:
+            y[1] = poly(V, M, s_ev, 0)
+            t = t + s_ev
+            if not contact:
+                t_flight += s_ev
+            if contact and not (seg == 0 and side < 0):
+                seg += side
+                y[0] = par[o + seg] if side > 0 else par[o + seg + 1]
+                continue
+            y[0] = 0.0
+            contact = not contact
+            seg = 0
+            n_events += 1
+            if n_events > 100 * max_steps // 1000 + 1000:
+                status = STATUS_TOO_MANY_EVENTS
+                break
+            continue
+        y[0] = poly(X, M, h, 0)
+        y[1] = poly(V, M, h, 0)
+        if not contact:
+            t_flight += h
+        t = t_end if landing else t + h
+        if not (math.isfinite(y[0]) and math.isfinite(y[1])):
+            status = STATUS_NONFINITE
+            break
+    return contact, h, n_steps, t_flight, n_events, status
+
+
+@njit(cache=True)
 def advance_state(y, t, t_end, contact, h, par, tol, max_steps):
-    """State-only flow from τ = ``t`` to ``t_end``: Taylor series for polynomial laws, else DOP853.
+    """State-only flow from τ = ``t`` to ``t_end``: Taylor series for the laws that have one
+    (:func:`series_law`), else DOP853.
 
     Returns ``(contact, h, n_steps, t_flight, n_events, status)``.
     """
-    if is_polynomial_law(par):
+    kind = series_law(par)
+    if kind == SERIES_TABLE:
+        return advance_taylor_table(y, t, t_end, contact, par, tol, max_steps)
+    if kind != SERIES_NONE:
         return advance_taylor(y, t, t_end, contact, par, tol, max_steps)
     contact, h, _i, ns, tf, ne, st = advance(y, t, t_end, contact, h, par, tol, tol,
                                              np.empty((0, REC_WIDTH)), np.int64(0),

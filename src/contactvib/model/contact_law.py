@@ -21,9 +21,11 @@ The law is defined once, in ``_kernels/contact.py`` (compiled); a law provides t
 2. ``force_partials(x, v, m2, l, c)`` — (∂f/∂x, ∂f/∂v), for the Jacobian and the variational
    equation;
 3. ``series_contact(E, X, V, W, N, m2, l, c)`` — the Taylor-coefficient recurrence of
-   ``m2 x'' = E(τ) − f(x, x')`` given the excitation's coefficients E (only for laws whose
-   right-hand side is polynomial; :func:`contactvib._kernels.taylor.is_polynomial_law` sends the
-   others to DOP853), built from the Cauchy products ``power_table_update``;
+   ``m2 x'' = E(τ) − f(x, x')`` given the excitation's coefficients E (for laws whose
+   right-hand side is polynomial, built from the Cauchy products ``power_table_update``, and
+   ``series_exponential`` for the exponential spring, ``contact_table.series_table`` for the
+   table law interval by interval; :func:`contactvib._kernels.taylor.series_law` sends the others
+   to DOP853);
 4. the power series of its stiffness and damping parts about the static point ``x = 1 + u``
    (for the power law Miller's recurrence ``power_series_partial`` for ``(1 + u)^m2`` and
    ``(1 + u)^l``), exposed here as :meth:`PowerLaw.series_about_one`.
