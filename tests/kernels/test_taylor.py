@@ -233,9 +233,9 @@ def test_exponential_law_takes_the_taylor_flow(kw, exc):
 @pytest.mark.parametrize("kw, exc", EXPONENTIAL_CASES[::2])
 def test_exponential_law_matches_the_si_scipy_reference(kw, exc):
     """Three periods from a contact-losing start: the Taylor flow at 1e-12 equals scipy DOP853
-    (rtol 1e-12) on the SI equation written independently (``scipy_contact.model_ode``, located
+    (rtol 1e-12) on the SI equation written independently (``contactvib.testing.model_ode``, located
     contact events) to 1e-8 of the state, with the same number of contact switches."""
-    from scipy_contact import integrate_contact, model_ode
+    from contactvib.testing import integrate_contact, model_ode
 
     model = ContactModel(**kw)
     e = _excitation(model, exc)

@@ -124,7 +124,7 @@ def is_paper_family(par):
 
 
 @njit(cache=True)
-def _table_interval(x, par):
+def table_interval(x, par):
     """Index i of the table interval [x_i, x_{i+1}) holding 0 <= x < x_{n-1} (bisection)."""
     n = int(par[P_S1])
     o = int(par[P_S2])
@@ -153,7 +153,7 @@ def _table_spring(x, par):
     if x >= xn:
         d = par[o + 3 * n - 1]
         return sign * (par[o + 2 * n - 1] + d * (x - xn)), d
-    i = _table_interval(x, par)
+    i = table_interval(x, par)
     x0 = par[o + i]
     h = par[o + i + 1] - x0
     f0 = par[o + n + i]

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from .contact import DAMPING_HUNT_CROSSLEY, INV, P_DAMPING, P_S1, P_S2, _table_interval, power_table_update
+from .contact import DAMPING_HUNT_CROSSLEY, INV, P_DAMPING, P_S1, P_S2, power_table_update, table_interval
 
 
 @njit(cache=True)
@@ -18,7 +18,7 @@ def table_segment(x, par):
     n = int(par[P_S1])
     if x >= par[int(par[P_S2]) + n - 1]:
         return n - 1
-    return _table_interval(max(x, 0.0), par)
+    return table_interval(max(x, 0.0), par)
 
 
 @njit(cache=True, inline="always")
