@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import REC_H, REC_MODE, REC_T, dense_value
+from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_X, dense_value
 from .friction import (
     FREE,
     MAX_EVENTS_PER_STEP,
@@ -28,7 +28,6 @@ from .friction import (
     Z_F,
     Z_V,
     Z_W,
-    _step_arrays,
     dense,
     find_event,
     limit,
@@ -127,20 +126,22 @@ def _account(mode, sigma, t, z, h, F, nstep, par, tpar, times, wr, ts, so, jpos)
 
 
 @njit(cache=True)
-def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos):
-    """Integrate the tangential state ``z`` across normal step ``i`` (shifted by ``off`` [τ]).
+def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos, work):
+    """Integrate the tangential state ``z`` across normal step ``i`` (shifted by ``off`` [τ]);
+    ``work``: the arrays of :func:`_work` (no allocation per step).
 
     Returns (status, mode, σ, h) with h the step size proposed for the next step."""
-    Fn, yn = _step_arrays(rec, i)
+    K, znew, F, f0, Fn, yn = work
+    for q in range(7):
+        Fn[q, 0] = rec[i, REC_F + 2 * q]
+        Fn[q, 1] = rec[i, REC_F + 2 * q + 1]
+    yn[0] = rec[i, REC_X]
+    yn[1] = rec[i, REC_X + 1]
     t0 = rec[i, REC_T] + off
     hn = rec[i, REC_H]
     nstep = (Fn, yn, t0, hn, rec[i, REC_MODE] > 0.5)
     t = t0
     t_end = t0 + hn
-    K = np.empty((17, N_STATE))  # 16 stages and a work row
-    znew = np.empty(N_STATE)
-    F = np.empty((7, 3))
-    f0 = np.empty(N_STATE)
     fresh = False
     n_events = 0
     while t < t_end:
@@ -190,11 +191,21 @@ _MIN, _MAX = 0.2, 10.0
 
 
 @njit(cache=True)
+def _work():
+    """Work arrays of :func:`through_step`, made once a period: the stages K (16 and a work
+    row), the new state, the tangential interpolant, f at the step's start and the normal
+    step's interpolant and start (Fn, yn)."""
+    return (np.empty((17, N_STATE)), np.empty(N_STATE), np.empty((7, 3)), np.empty(N_STATE), np.empty((7, 2)),
+            np.empty(2))
+
+
+@njit(cache=True)
 def run_period(rec, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos):
     """One normal period of the record, starting at ``off`` [τ]. Returns (status, mode, σ, h)."""
+    work = _work()
     for i in range(rec.shape[0]):
         st, mode, sigma, h = through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale,
-                                          times, wr, ts, so, jpos)
+                                          times, wr, ts, so, jpos, work)
         if st != STATUS_OK:
             return st, mode, sigma, h
     return STATUS_OK, mode, sigma, h
