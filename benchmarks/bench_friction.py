@@ -54,7 +54,7 @@ def _points(path: Path) -> dict:
     return out
 
 
-def main() -> None:
+def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pa", default="0.65")
     ap.add_argument("--fmin", default="30")
@@ -62,7 +62,7 @@ def main() -> None:
     ap.add_argument("--friction", default="default", help="the --friction value of the run with friction")
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--out", default=str(HERE / "results_friction.json"))
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     base = ["resonance", "--pa", a.pa, "--fmin", a.fmin, "--fmax", a.fmax, "--df", "1", "--workers", "1",
             "--no-progress"]
     runs = {"without": [], "with": []}
@@ -89,7 +89,8 @@ def main() -> None:
     }
     Path(a.out).write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps({k: result[k] for k in ("median", "ratio_cpu", "ratio_wall")}))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
