@@ -131,7 +131,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
     ``work``: the arrays of :func:`_work` (no allocation per step).
 
     Returns (status, mode, σ, h) with h the step size proposed for the next step."""
-    K, znew, F, f0, Fn, yn = work
+    K, znew, F, f0, Fn, yn, G, E = work
     for q in range(7):
         Fn[q, 0] = rec[i, REC_F + 2 * q]
         Fn[q, 1] = rec[i, REC_F + 2 * q + 1]
@@ -142,10 +142,15 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
     nstep = (Fn, yn, t0, hn, rec[i, REC_MODE] > 0.5)
     t = t0
     t_end = t0 + hn
+    tc = math.nan  # the instant of the normal values E[3:] (a step's end: the next one's start)
     fresh = False
     n_events = 0
     while t < t_end:
-        r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
+        if t == tc:
+            r, dr, kt = E[3], E[4], E[5]
+        else:
+            r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
+        E[0], E[1], E[2] = r, dr, kt
         if not fresh:
             mode, sigma = consistent(mode, sigma, z, r, dr, kt, tpar)
         fresh = False
@@ -153,7 +158,8 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
         last = h >= t_end - t
         hh = t_end - t if last else h
         K[0, :] = f0
-        err = rk_step(mode, sigma, t, z, hh, nstep, par, tpar, rtol, scale, K, znew)
+        err, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, hh, nstep, par, tpar, rtol, scale, K, znew)
+        tc = t + hh
         if not math.isfinite(err):
             return STATUS_NONFINITE, mode, sigma, h
         if err > 1.0:
@@ -162,7 +168,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
                 return STATUS_STEP_TOO_SMALL, mode, sigma, h
             continue
         dense(mode, sigma, t, z, znew, hh, nstep, par, tpar, K, F)
-        which, th = find_event(mode, sigma, F, z, t, hh, nstep, par, tpar)
+        which, th = find_event(mode, sigma, F, z, t, hh, nstep, par, tpar, G, E)
         if which >= 0:
             n_events += 1
             times[3] += 1.0  # switches of the period
@@ -171,12 +177,16 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
             he = th * hh
             if he > 0.0:  # re-take the step to end on the event
                 K[0, :] = f0
-                rk_step(mode, sigma, t, z, he, nstep, par, tpar, rtol, scale, K, znew)
+                _e, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, he, nstep, par, tpar, rtol, scale, K, znew)
+                tc = t + he
                 dense(mode, sigma, t, z, znew, he, nstep, par, tpar, K, F)
                 _account(mode, sigma, t, z, he, F, nstep, par, tpar, times, wr, ts, so, jpos)
                 z[:] = znew
                 t += he
-            r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
+            if t == tc:
+                r, dr, kt = E[3], E[4], E[5]
+            else:
+                r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
             mode, sigma = switch(mode, sigma, which, z, r, dr, kt, tpar)
             fresh = True
             continue
@@ -194,9 +204,10 @@ _MIN, _MAX = 0.2, 10.0
 def _work():
     """Work arrays of :func:`through_step`, made once a period: the stages K (16 and a work
     row), the new state, the tangential interpolant, f at the step's start and the normal
-    step's interpolant and start (Fn, yn)."""
+    step's interpolant and start (Fn, yn), the event functions' samples (G), the normal
+    values at a step's start and end (E)."""
     return (np.empty((17, N_STATE)), np.empty(N_STATE), np.empty((7, 3)), np.empty(N_STATE), np.empty((7, 2)),
-            np.empty(2))
+            np.empty(2), np.empty((2, 5)), np.empty(6))
 
 
 @njit(cache=True)
