@@ -49,11 +49,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .contact import contact_force, contact_partials, spring
-from .flow import E3, E5, REC_F, REC_X, A, B, C, acceleration, dense_value, interpolant
+from .flow import E3, E5, A, B, C, acceleration, dense_value, interpolant
 
 #: Slots of the tangential parameter vector ``tpar`` (T_FT: a constant drive force [W]).
 T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA, T_FT = range(9)
@@ -66,18 +65,6 @@ _N_DYN = 3
 _SAMPLES = 4  # sub-intervals of a step searched for events
 MAX_EVENTS_PER_STEP = 64  # events within one normal step before the run is called chattering
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
-
-
-@njit(cache=True)
-def _step_arrays(rec, i):
-    Fn = np.empty((7, 2))
-    for q in range(7):
-        Fn[q, 0] = rec[i, REC_F + 2 * q]
-        Fn[q, 1] = rec[i, REC_F + 2 * q + 1]
-    yn = np.empty(2)
-    yn[0] = rec[i, REC_X]
-    yn[1] = rec[i, REC_X + 1]
-    return Fn, yn
 
 
 @njit(cache=True)
