@@ -54,7 +54,7 @@ def _points(path: Path) -> dict:
     return out
 
 
-def main(argv=None) -> None:
+def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pa", default="0.65")
     ap.add_argument("--fmin", default="30")
@@ -89,7 +89,8 @@ def main(argv=None) -> None:
     }
     Path(a.out).write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps({k: result[k] for k in ("median", "ratio_cpu", "ratio_wall")}))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

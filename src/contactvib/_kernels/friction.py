@@ -49,11 +49,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .contact import contact_force, contact_partials, spring
-from .flow import E3, E5, REC_F, REC_X, A, B, C, acceleration, dense_value, interpolant
+from .flow import E3, E5, A, B, C, acceleration, dense_value, interpolant
 
 #: Slots of the tangential parameter vector ``tpar`` (T_FT: a constant drive force [W]).
 T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA, T_FT = range(9)
@@ -66,18 +65,6 @@ _N_DYN = 3
 _SAMPLES = 4  # sub-intervals of a step searched for events
 MAX_EVENTS_PER_STEP = 64  # events within one normal step before the run is called chattering
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
-
-
-@njit(cache=True)
-def step_arrays(rec, i):
-    Fn = np.empty((7, 2))
-    for q in range(7):
-        Fn[q, 0] = rec[i, REC_F + 2 * q]
-        Fn[q, 1] = rec[i, REC_F + 2 * q + 1]
-    yn = np.empty(2)
-    yn[0] = rec[i, REC_X]
-    yn[1] = rec[i, REC_X + 1]
-    return Fn, yn
 
 
 @njit(cache=True)
@@ -145,9 +132,10 @@ def rhs(mode, sigma, z, r, dr, kt, tpar, out):
 def _stages(mode, sigma, t, z, h, nstep, par, tpar, K, s_first, s_last):
     """DOP853 stages s_first..s_last − 1 of a step from (t, z) of size h inside the normal step
     ``nstep`` = (Fn, yn, t0, hn, contact); K[16] is the stage state's work row (no allocation
-    per step)."""
+    per step). Returns (r, r', k_t) at the last stage's point."""
     Fn, yn, t0, hn, contact = nstep
     zs = K[16]
+    r = dr = kt = 0.0
     for s in range(s_first, s_last):
         for i in range(N_STATE):
             acc = 0.0
@@ -157,21 +145,21 @@ def _stages(mode, sigma, t, z, h, nstep, par, tpar, K, s_first, s_last):
         ts = t + C[s] * h
         r, dr, kt = normal_at(Fn, yn, t0, hn, contact, ts, par, tpar)
         rhs(mode, sigma, zs, r, dr, kt, tpar, K[s])
+    return r, dr, kt
 
 
 @njit(cache=True)
 def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, scale, K, znew):
     """One DOP853 step (K[0] must hold f(t, z); K has 17 rows, the last a work row); fills
-    K[0..12] and ``znew``; returns the error norm of the dynamic components (< 1: accept)."""
-    _stages(mode, sigma, t, z, h, nstep, par, tpar, K, 1, 12)
+    K[0..12] and ``znew``; returns the error norm of the dynamic components (< 1: accept) and
+    (r, r', k_t) at t + h (stage 11's: c₁₁ = 1)."""
+    re, dre, kte = _stages(mode, sigma, t, z, h, nstep, par, tpar, K, 1, 12)
     for i in range(N_STATE):
         acc = 0.0
         for j in range(12):
             acc += B[j] * K[j, i]
         znew[i] = z[i] + h * acc
-    Fn, yn, t0, hn, contact = nstep
-    r, dr, kt = normal_at(Fn, yn, t0, hn, contact, t + h, par, tpar)
-    rhs(mode, sigma, znew, r, dr, kt, tpar, K[12])
+    rhs(mode, sigma, znew, re, dre, kte, tpar, K[12])
     e5 = 0.0
     e3 = 0.0
     for i in range(_N_DYN):
@@ -184,8 +172,8 @@ def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, scale, K, znew):
         e5 += (a5 / sc) ** 2
         e3 += (a3 / sc) ** 2
     if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _N_DYN)
+        return 0.0, re, dre, kte
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _N_DYN), re, dre, kte
 
 
 @njit(cache=True)
@@ -223,19 +211,36 @@ def _g_at(mode, sigma, which, F, z, th, t, h, nstep, par, tpar):
 
 
 @njit(cache=True)
-def find_event(mode, sigma, F, z, t, h, nstep, par, tpar):
-    """The first event inside the last step: (which, θ) or (−1, 1.0)."""
+def find_event(mode, sigma, F, z, t, h, nstep, par, tpar, G, ends):
+    """The first event inside the last step: (which, θ) or (−1, 1.0). The event functions are
+    sampled at θ = 0, 1/4, …, 1 (``G``: float64[2, 5], work), the normal force and the
+    interpolant evaluated once a point for both (``ends``: float64[6], (r, r', k_t) at t and at t + h, known);
+    none in a flight step (r ≡ 0: no event)."""
+    if not nstep[4]:
+        return -1, 1.0
     n_ev = 1 if mode == FREE else 2
+    Fn, yn, t0, hn, contact = nstep
+    for s in range(_SAMPLES + 1):
+        th = s / _SAMPLES
+        if s == 0 or s == _SAMPLES:
+            q = 0 if s == 0 else 3
+            r, dr, kt = ends[q], ends[q + 1], ends[q + 2]
+        else:
+            r, dr, kt = normal_at(Fn, yn, t0, hn, contact, t + th * h, par, tpar)
+        w_v = dense_value(F, z, th, Z_V)
+        f = dense_value(F, z, th, Z_F)
+        for which in range(n_ev):
+            G[which, s] = _event_g(mode, sigma, which, w_v, f, r, dr, kt, tpar)
     best = 1.0
     found = -1
     for which in range(n_ev):
-        ga = _g_at(mode, sigma, which, F, z, 0.0, t, h, nstep, par, tpar)
+        ga = G[which, 0]
         a = 0.0
         for s in range(1, _SAMPLES + 1):
             b = s / _SAMPLES
             if a >= best:
                 break
-            gb = _g_at(mode, sigma, which, F, z, b, t, h, nstep, par, tpar)
+            gb = G[which, s]
             if not _outside(mode, ga) and _outside(mode, gb):
                 th = _root(mode, sigma, which, F, z, a, b, ga, gb, t, h, nstep, par, tpar)
                 if th < best or found < 0:

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from .friction import N_STATE, SLIP
-from .friction_period import S_WIDTH, run_period
+from .friction_period import S_WIDTH, run_period, state_distance
 from .status import STATUS_OK
 
 #: Outcomes of :func:`newton_period_map`.
@@ -35,14 +35,6 @@ def _map(rec, par, tpar, rtol, scale, z3, mode, sigma, out, times, wr):
     st, mode, sigma, _h = run_period(rec, 0.0, out, mode, sigma, 0.05, par, tpar, rtol, scale, times, wr,
                                      np.empty(0), np.empty((0, S_WIDTH)), np.zeros(1, np.int64))
     return st, mode, sigma
-
-
-@njit(cache=True)
-def _distance(a, b, scale):
-    d = 0.0
-    for i in range(3):
-        d = max(d, abs(a[i] - b[i]) / (scale[i] + abs(a[i])))
-    return d
 
 
 @njit(cache=True)
@@ -110,7 +102,7 @@ def newton_period_map(rec, par, tpar, rtol, scale, z0, mode, sigma, jac, has_jac
         runs += 1
         if st != STATUS_OK:
             return NEWTON_FAILED, z, mode, sigma, has_jac, pz, m1, s1, times, wr, runs
-        d = _distance(pz, z, scale)
+        d = state_distance(pz, z, scale)
         if d <= tol and m1 == mode and (mode != SLIP or s1 == sigma):
             return NEWTON_CONVERGED, z, mode, sigma, has_jac, pz, m1, s1, times, wr, runs
         if has_jac and have_last:  # Broyden: the secant of the last step

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import REC_H, REC_MODE, REC_T, dense_value
+from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_X, dense_value
 from .friction import (
     FREE,
     MAX_EVENTS_PER_STEP,
@@ -34,7 +34,6 @@ from .friction import (
     normal_at,
     rhs,
     rk_step,
-    step_arrays,
 )
 from .status import STATUS_INTERRUPTED, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL, STATUS_TOO_MANY_EVENTS
 
@@ -127,24 +126,31 @@ def _account(mode, sigma, t, z, h, F, nstep, par, tpar, times, wr, ts, so, jpos)
 
 
 @njit(cache=True)
-def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos):
-    """Integrate the tangential state ``z`` across normal step ``i`` (shifted by ``off`` [τ]).
+def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos, work):
+    """Integrate the tangential state ``z`` across normal step ``i`` (shifted by ``off`` [τ]);
+    ``work``: the arrays of :func:`_work` (no allocation per step).
 
     Returns (status, mode, σ, h) with h the step size proposed for the next step."""
-    Fn, yn = step_arrays(rec, i)
+    K, znew, F, f0, Fn, yn, G, E = work
+    for q in range(7):
+        Fn[q, 0] = rec[i, REC_F + 2 * q]
+        Fn[q, 1] = rec[i, REC_F + 2 * q + 1]
+    yn[0] = rec[i, REC_X]
+    yn[1] = rec[i, REC_X + 1]
     t0 = rec[i, REC_T] + off
     hn = rec[i, REC_H]
     nstep = (Fn, yn, t0, hn, rec[i, REC_MODE] > 0.5)
     t = t0
     t_end = t0 + hn
-    K = np.empty((17, N_STATE))  # 16 stages and a work row
-    znew = np.empty(N_STATE)
-    F = np.empty((7, 3))
-    f0 = np.empty(N_STATE)
+    tc = math.nan  # the instant of the normal values E[3:] (a step's end: the next one's start)
     fresh = False
     n_events = 0
     while t < t_end:
-        r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
+        if t == tc:
+            r, dr, kt = E[3], E[4], E[5]
+        else:
+            r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
+        E[0], E[1], E[2] = r, dr, kt
         if not fresh:
             mode, sigma = consistent(mode, sigma, z, r, dr, kt, tpar)
         fresh = False
@@ -152,7 +158,8 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
         last = h >= t_end - t
         hh = t_end - t if last else h
         K[0, :] = f0
-        err = rk_step(mode, sigma, t, z, hh, nstep, par, tpar, rtol, scale, K, znew)
+        err, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, hh, nstep, par, tpar, rtol, scale, K, znew)
+        tc = t + hh
         if not math.isfinite(err):
             return STATUS_NONFINITE, mode, sigma, h
         if err > 1.0:
@@ -161,7 +168,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
                 return STATUS_STEP_TOO_SMALL, mode, sigma, h
             continue
         dense(mode, sigma, t, z, znew, hh, nstep, par, tpar, K, F)
-        which, th = find_event(mode, sigma, F, z, t, hh, nstep, par, tpar)
+        which, th = find_event(mode, sigma, F, z, t, hh, nstep, par, tpar, G, E)
         if which >= 0:
             n_events += 1
             times[3] += 1.0  # switches of the period
@@ -170,12 +177,16 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
             he = th * hh
             if he > 0.0:  # re-take the step to end on the event
                 K[0, :] = f0
-                rk_step(mode, sigma, t, z, he, nstep, par, tpar, rtol, scale, K, znew)
+                _e, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, he, nstep, par, tpar, rtol, scale, K, znew)
+                tc = t + he
                 dense(mode, sigma, t, z, znew, he, nstep, par, tpar, K, F)
                 _account(mode, sigma, t, z, he, F, nstep, par, tpar, times, wr, ts, so, jpos)
                 z[:] = znew
                 t += he
-            r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
+            if t == tc:
+                r, dr, kt = E[3], E[4], E[5]
+            else:
+                r, dr, kt = normal_at(Fn, yn, t0, hn, nstep[4], t, par, tpar)
             mode, sigma = switch(mode, sigma, which, z, r, dr, kt, tpar)
             fresh = True
             continue
@@ -190,18 +201,30 @@ _MIN, _MAX = 0.2, 10.0
 
 
 @njit(cache=True)
+def _work():
+    """Work arrays of :func:`through_step`, made once a period: the stages K (16 and a work
+    row), the new state, the tangential interpolant, f at the step's start and the normal
+    step's interpolant and start (Fn, yn), the event functions' samples (G), the normal
+    values at a step's start and end (E)."""
+    return (np.empty((17, N_STATE)), np.empty(N_STATE), np.empty((7, 3)), np.empty(N_STATE), np.empty((7, 2)),
+            np.empty(2), np.empty((2, 5)), np.empty(6))
+
+
+@njit(cache=True)
 def run_period(rec, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos):
     """One normal period of the record, starting at ``off`` [τ]. Returns (status, mode, σ, h)."""
+    work = _work()
     for i in range(rec.shape[0]):
         st, mode, sigma, h = through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale,
-                                          times, wr, ts, so, jpos)
+                                          times, wr, ts, so, jpos, work)
         if st != STATUS_OK:
             return st, mode, sigma, h
     return STATUS_OK, mode, sigma, h
 
 
 @njit(cache=True)
-def _distance(a, b, scale):
+def state_distance(a, b, scale):
+    """max_i |a_i − b_i| / (scale_i + |a_i|) over the tangential phase state (w, w', F_t)."""
     d = 0.0
     for i in range(3):
         d = max(d, abs(a[i] - b[i]) / (scale[i] + abs(a[i])))
@@ -277,9 +300,9 @@ def settle(rec, period, par, tpar, z0, mode, sigma, rtol, scale, max_periods, jm
         if found == 0:
             found = _repeats(states, modes, n + 1, jmax, scale, tol)
             if found > 0:
-                best = _distance(states[n + 1], states[n + 1 - found], scale)
+                best = state_distance(states[n + 1], states[n + 1 - found], scale)
             continue
-        d = _distance(states[n + 1], states[n + 1 - found], scale)
+        d = state_distance(states[n + 1], states[n + 1 - found], scale)
         if d <= tol_fine:
             found = _repeats(states, modes, n + 1, found, scale, max(4.0 * d, tol_fine))
             return STATUS_OK, n + 1, found, d, quad, times, wr, states, modes
@@ -299,7 +322,7 @@ def _repeats(states, modes, m, jmax, scale, tol):
     """The smallest lag j ≤ jmax at which phase-0 state ``m`` repeats to ``tol`` (0: none)."""
     for j in range(1, min(jmax, m) + 1):
         same = modes[m, 0] == modes[m - j, 0] and (modes[m, 0] != SLIP or modes[m, 1] == modes[m - j, 1])
-        if same and _distance(states[m], states[m - j], scale) <= tol:
+        if same and state_distance(states[m], states[m - j], scale) <= tol:
             return j
     return 0
 

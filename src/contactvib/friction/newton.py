@@ -104,9 +104,16 @@ class WarmStart:
         return out
 
 
-def _radius(jac) -> float:
-    """Spectral radius of the period map's Jacobian (< 1: a stable steady state)."""
-    return float(np.max(np.abs(np.linalg.eigvals(jac))))
+def _stable(jac) -> bool:
+    """Whether the period map's Jacobian (3 × 3) has a spectral radius < 1 (a stable steady
+    state): Jury's test on its characteristic polynomial λ³ + a₂λ² + a₁λ + a₀ (no eigenvalues
+    computed: a few products, not a LAPACK call per point)."""
+    (a, b, c), (d, e, f), (g, h, i) = jac.tolist()
+    a2 = -(a + e + i)
+    a1 = (a * e - b * d) + (a * i - c * g) + (e * i - f * h)
+    a0 = -(a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g))
+    return (1.0 + a2 + a1 + a0 > 0.0 and 1.0 - a2 + a1 - a0 > 0.0 and abs(a0) < 1.0
+            and abs(a0 * a0 - 1.0) > abs(a0 * a2 - a1))
 
 
 def newton_steady(rec, par, tpar, rtol, scale, warm: WarmStart, z0, mode, sigma, tol: float = NEWTON_TOL):
@@ -133,10 +140,10 @@ def newton_steady(rec, par, tpar, rtol, scale, warm: WarmStart, z0, mode, sigma,
         MAX_STEPS, FD_STEP)
     if out != kn.NEWTON_CONVERGED:
         return None
-    if not has or _radius(jac) >= 1.0:  # unstable? Broyden's estimate is rough: recompute
+    if not has or not _stable(jac):  # unstable? Broyden's estimate is rough: recompute
         if kn.fd_jacobian(rec, par, tpar, float(rtol), scale, z, mode, sigma, pz, FD_STEP, jac) != STATUS_OK:
             return None
         runs += 3
-        if _radius(jac) >= 1.0:
+        if not _stable(jac):
             return None  # an unstable steady state: not what the slider does
     return z, mode, sigma, jac, (pz, m1, s1, times, wr), runs

@@ -48,7 +48,7 @@ STEADY_TOL_FINE = 1e-13
 #: friction columns) stops: the columns' relative accuracy.
 WARM_TOL = 1e-6
 #: Integrator tolerance of the tangential motion under a warm start (Newton to WARM_TOL).
-WARM_RTOL = 1e-9
+WARM_RTOL = 1e-8
 #: Integrator tolerance of the normal orbit's record under a warm start (1e-12 otherwise): its R(t)
 #: to far below WARM_TOL, at 30 % fewer steps.
 WARM_RECORD_RTOL = 1e-9
