@@ -211,7 +211,8 @@ def test_rtol_range_is_the_continuations(capsys):
 # ------------------------------------------------------------------ frequency domain
 
 @pytest.mark.parametrize("args, message", [
-    (["perturbation", "--order", "0"], "contactvib: error: --order (order) = 0: must be an integer in 1..400"),
+    (["perturbation", "--terms", "0"], "contactvib: error: --terms (terms) = 0: must be an integer in 1..400"),
+    (["perturbation", "--order", "0"], "contactvib: error: --order (terms) = 0: must be an integer in 1..400"),
     (["perturbation", "--fe", "-1"], "contactvib: error: --fe (f_e) = -1: must be > 0 Hz"),
     (["hbm", "--pa", "-1"], "contactvib: error: --pa (P_a/Q) = -1: must be >= 0 (multiple of Q = M g)"),
     (["hbm", "--harmonics", "2000"],

@@ -165,10 +165,10 @@ REDUCED: dict[str, list[str]] = {
          "--out", "docs/friction/"],
     "contactvib friction --pa 0.65 --fe 360 --drive force --ft 0.3":
         ["friction", "--pa", "0.65", "--fe", "360", "--drive", "force", "--ft", "0.3", "--starts", "16"],
-    "contactvib perturbation --pa 0.65 --fe 287 --order 40 --out pert/":
-        ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--out", "pert/"],
-    "contactvib perturbation --pa 0.65 --fe 287 --order 40 --json":
-        ["perturbation", "--pa", "0.65", "--fe", "287", "--order", "16", "--json"],
+    "contactvib perturbation --pa 0.65 --fe 287 --terms 40 --out pert/":
+        ["perturbation", "--pa", "0.65", "--fe", "287", "--terms", "16", "--out", "pert/"],
+    "contactvib perturbation --pa 0.65 --fe 287 --terms 40 --json":
+        ["perturbation", "--pa", "0.65", "--fe", "287", "--terms", "16", "--json"],
     "contactvib hbm --pa 0.65 --harmonics 32 --fmin 300 --fmax 2000 --out hbm/":
         ["hbm", "--pa", "0.65", "--harmonics", "16", "--fmin", "300", "--fmax", "340", "--out", "hbm/"],
     # fitting (docs/tutorials/fitting.md): the static curve alone, few starts
@@ -236,7 +236,7 @@ STOP_KEYS = {"fe_hz", "pa_over_q", "reason", "branch"}
 #: `basins --json`: each entry of "fractions" (docs/tutorials/attractors.md, "Basins").
 BASIN_FRACTION_KEYS = {"label", "period", "minima_per_period", "app_um", "fraction", "stderr"}
 #: `perturbation --json`.
-PERTURBATION_KEYS = {"app_um", "ymin_um", "ymax_um", "valid", "order", "error_estimate", "fe_hz",
+PERTURBATION_KEYS = {"app_um", "ymin_um", "ymax_um", "valid", "terms", "error_estimate", "fe_hz",
                      "pa_over_q", "harmonics_um", "reason", "summation"}
 
 
@@ -629,14 +629,14 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
     elif cmd == "perturbation" and "--json" in args:
         d = json.loads(out)
         assert PERTURBATION_KEYS <= set(d), sorted(PERTURBATION_KEYS - set(d))
-        assert d["fe_hz"] == 287.0 and d["order"] == 16
+        assert d["fe_hz"] == 287.0 and d["terms"] == 16
     elif cmd == "perturbation":
         _figures(folder, "perturbation_*.png", 1)
         _figures(folder, "convergence_*.png", 1)
         (csv,) = folder.glob("convergence_*.csv")
         rows = csv.read_text().splitlines()
-        assert rows[0].split(",")[:2] == ["N", "app_plain_um"] and len(rows) >= 3
-        assert int(rows[-1].split(",")[0]) == 16  # orders up to --order
+        assert rows[0].split(",")[:2] == ["terms", "app_plain_um"] and len(rows) >= 3
+        assert int(rows[-1].split(",")[0]) == 16  # numbers of terms up to --terms
     elif cmd == "hbm":
         _figures(folder, "hbm_branch_*.png", 1)
         d = json.loads((folder / "branch.json").read_text())

@@ -20,9 +20,9 @@ from contactvib.steady.simulate import attractor_history
 MODEL = ContactModel()
 
 
-def _shooting(model, exc, order=80):
+def _shooting(model, exc, terms=80):
     """Steady state by Newton shooting (tolerance 1e-12, closure 1e-10) started from the series."""
-    z, M, res = refine_orbit(exc, perturbation_series(model, exc, order).state, 1)
+    z, M, res = refine_orbit(exc, perturbation_series(model, exc, terms).state, 1)
     return describe_orbit(model, exc, z, 1, M, res)
 
 
@@ -121,7 +121,7 @@ def test_general_power_law_matches_shooting():
 @pytest.mark.parametrize("pa,fe", [(0.65, 742.0), (0.2, 1485.0), (0.85, 234.0), (1.2, 50.0)])
 def test_contact_losing_operating_points_are_invalid(pa, fe):
     """1/2 and main resonance with loss of contact, 234 Hz 0.85 Q (Fig. 7), P_a > Q quasistatic:
-    the series is never valid there, at any order up to 80, and says why."""
+    the series is never valid there, with any number of terms up to 80, and says why."""
     exc = MODEL.excitation(pa, fe)
     for n in (8, 40, 80):
         res = perturbation_series(MODEL, exc, n)
@@ -135,22 +135,24 @@ def test_predicted_loss_of_contact_is_named():
 
 
 def test_json_contract_and_bad_input(capsys):
-    assert main(["perturbation", "--pa", "0.65", "--fe", "287", "--order", "30", "--json"]) == 0
+    assert main(["perturbation", "--pa", "0.65", "--fe", "287", "--terms", "30", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
-    for key in ("app_um", "ymin_um", "ymax_um", "valid", "order", "error_estimate", "fe_hz",
+    for key in ("app_um", "ymin_um", "ymax_um", "valid", "terms", "error_estimate", "fe_hz",
                 "pa_over_q", "harmonics_um"):
         assert key in d
-    assert d["order"] == 30 and len(d["harmonics_um"]) == 31 and d["valid"] is True
+    assert "order" not in d
+    assert d["terms"] == 30 and len(d["harmonics_um"]) == 31 and d["valid"] is True
     assert d["ymax_um"] - d["ymin_um"] == pytest.approx(d["app_um"], rel=1e-12)
     assert d["error_estimate"] <= 1e-3 * d["app_um"]
-    for argv, msg in [(["--order", "0"], "--order (order) = 0"), (["--order", "2.5"], "--order"),
-                      (["--order", "x"], "--order"), (["--fe", "-5"], "--fe (f_e) = -5"),
+    for argv, msg in [(["--terms", "0"], "--terms (terms) = 0"), (["--terms", "2.5"], "--terms"),
+                      (["--terms", "x"], "--terms"), (["--order", "0"], "--order (terms) = 0"),
+                      (["--order", "8", "--terms", "8"], "--order"), (["--fe", "-5"], "--fe (f_e) = -5"),
                       (["--pa", "-1"], "--pa (P_a/Q) = -1")]:
         assert main(["perturbation", *argv]) == 2
         err = capsys.readouterr().err
         assert err.startswith("contactvib: error: ") and msg in err and err.count("\n") == 1
     for bad in (0, 401, 2.5, "x", math.nan):
-        with pytest.raises(ParameterError, match="order"):
+        with pytest.raises(ParameterError, match="terms"):
             perturbation_series(MODEL, MODEL.excitation(0.5, 300.0), bad)
     with pytest.raises(ParameterError, match="summation"):
         perturbation_series(MODEL, MODEL.excitation(0.5, 300.0), 8, "euler")
@@ -162,10 +164,37 @@ def test_series_state_is_the_series_state(pa):
     also where the series has diverged (near 1481 Hz: 1e12 y0 and beyond) and at 50 Hz."""
     for fe in (50.0, 360.0, 742.0, 1400.0, 1450.0, 1481.0, 1500.0, 1900.0):
         exc = MODEL.excitation(pa, fe)
-        for order, summation in ((24, "pade"), (7, "plain")):
-            a = perturbation_series(MODEL, exc, order=order, summation=summation).state
-            b = series_state(MODEL, exc, order=order, summation=summation)
+        for terms, summation in ((24, "pade"), (7, "plain")):
+            a = perturbation_series(MODEL, exc, terms=terms, summation=summation).state
+            b = series_state(MODEL, exc, terms=terms, summation=summation)
             np.testing.assert_array_equal(a, b, err_msg=f"{pa} Q, {fe} Hz, {summation}")
     with pytest.raises(ParameterError) as e:
-        series_state(MODEL, MODEL.excitation(pa, 100.0), order=0)
-    assert e.value.symbol == "order"
+        series_state(MODEL, MODEL.excitation(pa, 100.0), terms=0)
+    assert e.value.symbol == "terms"
+
+
+def test_deprecated_order_option_still_works_with_one_warning_line(capsys):
+    """``--order N`` (the name of ``--terms`` before issue 25) gives the same JSON and one warning
+    line on stderr; it is hidden from the help."""
+    assert main(["perturbation", "--pa", "0.65", "--fe", "287", "--terms", "12", "--json"]) == 0
+    new = capsys.readouterr()
+    assert main(["perturbation", "--pa", "0.65", "--fe", "287", "--order", "12", "--json"]) == 0
+    old = capsys.readouterr()
+    assert old.out == new.out and json.loads(old.out)["terms"] == 12 and new.err == ""
+    assert old.err == "contactvib: warning: --order is deprecated, use --terms\n"
+    assert main(["perturbation", "--help"]) == 0
+    shown = capsys.readouterr().out
+    assert "--terms" in shown and "--order" not in shown
+
+
+def test_partial_sums_by_number_of_terms():
+    """``app_of_terms(n)`` and ``history(terms=n)`` are the sums of the first n terms: those of
+    the n-term series itself."""
+    exc = MODEL.excitation(0.65, 287.0)
+    res = perturbation_series(MODEL, exc, 24)
+    assert res.terms == 24 and res.app_of_terms(24) == res.app_um
+    short = perturbation_series(MODEL, exc, 12)
+    assert res.app_of_terms(12) == pytest.approx(short.app_um, rel=1e-12)
+    np.testing.assert_allclose(res.history(1, 50, terms=12).y_um, short.history(1, 50).y_um, rtol=1e-12)
+    with pytest.raises(ParameterError, match="terms"):
+        res.app_of_terms(25)

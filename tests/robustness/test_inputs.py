@@ -73,7 +73,7 @@ OPTIONS = {
                "--grid": "value", "--y-range": "pair", "--ydot-range": "pair", "--kmax": "value",
                "--max-periods": "value", "--starts": "value"},
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
-                     "--order": "value", "--summation": "value"},
+                     "--terms": "value", "--order": "value", "--summation": "value"},
     "map": {"--orders": "levels", "--curves": "value"},
     "friction": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set", "--starts": "value",
                  "--seed": "value", "--kmax": "value", "--max-periods": "value", "--vd": "value", "--mu": "value",

@@ -7,6 +7,7 @@ import json
 import click
 
 from contactvib.cli.common import (
+    InputError,
     checked_option,
     checked_output_folder,
     echo_json,
@@ -24,33 +25,39 @@ from contactvib.cli.common import (
 from contactvib.model import HARMONICS_MAX, LEVEL_TAGS, PA_NOTE, check_range, excitation_at, level_text
 from contactvib.model.checks import PA_MAX
 
-_CONV_ORDERS_MAX = 80
+_CONV_TERMS_MAX = 80
+#: The one line ``--order`` (the deprecated name of ``--terms``) prints on stderr.
+ORDER_DEPRECATED = "contactvib: warning: --order is deprecated, use --terms"
 
 
 @click.command()
 @operating_point_options
-@click.option("--order", default="40", show_default=True, metavar="N",
+@click.option("--terms", default="40", show_default=True, metavar="N",
               help="Number of terms N of the series in P_a/Q (1..400).")
+@click.option("--order", default=None, hidden=True, metavar="N",
+              help="Deprecated name of --terms.")
 @click.option("--summation", type=click.Choice(["pade", "plain"]), default="pade",
               show_default=True, help="Padé per harmonic (converges near resonances) or the "
                                       "plain partial sum.")
 @click.option("--out", default=None, type=click.Path(file_okay=False),
               help="Folder for the overlay and convergence figures (and convergence.csv).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
-def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
+def perturbation(pa, pa_newton, fe, settings, terms, order, summation, out, as_json):
     """Perturbation series of the steady state, its validity, and a comparison with the numerics."""
     model = parse_model(settings)
     exc = parse_excitation(model, pa, pa_newton, fe)
     from contactvib.frequency.perturbation import (
-        MAX_ORDER,
+        MAX_TERMS,
         convergence_table,
         perturbation_series,
         steady_counterpart,
     )
 
-    n = parse_int("--order", order, 1, MAX_ORDER)
+    n = _parse_terms(terms, order, MAX_TERMS)
     if out is not None:
         out = checked_output_folder(out)
+    if order is not None:
+        click.echo(ORDER_DEPRECATED, err=True)
 
     res = perturbation_series(model, exc, n, summation)
     if as_json and out is None:
@@ -61,7 +68,7 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
         echo_json(res.to_json())
     else:
         click.echo(f"P_a = {exc.pa_over_q:g} Q, f_e = {exc.f_e:g} Hz, f_n0 = {model.f_n0:.1f} Hz, "
-                   f"order N = {n} ({summation} summation)")
+                   f"N = {n} terms ({summation} summation)")
         click.echo(f"  series:    A_pp = {res.app_um:.6g} um, y_min = {res.ymin_um:.6g} um, "
                    f"y_max = {res.ymax_um:.6g} um, estimated A_pp error {res.error_estimate_um:.2g} um")
         click.echo("  valid:     " + ("yes" if res.valid else f"NO: {res.reason}"))
@@ -89,9 +96,9 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
                 + res.reason.split(";")[0])
         note = ""
     p1 = save_figure(overlay_figure(hist_num, series, head, note), out / f"perturbation_{tag}.png")
-    orders = sorted(set(range(2, min(max(n, 8), _CONV_ORDERS_MAX) + 1, 2)) | {1})
-    tables = {s: convergence_table(model, exc, orders, num.app_um, s) for s in ("plain", "pade")}
-    lines = ["N,app_plain_um,relerr_plain,estimate_plain_um,app_pade_um,relerr_pade,estimate_pade_um"]
+    terms_list = sorted(set(range(2, min(max(n, 8), _CONV_TERMS_MAX) + 1, 2)) | {1})
+    tables = {s: convergence_table(model, exc, terms_list, num.app_um, s) for s in ("plain", "pade")}
+    lines = ["terms,app_plain_um,relerr_plain,estimate_plain_um,app_pade_um,relerr_pade,estimate_pade_um"]
     for rp, rq in zip(tables["plain"], tables["pade"]):
         lines.append(f"{rp[0]},{rp[1]:.12g},{rp[2]:.3e},{rp[3]:.3e},{rq[1]:.12g},{rq[2]:.3e},{rq[3]:.3e}")
     p2 = out / f"convergence_{tag}.csv"
@@ -103,6 +110,16 @@ def perturbation(pa, pa_newton, fe, settings, order, summation, out, as_json):
     if not as_json:
         for p in (p1, p2, p3):
             click.echo(str(p))
+
+
+def _parse_terms(terms, order, max_terms: int) -> int:
+    """N from ``--terms``, or from ``--order`` (its deprecated name; the warning comes after every
+    check, so that a refusal stays one line)."""
+    if order is None:
+        return parse_int("--terms", terms, 1, max_terms)
+    if click.get_current_context().get_parameter_source("terms") != click.core.ParameterSource.DEFAULT:
+        raise InputError("--order: the deprecated name of --terms; give --terms only")
+    return parse_int("--order", order, 1, max_terms, symbol="terms")
 
 
 @click.command()
@@ -171,7 +188,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kin
     click.echo(str(path))
 
 
-def _series_points(model, pa_q, f1, f2, order: int = 40, n: int = 120):
+def _series_points(model, pa_q, f1, f2, terms: int = 40, n: int = 120):
     """Frequencies and A_pp of the valid perturbation series on a log grid (small amplitudes)."""
     import numpy as np
 
@@ -179,7 +196,7 @@ def _series_points(model, pa_q, f1, f2, order: int = 40, n: int = 120):
 
     fs, apps = [], []
     for f in np.geomspace(f1, f2, n):
-        r = perturbation_series(model, model.excitation(pa_q, float(f)), order)
+        r = perturbation_series(model, model.excitation(pa_q, float(f)), terms)
         if r.valid:
             fs.append(float(f))
             apps.append(r.app_um)

@@ -213,7 +213,7 @@ class SeriesOverlay:
 
 
 def series_overlay(model, exc, result) -> SeriesOverlay:
-    """The perturbation series (the CLI's ``perturbation`` defaults: order 40, Padé) and the
+    """The perturbation series (the CLI's ``perturbation`` defaults: 40 terms, Padé) and the
     attractor of ``result`` it describes (:func:`~contactvib.frequency.perturbation.described_attractor`),
     drawn only where the series is valid (contact kept, converged) and within
     :data:`SERIES_MATCH_RTOL` of that attractor's A_pp."""
@@ -224,7 +224,7 @@ def series_overlay(model, exc, result) -> SeriesOverlay:
         series = perturbation_series(model, exc)
     except (ParameterError, FloatingPointError, ZeroDivisionError, np.linalg.LinAlgError) as e:
         return SeriesOverlay(None, None, f"perturbation series not computed: {e}")
-    head = f"perturbation series (N = {series.order}, {series.summation})"
+    head = f"perturbation series (N = {series.terms}, {series.summation})"
     if not series.valid:
         return SeriesOverlay(series, None, f"{head} not drawn: {series.reason}")
     if not len(result):

@@ -180,7 +180,7 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
 
 
 def _initial_guess(model: ContactModel, exc: Excitation, H: int, par=None) -> np.ndarray:
-    """Linear response about x = 1 (order 1 of the perturbation series): κ (1 − r² + 2iζr) A = F
+    """Linear response about x = 1 (the first term of the perturbation series): κ (1 − r² + 2iζr) A = F
     with F the fundamental's amplitude [units of W] (the paper's law: κ = m2, F = P_a/Q)."""
     X = np.zeros(2 * H + 1)
     X[0] = 1.0

@@ -62,23 +62,23 @@ from contactvib.model.contact_law import PowerLaw
 from contactvib.steady.results import TimeHistory
 
 __all__ = ["PerturbationResult", "perturbation_series", "series_state", "perturbation_curve", "linear_response",
-           "steady_counterpart", "described_attractor", "convergence_table", "VALID_RTOL", "MAX_ORDER", "SUMMATIONS"]
+           "steady_counterpart", "described_attractor", "convergence_table", "VALID_RTOL", "MAX_TERMS", "SUMMATIONS"]
 
 #: ``valid`` requires an estimated A_pp truncation error at most this fraction of A_pp.
 VALID_RTOL = 1e-3
-#: Largest order accepted (the recursion is O(N²) vector operations; beyond ~200 round-off of
+#: Largest number of terms N accepted (the recursion is O(N²) vector operations; beyond ~200 round-off of
 #: the growing terms dominates anyway).
-MAX_ORDER = 400
+MAX_TERMS = 400
 
 
-def _series_terms(m2: float, l: float, zeta: float, r: float, order: int):
-    """Two-sided harmonic amplitudes ``C[n, j]`` of ``uₙ`` (n = 0..order, j = 0..order).
+def _series_terms(m2: float, l: float, zeta: float, r: float, terms: int):
+    """Two-sided harmonic amplitudes ``C[n, j]`` of ``uₙ`` (n = 0..terms, j = 0..terms).
 
     ``uₙ(θ) = C[n,0] + 2 Re Σ_{j≥1} C[n,j] e^{ijθ}``; row 0 is zero (u₀ = 0). The powers
     ``(1+u)^m2`` and ``(1+u)^l`` come from the contact law (:meth:`PowerLaw.series_about_one`).
     """
     law = PowerLaw(m2, l)
-    N = order
+    N = terms
     M = 1 << int(math.ceil(math.log2(2 * N + 4)))  # samples: degree ≤ N needs M > 2N
     M = max(M, 16)
     theta = 2.0 * math.pi * np.arange(M) / M
@@ -149,43 +149,43 @@ def _extrema(c: np.ndarray):
 
 @dataclass(frozen=True)
 class PerturbationResult:
-    """Series solution of order N at one operating point.
+    """Series solution of N terms at one operating point.
 
     Attributes
     ----------
     fe_hz, pa_over_q : float
         Excitation frequency [Hz] and amplitude [Q].
-    order : int
+    terms : int
         Number of terms N of the series in ε = P_a/Q.
     app_um, ymin_um, ymax_um : float
-        Peak-to-peak amplitude and extrema of y [µm] of the order-N sum.
+        Peak-to-peak amplitude and extrema of y [µm] of the N-term sum.
     error_estimate_um : float
         Estimated truncation error of A_pp [µm] (inf when the terms do not decrease).
     valid : bool
         ``ymin_um > 0`` (contact kept) and ``error_estimate_um ≤ 1e-3 app_um``.
     reason : str
         Why the series is invalid ("" when valid).
-    harmonics_um : ndarray (order+1,)
+    harmonics_um : ndarray (terms+1,)
         One-sided amplitude of the k·f_e component of y [µm]; k = 0 is the mean shift
         ⟨y⟩ − y0 (signed).
-    phases_rad : ndarray (order+1,)
+    phases_rad : ndarray (terms+1,)
         Phase φ_k of each component, y = y0 + Σ A_k cos(k 2π f_e t + φ_k) [rad].
-    term_norms_um : ndarray (order,)
+    term_norms_um : ndarray (terms,)
         max_t ``|εⁿ uₙ|`` y0 for n = 1..N [µm]: the size of each term.
     y0_um, fn0_hz : float
         Static deflection [µm] and linear natural frequency [Hz] of the model.
     summation : str
         ``"pade"`` (diagonal Padé in ε² of every harmonic's series) or ``"plain"`` (partial sum).
-    coefficients : ndarray (order+1, order+1), complex
+    coefficients : ndarray (terms+1, terms+1), complex
         Two-sided harmonic amplitudes C[n, j] of the unscaled terms uₙ (units of y0, per εⁿ).
-    sum_coefficients : ndarray (order+1,), complex
+    sum_coefficients : ndarray (terms+1,), complex
         Two-sided harmonic amplitudes of the summed u (units of y0):
         ``u(θ) = c0 + 2 Re Σ c_j e^{ijθ}``.
     """
 
     fe_hz: float
     pa_over_q: float
-    order: int
+    terms: int
     app_um: float
     ymin_um: float
     ymax_um: float
@@ -202,10 +202,10 @@ class PerturbationResult:
     sum_coefficients: np.ndarray = field(repr=False)
 
     # ------------------------------------------------------------------ evaluation
-    def _summed(self, order: int | None = None) -> np.ndarray:
-        if order is None or int(order) == self.order:
+    def _summed(self, terms: int | None = None) -> np.ndarray:
+        if terms is None or int(terms) == self.terms:
             return self.sum_coefficients
-        return _sum(self.coefficients, self.pa_over_q, int(order), self.summation)
+        return _sum(self.coefficients, self.pa_over_q, int(terms), self.summation)
 
     @property
     def state(self) -> np.ndarray:
@@ -213,15 +213,15 @@ class PerturbationResult:
         return _phase_zero_state(self._summed(), self.fe_hz / self.fn0_hz)
 
     def history(self, n_periods: int = 2, samples_per_period: int = 400,
-                order: int | None = None) -> TimeHistory:
-        """Time history of the series (order N, or a lower ``order``) from phase 0.
+                terms: int | None = None) -> TimeHistory:
+        """Time history of the series (N terms, or fewer ``terms``) from phase 0.
 
         Returns a :class:`contactvib.TimeHistory` (t [ms], y [µm], ẏ [mm/s]); plot it
         only after checking ``valid``.
         """
         n_periods = int(check_range("n_periods", n_periods, 1, True))
         samples_per_period = int(check_range("samples_per_period", samples_per_period, 2, True))
-        c = self._summed(order)
+        c = self._summed(terms)
         theta = np.linspace(0.0, 2.0 * math.pi * n_periods, n_periods * samples_per_period + 1)
         wf = 2.0 * math.pi * self.fe_hz  # dθ/dt [rad/s]
         y = self.y0_um * (1.0 + _trig_eval(c, theta))
@@ -229,17 +229,17 @@ class PerturbationResult:
         return TimeHistory(t_ms=theta / wf * 1e3, y_um=y, ydot_mm_s=ydot, in_contact=y > 0.0,
                            y0_um=self.y0_um, fe_hz=self.fe_hz, pa_over_q=self.pa_over_q)
 
-    def app_of_order(self, order: int) -> float:
-        """A_pp [µm] of the partial sum of ``order`` terms (1 ≤ order ≤ N)."""
-        if not 1 <= int(order) <= self.order:
-            raise ParameterError("order", order, f"must be an integer in 1..{self.order}")
-        _, lo, _, hi = _extrema(self._summed(int(order)))
+    def app_of_terms(self, terms: int) -> float:
+        """A_pp [µm] of the sum of the first ``terms`` terms (1 ≤ terms ≤ N)."""
+        if not 1 <= int(terms) <= self.terms:
+            raise ParameterError("terms", terms, f"must be an integer in 1..{self.terms}")
+        _, lo, _, hi = _extrema(self._summed(int(terms)))
         return (hi - lo) * self.y0_um
 
     def to_dict(self) -> dict:
         """The JSON contract of ``contactvib perturbation --json``.
 
-        Keys: app_um, ymin_um, ymax_um [µm], valid, order, error_estimate [µm, estimated A_pp
+        Keys: app_um, ymin_um, ymax_um [µm], valid, terms (N), error_estimate [µm, estimated A_pp
         truncation error; null if the terms do not decrease], fe_hz, pa_over_q, harmonics_um
         [µm, k = 0 the mean shift], plus reason ("" when valid) and summation.
         """
@@ -249,7 +249,7 @@ class PerturbationResult:
             "ymin_um": float(self.ymin_um),
             "ymax_um": float(self.ymax_um),
             "valid": bool(self.valid),
-            "order": int(self.order),
+            "terms": int(self.terms),
             "error_estimate": err if math.isfinite(err) else None,
             "fe_hz": float(self.fe_hz),
             "pa_over_q": float(self.pa_over_q),
@@ -311,13 +311,13 @@ def _pade_at_one(a: np.ndarray) -> complex:
     return complex(p.sum() / den * scale)
 
 
-def _sum(C: np.ndarray, eps: float, order: int, summation: str) -> np.ndarray:
-    """Two-sided harmonics of u summed to ``order`` terms, plainly or by Padé per harmonic.
+def _sum(C: np.ndarray, eps: float, terms: int, summation: str) -> np.ndarray:
+    """Two-sided harmonics of u summed over ``terms`` terms, plainly or by Padé per harmonic.
 
     Harmonic j of u is ε^j g_j(ε²) (parity), so its Padé approximant is taken in t = (ε'/ε)²
-    at t = 1, using the coefficients C[n, j] εⁿ, n = j, j+2, ..., order.
+    at t = 1, using the coefficients C[n, j] εⁿ, n = j, j+2, ..., terms.
     """
-    N = int(order)
+    N = int(terms)
     powers = eps ** np.arange(N + 1)
     if summation == "plain":
         return powers @ C[: N + 1, : N + 1]
@@ -338,14 +338,14 @@ def _sup_bound(c: np.ndarray) -> float:
 SUMMATIONS = ("pade", "plain")
 
 
-def _check_order(order, summation) -> int:
-    """The order N as an int, after checking it and the summation."""
+def _check_terms(terms, summation) -> int:
+    """The number of terms N as an int, after checking it and the summation."""
     try:
-        o = float(order)
+        o = float(terms)
     except (TypeError, ValueError):
-        raise ParameterError("order", order, f"must be an integer in 1..{MAX_ORDER}") from None
-    if not math.isfinite(o) or o != int(o) or not 1 <= o <= MAX_ORDER:
-        raise ParameterError("order", order, f"must be an integer in 1..{MAX_ORDER}")
+        raise ParameterError("terms", terms, f"must be an integer in 1..{MAX_TERMS}") from None
+    if not math.isfinite(o) or o != int(o) or not 1 <= o <= MAX_TERMS:
+        raise ParameterError("terms", terms, f"must be an integer in 1..{MAX_TERMS}")
     if summation not in SUMMATIONS:
         raise ParameterError("summation", summation, f"must be one of {', '.join(SUMMATIONS)}")
     return int(o)
@@ -356,13 +356,13 @@ def _phase_zero_state(c: np.ndarray, r: float) -> np.ndarray:
     return np.array([1.0 + _trig_eval(c, 0.0)[0], r * _trig_eval(c, 0.0, 1)[0]])
 
 
-def series_state(model: ContactModel, excitation: Excitation, order: int = 40,
+def series_state(model: ContactModel, excitation: Excitation, terms: int = 40,
                  summation: str = "pade") -> np.ndarray:
     """The nondimensional orbit point (x, x') at phase 0 of :func:`perturbation_series` (the same
     numbers as its ``.state``) without its error estimate, term sizes and extrema: a third of
     the work, for a Newton start (the sweep's small-amplitude seeds)."""
     model.require_paper_family("the perturbation series", excitation)
-    N = _check_order(order, summation)
+    N = _check_terms(terms, summation)
     c = _sum(_series_terms(model.m2, model.l, model.zeta, excitation.r, N), excitation.pa_over_q, N,
              summation)
     if not np.all(np.isfinite(c)):
@@ -370,9 +370,9 @@ def series_state(model: ContactModel, excitation: Excitation, order: int = 40,
     return _phase_zero_state(c, excitation.f_e / model.f_n0)
 
 
-def perturbation_series(model: ContactModel, excitation: Excitation, order: int = 40,
+def perturbation_series(model: ContactModel, excitation: Excitation, terms: int = 40,
                         summation: str = "pade") -> PerturbationResult:
-    """The regular perturbation series of the steady state, summed to ``order`` terms.
+    """The regular perturbation series of the steady state, summed over ``terms`` terms.
 
     Parameters
     ----------
@@ -380,21 +380,21 @@ def perturbation_series(model: ContactModel, excitation: Excitation, order: int 
         Any power law (m2 ≥ 1, l ≥ 0).
     excitation : Excitation
         P_a/Q is the expansion parameter ε; f_e > 0.
-    order : int
-        Number of terms N (1 ≤ N ≤ 400). Order 1 is the linear response.
+    terms : int
+        Number of terms N (1 ≤ N ≤ 400). N = 1 is the linear response.
     summation : {"pade", "plain"}
         ``"plain"``: the partial sum Σ_{n≤N} εⁿ uₙ; its error is estimated from the geometric
         envelope of the last terms. ``"pade"``: each harmonic's series in ε² summed by its
         diagonal Padé approximant (converges where the plain series converges slowly or not at
         all: near the 1/m resonances and at 50 Hz, 0.90 Q, where the plain series is only
-        asymptotic); its error is estimated as the change from orders N−2 and N−4.
+        asymptotic); its error is estimated as the change from the sums of N−2 and N−4 terms.
 
     Returns
     -------
     PerturbationResult
     """
     model.require_paper_family("the perturbation series", excitation)
-    N = _check_order(order, summation)
+    N = _check_terms(terms, summation)
     eps = excitation.pa_over_q
     r = excitation.r
     C = _series_terms(model.m2, model.l, model.zeta, r, N)
@@ -403,8 +403,8 @@ def perturbation_series(model: ContactModel, excitation: Excitation, order: int 
     Mf = 1 << int(math.ceil(math.log2(16 * (N + 1))))
     spec = np.zeros((N + 1, Mf // 2 + 1), complex)
     spec[:, : N + 1] = C * Mf
-    terms = np.fft.irfft(spec, Mf, axis=1) * (eps ** np.arange(N + 1))[:, None]
-    norms = np.abs(terms[1:]).max(axis=1) * y0_um
+    sampled = np.fft.irfft(spec, Mf, axis=1) * (eps ** np.arange(N + 1))[:, None]
+    norms = np.abs(sampled[1:]).max(axis=1) * y0_um
     c = _sum(C, eps, N, summation)
     if summation == "plain":
         tail = _tail_estimate(norms)
@@ -432,23 +432,23 @@ def perturbation_series(model: ContactModel, excitation: Excitation, order: int 
         reasons.append(f"the series predicts loss of contact (y_min = {ymin:.4g} um <= 0)")
     if not err <= VALID_RTOL * app:
         reasons.append("the series has not converged (estimated A_pp error "
-                       f"{err:.3g} um > {VALID_RTOL:g} A_pp): raise the order, or it diverges")
+                       f"{err:.3g} um > {VALID_RTOL:g} A_pp): raise the number of terms, or it diverges")
     return PerturbationResult(
-        fe_hz=excitation.f_e, pa_over_q=eps, order=N, app_um=app, ymin_um=ymin, ymax_um=ymax,
+        fe_hz=excitation.f_e, pa_over_q=eps, terms=N, app_um=app, ymin_um=ymin, ymax_um=ymax,
         error_estimate_um=err, valid=not reasons, reason="; ".join(reasons), harmonics_um=harm,
         phases_rad=phases, term_norms_um=norms, y0_um=y0_um, fn0_hz=model.f_n0,
         summation=summation, coefficients=C, sum_coefficients=c)
 
 
-def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, order: int = 24):
+def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, terms: int = 24):
     """The series' A_pp along frequencies (for the resonance graphs' small-amplitude parts).
 
     Returns ``(fe_hz, app_um, valid)`` arrays [Hz, µm, bool]; ``valid`` as
-    ``PerturbationResult.valid`` (contact kept and converged to 1e-3 of A_pp at ``order``).
+    ``PerturbationResult.valid`` (contact kept and converged to 1e-3 of A_pp with ``terms`` terms).
     """
     model.require_paper_family("the perturbation series")
     fe = np.asarray(fe_hz, float)
-    out = [perturbation_series(model, model.excitation(pa_over_q, float(f)), order=order) for f in fe]
+    out = [perturbation_series(model, model.excitation(pa_over_q, float(f)), terms=terms) for f in fe]
     return fe, np.array([r.app_um for r in out]), np.array([r.valid for r in out], bool)
 
 
@@ -496,11 +496,12 @@ def described_attractor(attractors, result: PerturbationResult) -> int:
     return min(pool, key=lambda i: abs(attractors[i].app_um - result.app_um))
 
 
-def convergence_table(model: ContactModel, excitation: Excitation, orders, reference_app_um: float,
+def convergence_table(model: ContactModel, excitation: Excitation, terms, reference_app_um: float,
                       summation: str = "pade"):
-    """Rows ``(N, A_pp [µm], |A_pp − reference| / reference, error estimate [µm], valid)``."""
+    """Rows ``(N, A_pp [µm], |A_pp − reference| / reference, error estimate [µm], valid)``, one
+    per number of terms N in ``terms`` (a sequence)."""
     rows = []
-    for n in orders:
+    for n in terms:
         res = perturbation_series(model, excitation, n, summation)
         rows.append((int(n), res.app_um, abs(res.app_um - reference_app_um) / reference_app_um,
                      res.error_estimate_um, res.valid))

@@ -3,7 +3,7 @@
 * :func:`overlay_figure` — series against the numerical steady state: time history and phase
   portrait (as Kostek 2013, Figs. 4g, 5a, 9a). An invalid series is not drawn; the figure says
   why.
-* :func:`plot_convergence` — |A_pp error| against the order N (plain and Padé sums).
+* :func:`plot_convergence` — |A_pp error| against the number of terms N (plain and Padé sums).
 * :func:`plot_branch` — HB branch A_pp against f_e, stable solid, unstable dashed.
 """
 
@@ -57,7 +57,7 @@ def plot_convergence(rows_by_label: dict, ax=None):
         ok = np.isfinite(est)
         ax.semilogy(rows[ok, 0], est[ok], ":", color=colour, label=f"{label}: estimate")
     ax.axhline(1e-3, color="0.5", lw=0.8, ls="--", label="validity limit 1e-3")
-    ax.set_xlabel("order N")
+    ax.set_xlabel("number of terms N")
     ax.set_ylabel("relative A_pp error [1]")
     ax.legend(loc="best", fontsize=7, frameon=False)
     return ax

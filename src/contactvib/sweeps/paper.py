@@ -66,16 +66,16 @@ PAPER_TIME_FIGURES = (
 
 #: Frequency step [Hz] of the perturbation series overlaid on the resonance graphs.
 PERTURBATION_STEP_HZ = 20.0
-#: Order of the perturbation series overlaid on Figs. 4–9 (Padé-summed; converged to < 1e-5 at
+#: Number of terms N of the perturbation series overlaid on Figs. 4–9 (Padé-summed; converged to < 1e-5 at
 #: the paper's in-contact orbits, see the perturbation tutorial, docs/tutorials/perturbation.md).
-PERTURBATION_ORDER = 80
+PERTURBATION_TERMS = 80
 
 
 def write_level_figures(ds, pa: float, graph_path, extrema_path, model: ContactModel | None = None,
                         ref: str = ""):
     """Write the resonance graph (Fig. 2) and local-extrema diagram (Fig. 3) of one level.
 
-    With ``model`` the perturbation series (order 24) is overlaid on the resonance graph every
+    With ``model`` the perturbation series (24 terms) is overlaid on the resonance graph every
     ``PERTURBATION_STEP_HZ`` where it is valid (its small-amplitude parts). ``ref`` names the
     paper's panel in the titles (e.g. "c"). Returns the two paths.
     """
@@ -135,7 +135,7 @@ def _time_figure(ds, model: ContactModel, tf: TimeFigure, out: Path):
     exc = model.excitation(tf.pa_over_q, res["fe_hz"])
     # the paper's resonances first (by amplitude), then the orbits the paper does not draw
     atts = sorted(res["attractors"], key=lambda a: (not _in_paper(a), -a["app_um"]))
-    ps = perturbation_series(model, exc, order=PERTURBATION_ORDER)
+    ps = perturbation_series(model, exc, terms=PERTURBATION_TERMS)
     rows, figure_rows = [], []
     for a in atts:
         y, yd = _state_of(a)
@@ -149,7 +149,7 @@ def _time_figure(ds, model: ContactModel, tf: TimeFigure, out: Path):
         mins = "" if n is None else f", {n} {'minimum' if n == 1 else 'minima'}"
         paper = "" if _in_paper(a) else " (not drawn in the paper)"
         title = f"{a['resonance']}{paper}: {k}{mins}, $A_{{pp}}$ = {a['app_um']:.4g} µm; {note}"
-        figure_rows.append(TimeRow(h, title, series, f"perturbation, N = {ps.order}"))
+        figure_rows.append(TimeRow(h, title, series, f"perturbation, N = {ps.terms}"))
         rows.append((a, note))
     fig = time_figure(figure_rows, f"cf. Fig. {tf.number}: $P_a$ = {tf.pa_over_q:g} Q, $f_e$ = "
                                    f"{res['fe_hz']:g} Hz (all attractors stored in the dataset)")
@@ -163,10 +163,10 @@ def _perturbation_note(ps, att: dict) -> str:
     if att["loses_contact"]:
         return "perturbation not applicable (contact is lost)"
     if not ps.valid:
-        return f"perturbation series invalid at N = {ps.order}"
+        return f"perturbation series invalid at N = {ps.terms}"
     rel = abs(ps.app_um - att["app_um"]) / att["app_um"]
     if rel <= 1e-2:
-        return f"perturbation agrees (N = {ps.order}, A_pp differs by {rel:.1e})"
+        return f"perturbation agrees (N = {ps.terms}, A_pp differs by {rel:.1e})"
     return f"perturbation series describes another orbit (A_pp = {ps.app_um:.4g} µm)"
 
 

@@ -252,7 +252,7 @@ def _settle_from(level: LevelState, i: int, z, phase: float = 0.0):
 def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     """Orbit point from the perturbation solution, corrected by Newton; None if not a stable orbit.
 
-    The series (order 24, Padé-summed, :mod:`contactvib.frequency.perturbation`) is the small-amplitude
+    The series (24 terms, Padé-summed, :mod:`contactvib.frequency.perturbation`) is the small-amplitude
     solution continued to this frequency; used only as a Newton start, valid or not.
     """
     from contactvib._kernels.settle import refine_stable_orbit
@@ -261,7 +261,7 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     if not model.is_paper_family or exc.kind != "force":
         return None  # the series is written for the power law (other laws: the other seeds)
     try:
-        z = np.asarray(series_state(model, exc, order=24), float)
+        z = np.asarray(series_state(model, exc, terms=24), float)
     except (ValueError, FloatingPointError, ZeroDivisionError):
         return None
     if not np.all(np.isfinite(z)) or np.max(np.abs(z)) > SEED_STATE_MAX:
