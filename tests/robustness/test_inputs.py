@@ -98,6 +98,9 @@ for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolut
 #: What the levels hold (force, base-um, base-g): the sweeps, the continuation in f_e and hbm.
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
     OPTIONS[_name]["--excitation"] = "value"
+#: The friction columns of the sweeps (issue 26): NAME=VALUE pairs, or `default`.
+for _name in ("resonance", "atlas"):
+    OPTIONS[_name]["--friction"] = "value"
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
 #: --pa-max are a range with --parameter pa).
