@@ -31,6 +31,10 @@ __all__ = ["ContactODE", "ModeTrajectory", "Trajectory", "initial_mode", "integr
 #: consecutive zero-length segments after which :func:`integrate_modes` gives up (a trajectory
 #: held on y = 0 by opposing fields, which two modes switched at y = 0 cannot represent)
 MAX_GRAZING_RETRIES = 4
+#: a run of more than MAX_SHORT_SEGMENTS consecutive switches, each after less than MIN_SEGMENT of
+#: the time span, is chattering (a motion held on y = 0, or a Zeno sequence of impacts): refused
+MAX_SHORT_SEGMENTS = 50
+MIN_SEGMENT = 1e-7
 
 
 def initial_mode(y, v) -> bool:
@@ -117,7 +121,8 @@ def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12
     s = np.array(y0, float)
     tr = ModeTrajectory(s, initial_mode(s[0], s[1]) if contact is None else bool(contact),
                         events=[[] for _ in events])
-    t, stuck = float(t0), 0
+    t, stuck, short = float(t0), 0, 0
+    tiny = MIN_SEGMENT * abs(t1 - t0)
     while t < t1:
         fun = f_contact if tr.contact else f_flight
         sol = solve_ivp(fun, (t, t1), s, rtol=rtol, atol=atol, events=(leave if tr.contact else land, *events),
@@ -133,6 +138,10 @@ def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12
             s[0] = graze * 10.0 ** (stuck - 1) * (1.0 if tr.contact else -1.0)
             continue
         stuck = 0
+        short = short + 1 if (sol.status == 1 and t_end - t <= tiny) else 0
+        if short > MAX_SHORT_SEGMENTS:  # chattering: switched back at once, again and again (Zeno)
+            raise RuntimeError(f"trajectory held on y = 0 at t = {t_end!r}: {short} switches within "
+                               f"{MIN_SEGMENT:g} of the span each")
         for rec, te, se in zip(tr.events, sol.t_events[1:], sol.y_events[1:]):
             se = np.reshape(se, (len(te), s.size))
             rec.extend((float(a), np.array(b, float), tr.contact) for a, b in zip(te, se))

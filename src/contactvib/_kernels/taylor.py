@@ -232,6 +232,30 @@ def step_size(X, V, N, tol):
     return SAFETY * h
 
 
+@njit(cache=True, inline="always")
+def _clipped(h, t, t_end, span):
+    """The step ``h`` from ``t`` clipped to end on ``t_end``: ``(h, landing, stop)``, ``stop`` 1
+    when the remaining interval is below round-off (landed), 2 when the step is (too small), else 0."""
+    remaining = t_end - t
+    landing = h >= remaining
+    if landing:
+        h = remaining
+    if h < 1e-15 * span:
+        return h, landing, 1 if landing else 2
+    return h, landing, 0
+
+
+@njit(cache=True, inline="always")
+def _stepped(y, X, V, N, h, contact, t, t_end, landing, t_flight):
+    """``y`` at the end of a step of the series (X, V) of length ``h``: ``(t, t_flight, finite)``."""
+    y[0] = poly(X, N, h, 0)
+    y[1] = poly(V, N, h, 0)
+    if not contact:
+        t_flight += h
+    t = t_end if landing else t + h
+    return t, t_flight, math.isfinite(y[0]) and math.isfinite(y[1])
+
+
 @njit(cache=True)
 def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
     """Integrate the state ``y = [x, v]`` in place from τ = ``t`` to exactly ``t_end``.
@@ -255,16 +279,12 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
             status = STATUS_MAX_STEPS
             break
         series_prepared(contact, t, y[0], y[1], par, N, X, V, W)
-        h = step_size(X, V, N, tol)
-        remaining = t_end - t
-        landing = h >= remaining
-        if landing:
-            h = remaining
-        if h < 1e-15 * span:
-            if landing:
+        h, landing, stop = _clipped(step_size(X, V, N, tol), t, t_end, span)
+        if stop:
+            if stop == 1:
                 t = t_end
-                break
-            status = STATUS_STEP_TOO_SMALL
+            else:
+                status = STATUS_STEP_TOO_SMALL
             break
         s_ev = crossing(contact, X, V, N, h, S)
         n_steps += 1
@@ -280,12 +300,8 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
                 status = STATUS_TOO_MANY_EVENTS
                 break
             continue
-        y[0] = poly(X, N, h, 0)
-        y[1] = poly(V, N, h, 0)
-        if not contact:
-            t_flight += h
-        t = t_end if landing else t + h
-        if not (math.isfinite(y[0]) and math.isfinite(y[1])):
+        t, t_flight, finite = _stepped(y, X, V, N, h, contact, t, t_end, landing, t_flight)
+        if not finite:
             status = STATUS_NONFINITE
             break
     return contact, h, n_steps, t_flight, n_events, status
@@ -328,16 +344,12 @@ def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
             series_table(W[0], X, V, W, P, M, par, seg)
         else:
             series_prepared(False, t, y[0], y[1], par, N, X, V, W)
-        h = step_size(X, V, M, tol)
-        remaining = t_end - t
-        landing = h >= remaining
-        if landing:
-            h = remaining
-        if h < 1e-15 * span:
-            if landing:
+        h, landing, stop = _clipped(step_size(X, V, M, tol), t, t_end, span)
+        if stop:
+            if stop == 1:
                 t = t_end
-                break
-            status = STATUS_STEP_TOO_SMALL
+            else:
+                status = STATUS_STEP_TOO_SMALL
             break
         n_steps += 1
         if contact:
@@ -363,12 +375,8 @@ def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
                 status = STATUS_TOO_MANY_EVENTS
                 break
             continue
-        y[0] = poly(X, M, h, 0)
-        y[1] = poly(V, M, h, 0)
-        if not contact:
-            t_flight += h
-        t = t_end if landing else t + h
-        if not (math.isfinite(y[0]) and math.isfinite(y[1])):
+        t, t_flight, finite = _stepped(y, X, V, M, h, contact, t, t_end, landing, t_flight)
+        if not finite:
             status = STATUS_NONFINITE
             break
     return contact, h, n_steps, t_flight, n_events, status
