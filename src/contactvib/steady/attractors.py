@@ -270,7 +270,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     progress : callable or None
         Called as ``progress(done, total)`` with the starts finished and all starts: once with
         ``done = 0`` when the inputs are checked and the integration begins (the CLI prints its
-        header then), and after each wave; a search estimated beyond ``LONG_SEARCH_S`` (5)
+        header then), and after each wave; with it, a search estimated beyond ``LONG_SEARCH_S`` (5)
         seconds (``steady.transients.estimated_seconds``) runs its starts in about
         ``PROGRESS_CHUNKS`` (50) chunks per wave and reports after each (the same results).
 
@@ -294,7 +294,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     if auto:
         max_periods = default_max_periods(excitation, detect_tol)
     work = check_work(excitation, n_starts + Zs.shape[0], max_periods)  # before the memory: names f_n0
-    chunks = PROGRESS_CHUNKS if estimated_seconds(work) > LONG_SEARCH_S else 1
+    chunks = PROGRESS_CHUNKS if progress is not None and estimated_seconds(work) > LONG_SEARCH_S else 1
     if auto:
         check_search(n_starts, seed, kmax, max_periods)  # the memory of the chosen limit
     n_first = min(n_starts, FIRST_WAVE)
