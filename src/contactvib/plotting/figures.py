@@ -148,7 +148,7 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     Colour = resonance order (main black, 1/m coloured; dashed after period doubling); thin grey
     = non-resonant (quasistatic) motion; dotted = sub-/ultrasubharmonic (bouncing) orbits; red
     dots = non-periodic attractors; gold underlay = branches no laboratory sweep reaches
-    (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6). ``perturbation``:
+    (``branch_reached_by_sweep`` = 0); plus signs at f_n0/m (Eq. 2.6) inside the level's f_e range. ``perturbation``:
     ``(fe_hz, app_um, valid)`` from :func:`contactvib.perturbation_curve`, drawn as
     red crosses where the series is valid. ``marks_um``: the height of the f_n0/m marks (default:
     just above the level's smallest amplitude).
@@ -199,6 +199,8 @@ def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, 
     ax.set_yscale("log")
     lo = max(np.nanmin(app[app > 0]) * 0.5, 1e-3) if np.any(app > 0) else 1e-3
     marks = [fn0 / m for m in range(1, m_max + 1)]
+    if fe.size:  # only the marks inside the level's frequency range (a narrow sweep keeps its axis)
+        marks = [f for f in marks if np.nanmin(fe) <= f <= np.nanmax(fe)]
     mark_y = lo * 1.3 if marks_um is None else marks_um
     ax.plot(marks, [mark_y] * len(marks), "+", color="k", ms=7, mew=1.0, label="$f_{n0}/m$ (Eq. 2.6)")
     if perturbation is not None:
