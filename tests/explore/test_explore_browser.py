@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import json
 import os
+import queue
 import shutil
 import socket
 import subprocess
 import sys
-import time
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -30,17 +31,24 @@ def _free_port() -> int:
 
 
 def serving(*args):
-    """``contactvib explore ARGS --no-browser`` on a free port, once it listens: (process, URL)."""
+    """``contactvib explore ARGS --no-browser`` on a free port, once it prints its address (it
+    compiles the first search's kernels before: up to a minute with a cold numba cache):
+    (process, URL)."""
     port = _free_port()
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     proc = subprocess.Popen([sys.executable, "-m", "contactvib", "explore", *args, "--no-browser", "--port",
-                             str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    for _ in range(300):
+                             str(port)], env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    lines = queue.Queue()
+    threading.Thread(target=lambda: [*map(lines.put, proc.stdout), lines.put(None)], daemon=True).start()
+    line = ""
+    while not line.startswith("contactvib explore: http"):  # after Panel's "Launching server at"
         try:
-            socket.create_connection(("127.0.0.1", port), 0.2).close()
-            break
-        except OSError:
-            time.sleep(0.2)
+            line = lines.get(timeout=300)
+        except queue.Empty:
+            proc.kill()
+            raise AssertionError(f"contactvib explore {' '.join(args)} printed no address within 300 s") from None
+        assert line is not None, f"contactvib explore {' '.join(args)} exited with {proc.wait()}"
+    assert f"127.0.0.1:{port}/" in line, line
     return proc, f"http://127.0.0.1:{port}/"
 
 

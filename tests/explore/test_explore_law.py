@@ -138,7 +138,7 @@ def test_explore_command_starts_the_page_with_its_law_options(monkeypatch, capsy
     import contactvib.explore.server as server
 
     seen = {}
-    monkeypatch.setattr(server, "serve", lambda *args: seen.update(start=args[-1]))
+    monkeypatch.setattr(server, "serve", lambda *args, **kw: seen.update(start=args[-1]))
     assert main(["explore", "--law", "exponential", "--preload", "2", "--no-browser"]) == 0  # the README's
     start = seen["start"]
     assert start.fields == {**DEFAULTS, "law": "exponential", "preload": "2"}
@@ -166,7 +166,7 @@ def test_explore_starts_from_a_saved_model(monkeypatch, capsys, tmp_path):
     import contactvib.explore.server as server
 
     seen = {}
-    monkeypatch.setattr(server, "serve", lambda *args: seen.update(start=args[-1]))
+    monkeypatch.setattr(server, "serve", lambda *args, **kw: seen.update(start=args[-1]))
     for model in (_direct(), ContactModel(m2=1.9, c_n=3.1e16, l=0.7)):
         path = tmp_path / "model.json"
         path.write_text(json.dumps(model.parameters()))

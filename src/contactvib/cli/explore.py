@@ -47,13 +47,17 @@ def _check(point):
         raise BadInput(f"contactvib: error: {e}") from None
 
 
+#: The default options of ``contactvib attractors``: starts, seed, kmax, max periods, no seeds.
+SEARCH_OPTIONS = ("512", "0", "8", "auto", False)
+
+
 def _find(model, exc):
     """The search of ``contactvib attractors`` with its default options."""
     from contactvib.cli.steady import search_attractors as find
     from contactvib.explore.state import BadInput
 
     try:
-        return find(model, exc, "512", "0", "8", "auto", False)
+        return find(model, exc, *SEARCH_OPTIONS)
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
     except RunInterrupted as e:
@@ -151,6 +155,35 @@ def _start_point():
     return point
 
 
+#: Seconds of warm-up after which the command says it is compiling.
+WARM_NOTICE_S = 3.0
+
+
+def _warm(point) -> None:
+    """Compile the kernels of the page's first answer (the search at ``point`` and its time
+    histories) once the server's port is bound and before it answers, so that no page's time
+    limit counts the compilation: about 30 s once after an install (numba's cache), about a
+    second after. A point the page will refuse is not warmed (the page shows the message)."""
+    import threading
+
+    from contactvib.cli.steady import search_attractors
+    from contactvib.explore.state import BadInput
+    from contactvib.steady.simulate import attractor_history
+
+    notice = threading.Timer(WARM_NOTICE_S, lambda: click.echo(
+        "contactvib explore: compiling the kernels (once after an install or an upgrade)...", err=True))
+    notice.daemon = True
+    notice.start()
+    try:
+        model, exc = _check(point)
+        for attractor in search_attractors(model, exc, *SEARCH_OPTIONS):
+            attractor_history(model, exc, attractor)
+    except (BadInput, InputError):
+        pass
+    finally:
+        notice.cancel()
+
+
 def _model_fields(point, path) -> None:
     """The page's fields from a model file (``--model``): its law, damping, preload and
     parameters; a table law's rows cannot be fields (start with --law table --law-file)."""
@@ -220,7 +253,7 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
 
     try:
         ops = (_check, _find, _continue, partial(_level_inputs, grid=grid))
-        serve(ops, port, host, not no_browser, limit, ready, levels, graph_limit, start)
+        serve(ops, port, host, not no_browser, limit, ready, levels, graph_limit, start, warm=partial(_warm, start))
     except OSError as e:
         raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
     except KeyboardInterrupt:

@@ -8,13 +8,15 @@ from contactvib.explore.state import TIME_LIMIT_S
 
 def serve(ops, port: int = 0, host: str = "127.0.0.1", open_browser: bool = True,
           limit_s: float = TIME_LIMIT_S, ready=None, levels=None, graph_limit_s: float = GRAPH_TIME_LIMIT_S,
-          start=None):
+          start=None, warm=None):
     """Serve until stopped; ``ops = (check, find, continue, level inputs)`` (:func:`.app._compute`,
     :class:`.app.Page`). ``ready(url)`` is called once the server listens (the CLI prints it).
     ``levels``: a :class:`.dataset_view.DatasetLevels` whose resonance graphs the pages show
     (read-only, shared by the sessions); without it a page computes the graph of its level in
     the background, stopped after ``graph_limit_s``. ``start``: the first point of every page
-    (a :class:`.state.Point`, its law and law file; default the paper's)."""
+    (a :class:`.state.Point`, its law and law file; default the paper's). ``warm()`` is called
+    once the port is bound (a taken port fails first) and before any page is answered or
+    ``ready`` is called: the CLI compiles the first search's kernels there."""
     import panel as pn
 
     from contactvib.explore.app import build
@@ -32,6 +34,8 @@ def serve(ops, port: int = 0, host: str = "127.0.0.1", open_browser: bool = True
     server = pn.serve({"/": page}, port=port, address=host, show=False,
                       start=False, title="contactvib explore", websocket_origin=origins)
     server.start()
+    if warm is not None:
+        warm()
     url = f"http://{host}:{server.port}/"
     if ready is not None:
         ready(url)
