@@ -142,24 +142,24 @@ class Page:
         self.graph_limit_s, self.graph_run, self.graph_level = graph_limit_s, None, None
         self.graph_key = self._level_key()  # the (P_a, model) of graph_run or graph_level
         self.levels, self.pick_um = levels, None  # a DatasetLevels; A_pp [µm] of the last click
-        self.fields = {k: pn.widgets.TextInput(name=_LABELS[k], value=point.fields[k], width=150,
+        self.fields = {k: pn.widgets.TextInput(label=_LABELS[k], value=point.fields[k], width=150,
                                                css_classes=[f"field-{k}"]) for k in DEFAULTS if k not in _CHOOSERS}
         for k, options in (("law", point.law_choices()), ("damping", DAMPING_NAMES)):
-            self.fields[k] = pn.widgets.Select(name=_LABELS[k], options=list(options), value=point.fields[k],
+            self.fields[k] = pn.widgets.Select(label=_LABELS[k], options=list(options), value=point.fields[k],
                                                width=150, css_classes=[f"field-{k}"])
         self.model_grid = pn.GridBox(ncols=4)
         self._show_families()
-        self.fe_slider = pn.widgets.FloatSlider(name="f_e slider [Hz]", start=50, end=1000, step=1,
+        self.fe_slider = pn.widgets.FloatSlider(label="f_e slider [Hz]", start=50, end=1000, step=1,
                                                 value=self._float("fe", 360.0), width=320)
         if levels is None:
-            self.pa_slider = pn.widgets.FloatSlider(name="P_a slider [Q]", start=0.05, end=2.0, step=0.05,
+            self.pa_slider = pn.widgets.FloatSlider(label="P_a slider [Q]", start=0.05, end=2.0, step=0.05,
                                                     value=self._float("pa", 0.65), width=320)
         else:  # the dataset's levels
             pa = levels.nearest_level(self._float("pa", levels.levels[0])) or levels.levels[0]
-            self.pa_slider = pn.widgets.DiscreteSlider(name="P_a level of the dataset [Q]", width=320,
+            self.pa_slider = pn.widgets.DiscreteSlider(label="P_a level of the dataset [Q]", width=320,
                                                        options=list(levels.levels), value=pa)
         self.graph = pn.Column(css_classes=["graph"])
-        self.graph_button = pn.widgets.Button(name="compute the resonance graph of this P_a", width=300,
+        self.graph_button = pn.widgets.Button(label="compute the resonance graph of this P_a", width=300,
                                               css_classes=["graph-compute"],
                                               visible=levels is None and len(ops) > 3)
         self.graph_progress = pn.indicators.Progress(value=0, max=1, width=260, visible=False,
@@ -170,7 +170,7 @@ class Page:
         self.status = pn.pane.HTML("", css_classes=["status"], width=900)
         self.derived = pn.pane.HTML("", css_classes=["derived"], width=900)
         self.table = pn.pane.HTML("", css_classes=["table"], width=900)
-        self.select = pn.widgets.Select(name="attractor", options={"-": -1}, width=230,
+        self.select = pn.widgets.Select(label="attractor", options={"-": -1}, width=230,
                                         css_classes=["attractor-select"])
         self.download = pn.widgets.FileDownload(callback=self._json, filename="attractors.json",
                                                 label="attractors.json (the CLI's --json)", width=260,
@@ -182,7 +182,7 @@ class Page:
                              for fmt in ("png", "svg")]
         self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
         self.series_note = pn.pane.HTML("", css_classes=["series-note"], width=900)
-        self.cont_button = pn.widgets.Button(name="continue the selected orbit in f_e", width=260,
+        self.cont_button = pn.widgets.Button(label="continue the selected orbit in f_e", width=260,
                                              css_classes=["continue"], visible=len(ops) > 2)
         self.cont_status = pn.pane.HTML("", css_classes=["cont-status"], width=700)
         self.cont_plot = pn.Column(css_classes=["cont-plot"])
