@@ -17,11 +17,15 @@ from pathlib import Path
 
 import pytest
 
+import contactvib
+
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary (apt-get install chromium)")]
 playwright = pytest.importorskip("playwright.sync_api", reason="playwright is in the test extra")
-ROOT = Path(__file__).resolve().parents[2]
+#: The children import the package these tests import (the installed one in CI: its kernels
+#: are then compiled once, in one cache, for the tests and the servers).
+PACKAGE_PARENT = str(Path(contactvib.__file__).resolve().parents[1])
 
 
 def _free_port() -> int:
@@ -35,7 +39,7 @@ def serving(*args):
     compiles the first search's kernels before: up to a minute with a cold numba cache):
     (process, URL)."""
     port = _free_port()
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    env = {**os.environ, "PYTHONPATH": PACKAGE_PARENT}
     proc = subprocess.Popen([sys.executable, "-m", "contactvib", "explore", *args, "--no-browser", "--port",
                              str(port)], env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     lines = queue.Queue()
@@ -78,7 +82,7 @@ def browser():
 
 
 def _cli_json(*args) -> dict:
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    env = {**os.environ, "PYTHONPATH": PACKAGE_PARENT}
     out = subprocess.run([sys.executable, "-m", "contactvib", "attractors", "--json", *args], env=env,
                          capture_output=True, text=True, check=True).stdout
     return json.loads(out)

@@ -233,27 +233,57 @@ def step_size(X, V, N, tol):
 
 
 @njit(cache=True, inline="always")
+def _loop_start(t, t_end):
+    """The counters of a Taylor flow's loop: ``(n_steps, n_events, t_flight, h, span, status)``,
+    ``span`` the scale of τ that round-off is measured against."""
+    return 0, 0, 0.0, 0.0, abs(t_end) + abs(t) + 1.0, STATUS_OK
+
+
+@njit(cache=True, inline="always")
 def _clipped(h, t, t_end, span):
-    """The step ``h`` from ``t`` clipped to end on ``t_end``: ``(h, landing, stop)``, ``stop`` 1
-    when the remaining interval is below round-off (landed), 2 when the step is (too small), else 0."""
+    """The step ``h`` from ``t`` clipped to end on ``t_end``: ``(h, landing, stop, t, status)``;
+    ``stop`` when the loop ends here: the remaining interval is below round-off (landed: t =
+    ``t_end``) or the step is (STATUS_STEP_TOO_SMALL)."""
     remaining = t_end - t
     landing = h >= remaining
     if landing:
         h = remaining
     if h < 1e-15 * span:
-        return h, landing, 1 if landing else 2
-    return h, landing, 0
+        if landing:
+            return h, landing, True, t_end, STATUS_OK
+        return h, landing, True, t, STATUS_STEP_TOO_SMALL
+    return h, landing, False, t, STATUS_OK
+
+
+@njit(cache=True, inline="always")
+def _counted_event(n_events, max_steps):
+    """One more contact/flight switch: ``(n_events, status)``, STATUS_TOO_MANY_EVENTS beyond
+    the allowance of :func:`.flow.advance`."""
+    n_events += 1
+    if n_events > 100 * max_steps // 1000 + 1000:
+        return n_events, STATUS_TOO_MANY_EVENTS
+    return n_events, STATUS_OK
 
 
 @njit(cache=True, inline="always")
 def _stepped(y, X, V, N, h, contact, t, t_end, landing, t_flight):
-    """``y`` at the end of a step of the series (X, V) of length ``h``: ``(t, t_flight, finite)``."""
+    """``y`` at the end of a step of the series (X, V) of length ``h``: ``(t, t_flight,
+    status)``, STATUS_NONFINITE when the state is not finite."""
     y[0] = poly(X, N, h, 0)
     y[1] = poly(V, N, h, 0)
     if not contact:
         t_flight += h
     t = t_end if landing else t + h
-    return t, t_flight, math.isfinite(y[0]) and math.isfinite(y[1])
+    return t, t_flight, STATUS_OK if math.isfinite(y[0]) and math.isfinite(y[1]) else STATUS_NONFINITE
+
+
+@njit(cache=True, inline="always")
+def _final_status(status, t, t_end, n_steps, max_steps):
+    """The status of a loop that ran while ``t < t_end``, ``n_steps < max_steps`` and the status
+    was OK: STATUS_MAX_STEPS when the steps ran out before ``t_end``."""
+    if status == STATUS_OK and t < t_end and n_steps >= max_steps:
+        return STATUS_MAX_STEPS
+    return status
 
 
 @njit(cache=True)
@@ -268,23 +298,11 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
     V = np.empty(N + 1)
     W = series_work(par, N)
     S = np.empty((2, N_SUB + 1))
-    n_steps = 0
-    n_events = 0
-    t_flight = 0.0
-    h = 0.0
-    span = abs(t_end) + abs(t) + 1.0
-    status = STATUS_OK
-    while t < t_end:
-        if n_steps >= max_steps:
-            status = STATUS_MAX_STEPS
-            break
+    n_steps, n_events, t_flight, h, span, status = _loop_start(t, t_end)
+    while t < t_end and n_steps < max_steps and status == STATUS_OK:
         series_prepared(contact, t, y[0], y[1], par, N, X, V, W)
-        h, landing, stop = _clipped(step_size(X, V, N, tol), t, t_end, span)
+        h, landing, stop, t, status = _clipped(step_size(X, V, N, tol), t, t_end, span)
         if stop:
-            if stop == 1:
-                t = t_end
-            else:
-                status = STATUS_STEP_TOO_SMALL
             break
         s_ev = crossing(contact, X, V, N, h, S)
         n_steps += 1
@@ -295,16 +313,10 @@ def advance_taylor(y, t, t_end, contact, par, tol, max_steps):
             y[0] = 0.0
             t = t + s_ev
             contact = not contact
-            n_events += 1
-            if n_events > 100 * max_steps // 1000 + 1000:
-                status = STATUS_TOO_MANY_EVENTS
-                break
+            n_events, status = _counted_event(n_events, max_steps)
             continue
-        t, t_flight, finite = _stepped(y, X, V, N, h, contact, t, t_end, landing, t_flight)
-        if not finite:
-            status = STATUS_NONFINITE
-            break
-    return contact, h, n_steps, t_flight, n_events, status
+        t, t_flight, status = _stepped(y, X, V, N, h, contact, t, t_end, landing, t_flight)
+    return contact, h, n_steps, t_flight, n_events, _final_status(status, t, t_end, n_steps, max_steps)
 
 
 @njit(cache=True)
@@ -326,16 +338,8 @@ def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
     n_rows = int(par[P_S1])
     o = int(par[P_S2])
     seg = table_segment(y[0], par) if contact else 0
-    n_steps = 0
-    n_events = 0
-    t_flight = 0.0
-    h = 0.0
-    span = abs(t_end) + abs(t) + 1.0
-    status = STATUS_OK
-    while t < t_end:
-        if n_steps >= max_steps:
-            status = STATUS_MAX_STEPS
-            break
+    n_steps, n_events, t_flight, h, span, status = _loop_start(t, t_end)
+    while t < t_end and n_steps < max_steps and status == STATUS_OK:
         X[0] = y[0]
         V[0] = y[1]
         M = N_c if contact else N
@@ -344,12 +348,8 @@ def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
             series_table(W[0], X, V, W, P, M, par, seg)
         else:
             series_prepared(False, t, y[0], y[1], par, N, X, V, W)
-        h, landing, stop = _clipped(step_size(X, V, M, tol), t, t_end, span)
+        h, landing, stop, t, status = _clipped(step_size(X, V, M, tol), t, t_end, span)
         if stop:
-            if stop == 1:
-                t = t_end
-            else:
-                status = STATUS_STEP_TOO_SMALL
             break
         n_steps += 1
         if contact:
@@ -370,16 +370,10 @@ def advance_taylor_table(y, t, t_end, contact, par, tol, max_steps):
             y[0] = 0.0
             contact = not contact
             seg = 0
-            n_events += 1
-            if n_events > 100 * max_steps // 1000 + 1000:
-                status = STATUS_TOO_MANY_EVENTS
-                break
+            n_events, status = _counted_event(n_events, max_steps)
             continue
-        t, t_flight, finite = _stepped(y, X, V, M, h, contact, t, t_end, landing, t_flight)
-        if not finite:
-            status = STATUS_NONFINITE
-            break
-    return contact, h, n_steps, t_flight, n_events, status
+        t, t_flight, status = _stepped(y, X, V, M, h, contact, t, t_end, landing, t_flight)
+    return contact, h, n_steps, t_flight, n_events, _final_status(status, t, t_end, n_steps, max_steps)
 
 
 @njit(cache=True)
