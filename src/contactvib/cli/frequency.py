@@ -7,8 +7,6 @@ import json
 import click
 
 from contactvib.cli.common import (
-    InputError,
-    checked_option,
     checked_output_folder,
     echo_json,
     feasible_frequencies,
@@ -22,6 +20,7 @@ from contactvib.cli.common import (
     parse_model,
     parse_positive,
 )
+from contactvib.cli.errors import InputError, checked_option
 from contactvib.model import HARMONICS_MAX, LEVEL_TAGS, PA_NOTE, check_range, excitation_at, level_text
 from contactvib.model.checks import PA_MAX
 
