@@ -117,10 +117,16 @@ DAMPING_POWER, DAMPING_HUNT_CROSSLEY = 0, 1
 EXCITATION_FORCE, EXCITATION_BASE, EXCITATION_HARMONICS, EXCITATION_SPECTRUM = 0, 1, 2, 3
 
 
+@njit(cache=True, inline="always")
+def is_paper_vector(par):
+    """True for a vector of length 5 (no family header): the paper's law under a harmonic force."""
+    return par.shape[0] <= P_SPRING
+
+
 @njit(cache=True)
 def is_paper_family(par):
     """True for the power spring with power damping (the kernels' original law, ``force``)."""
-    return par.shape[0] <= P_SPRING or (par[P_SPRING] == 0.0 and par[P_DAMPING] == 0.0)
+    return is_paper_vector(par) or (par[P_SPRING] == 0.0 and par[P_DAMPING] == 0.0)
 
 
 @njit(cache=True)

@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from . import _dop853_coefficients as _co
-from .contact import P_SPRING, contact_force, contact_partials, force, force_partials, forcing
+from .contact import contact_force, contact_partials, force, force_partials, forcing, is_paper_vector
 from .status import (  # noqa: F401
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -64,7 +64,7 @@ _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the cont
 def law_acceleration(paper, contact, t, x, v, par):
     """x'' of the given mode at (τ, x, x') [nondimensional]: [1 + p cos rτ − f(x, x')]/m2 in
     contact, f the contact law (:func:`.contact.force`). ``paper``: ``par`` is the paper's law
-    under a force (:func:`is_paper_par`), computed by its own expression. A caller that passes a
+    under a force (:func:`.contact.is_paper_vector`), computed by its own expression. A caller that passes a
     constant gets only that branch compiled into its loop (the paper's stages stay as lean as
     before the law library: the generic branch in every stage cost ~15 % of the shooting)."""
     if paper:
@@ -93,21 +93,15 @@ def law_jacobian_row(paper, contact, x, v, par):
 
 
 @njit(cache=True, inline="always")
-def is_paper_par(par):
-    """True when ``par`` holds the paper's law under a harmonic force (no family header)."""
-    return par.shape[0] <= P_SPRING
-
-
-@njit(cache=True, inline="always")
 def acceleration(contact, t, x, v, par):
     """x'' of the given mode at (τ, x, x') [nondimensional] (:func:`law_acceleration`)."""
-    return law_acceleration(is_paper_par(par), contact, t, x, v, par)
+    return law_acceleration(is_paper_vector(par), contact, t, x, v, par)
 
 
 @njit(cache=True, inline="always")
 def jacobian_row(contact, x, v, par):
     """(∂x''/∂x, ∂x''/∂x') of the given mode at (x, x') [nondimensional] (:func:`law_jacobian_row`)."""
-    return law_jacobian_row(is_paper_par(par), contact, x, v, par)
+    return law_jacobian_row(is_paper_vector(par), contact, x, v, par)
 
 
 @njit(cache=True)
@@ -132,7 +126,7 @@ def _stages(contact, t, y, h, par, K, s_first, s_last, n):
     Works on scalars (a call per stage with array views costs more than the stage itself);
     ``n`` = 2 integrates the state, 6 the state and the variational equation. The law is chosen
     once per call, outside the stage loop (:func:`law_acceleration`)."""
-    if is_paper_par(par):
+    if is_paper_vector(par):
         _stage_loop(True, contact, t, y, h, par, K, s_first, s_last, n)
     else:
         _stage_loop(False, contact, t, y, h, par, K, s_first, s_last, n)

@@ -57,6 +57,7 @@ from .contact import (
     SPRING_TABLE,
     forcing_amplitude,
     is_paper_family,
+    is_paper_vector,
     series_contact,
     series_exponential,
 )
@@ -119,7 +120,7 @@ def series_law(par):
     (DOP853) for any other law or excitation."""
     if is_polynomial_law(par):
         return SERIES_POWER
-    if par.shape[0] <= P_SPRING or par[P_EXCITATION] > EXCITATION_BASE:
+    if is_paper_vector(par) or par[P_EXCITATION] > EXCITATION_BASE:
         return SERIES_NONE
     l = par[1]
     if not (par[P_DAMPING] == DAMPING_HUNT_CROSSLEY or (l == math.floor(l) and 0.0 <= l <= MAX_EXPONENT)):
@@ -202,7 +203,7 @@ def series_prepared(contact, t, x0, v0, par, N, X, V, W):
     E = W[0]
     _excitation_series(t, par[4], N, W[FORCING_ROW], E)
     if contact:
-        if par.shape[0] > P_SPRING and par[P_SPRING] == SPRING_EXPONENTIAL:
+        if not is_paper_vector(par) and par[P_SPRING] == SPRING_EXPONENTIAL:
             series_exponential(E, X, V, W, W[EXP_ROW], N, par)
         else:
             series_contact(E, X, V, W, N, m2, damping_exponent(par), par[2])
