@@ -307,7 +307,10 @@ def _power(y, a):
 def model_ode(model, excitation):
     """The :class:`ContactODE` of a ``contactvib`` model and excitation, built from their SI
     parameters alone (the law's formulas written here: power, exponential, table through scipy's
-    own PCHIP; power or Hunt–Crossley damping; force, harmonics or base excitation).
+    own PCHIP; any other registered law through its own SI :meth:`SpringLaw.contact_force
+    <contactvib.model.laws.SpringLaw.contact_force>`, never the compiled kernels; power or
+    Hunt–Crossley damping; force, harmonics or base excitation). Its coordinate is the contact's
+    deflection δ = y − y_e (y_e the law's engagement point, 0 but for a clearance).
 
     The contact mode's right-hand side is continued smoothly a little below y = 0, where the last
     step before a located exit samples it: analytically (integer powers, the exponential, the
@@ -326,6 +329,11 @@ def model_ode(model, excitation):
 
         def spring(y):
             return Sc * math.expm1(y / lam)
+    elif m.law != "table":
+        law, S = m.spring_law, m.S
+
+        def spring(y):
+            return law.contact_force(y, S)
     else:
         d, F = np.asarray(m.table.deflection_m, float), np.asarray(m.table.load_n, float)
         pchip = PchipInterpolator(d, F, extrapolate=True)  # the first cubic continued below 0

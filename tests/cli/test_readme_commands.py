@@ -102,6 +102,9 @@ REDUCED: dict[str, list[str]] = {
     "contactvib attractors --pa 0.65 --fe 360 --law table --law-file examples/power_law_table.csv":
         ["attractors", "--pa", "0.65", "--fe", "360", "--law", "table", "--law-file",
          str(README.parent / "examples" / "power_law_table.csv"), "--starts", "8", "--no-seeds"],
+    "contactvib attractors --pa 0.65 --fe 360 --law clearance --set c_lin=2.037e10 --set gap_um=5":
+        ["attractors", "--pa", "0.65", "--fe", "360", "--law", "clearance", "--set", "c_lin=2.037e10", "--set",
+         "gap_um=5", "--starts", "8", "--no-seeds"],
     "contactvib attractors --pa 0.65 --fe 700 --damping hunt-crossley --set alpha=34.4":
         ["attractors", "--pa", "0.65", "--fe", "700", "--damping", "hunt-crossley", "--set", "alpha=34.4",
          "--starts", "8"],

@@ -257,7 +257,7 @@ def test_table_that_does_not_reach_the_static_load_says_so():
     (dict(alpha=30.0), "alpha", "Hunt-Crossley"),
     (dict(damping="power", alpha=30.0), "alpha", "Hunt-Crossley"),
     (dict(damping="hunt-crossley", alpha=-1.0), "alpha", ""),
-    (dict(law="hertz"), "law", "must be one of power, exponential, table"),
+    (dict(law="hertz"), "law", "unknown law; known: power, exponential, table, clearance"),
     (dict(damping="viscous"), "damping", "must be one of power, hunt-crossley"),
     (dict(law="table"), "law_file", "needs a table"),
     (dict(law="power", table=TableLaw(D4, F4)), "law_file", "belongs to the table law"),

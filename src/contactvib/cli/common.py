@@ -48,17 +48,37 @@ from contactvib.model.checks import format_number
 LAW_OPTIONS: contextvars.ContextVar = contextvars.ContextVar("contactvib_law", default=None)
 #: The excitation options of the command being run (``_excitation_family_options``).
 _EXC: contextvars.ContextVar = contextvars.ContextVar("contactvib_excitation", default=None)
-#: Every name ``--set`` accepts (the paper's and the other families' parameters).
-SET_NAMES = tuple(PAPER_DEFAULTS) + ("c_e", "lam", "alpha")
-_LAW_OPTION_NAMES = {"law": "--law", "c_e": "--set c_e", "lam": "--set lam", "alpha": "--set alpha",
-                     "damping": "--damping", "F_pre": "--preload", "law_file": "--law-file"}
+
+
+def _set_units() -> dict[str, str]:
+    """Every name ``--set`` accepts, with its unit: the paper's, the Hunt–Crossley ``alpha``, and
+    every registered law's parameters (the registry's, plug-ins included)."""
+    from contactvib.model.laws import law_class, law_names
+
+    units = {**{k: PARAMETER_UNITS[k] for k in PAPER_DEFAULTS}, "c_e": PARAMETER_UNITS["c_e"],
+             "lam": PARAMETER_UNITS["lam"], "alpha": PARAMETER_UNITS["alpha"]}
+    for law in law_names():
+        for p in law_class(law).parameters:
+            units.setdefault(p.name, p.unit)
+    return units
+
+
+#: Every name ``--set`` accepts, with its unit (``SET_NAMES``: the names in that order).
+SET_UNITS = _set_units()
+SET_NAMES = tuple(SET_UNITS)
+_LAW_OPTION_NAMES = {"law": "--law", **{k: f"--set {k}" for k in SET_NAMES if k not in PAPER_DEFAULTS},
+                     "damping": "--damping", "F_pre": "--preload", "law_file": "--law-file",
+                     "law_params": "--set"}
+#: Laws whose parameters are model fields of their own (the rest go into ``law_params``).
+_FIELD_LAWS = ("power", "exponential", "table")
 
 
 def _law_family(overrides: dict) -> dict:
     """The ContactModel keywords of the law options (--law, --law-file, --damping, --preload),
-    each --set checked to belong to the chosen families."""
+    each --set checked to belong to the chosen families; the --set values of a law without model
+    fields of its own are taken out of ``overrides`` into ``law_params``."""
     from contactvib.model.laws import TableLaw
-    from contactvib.model.oscillator import FAMILY_PARAMETERS
+    from contactvib.model.oscillator import family_parameters
 
     opts = LAW_OPTIONS.get() or {}
     law = opts.get("law") or "power"
@@ -77,13 +97,18 @@ def _law_family(overrides: dict) -> dict:
         kw["table"] = checked_option("--law-file", TableLaw.from_csv, law_file)
     if opts.get("preload") is not None:
         kw["preload"] = checked_option("--preload", check_range, "F_pre", opts["preload"], 0.0, True, "N")
+    families = family_parameters()
+    own = families.get(law, ())
     for name in overrides:
-        for family, names in FAMILY_PARAMETERS.items():
-            chosen = family in (law, f"damping {damping}")
-            if name in names and not chosen:
+        if name in own or name in families.get(f"damping {damping}", ()):
+            continue
+        for family, names in families.items():
+            if name in names:
                 flag = "--damping " + family.split()[1] if family.startswith("damping") else "--law " + family
                 now = f"--damping {damping}" if family.startswith("damping") else f"--law {law}"
                 raise InputError(f"--set {name}: a parameter of {flag}, not of {now}")
+    if law not in _FIELD_LAWS:
+        kw["law_params"] = {name: overrides.pop(name) for name in own if name in overrides}
     return kw
 
 
@@ -119,6 +144,14 @@ def parse_model(settings: tuple[str, ...]) -> ContactModel:
             raise InputError(f"--set {name} given twice")
         overrides[name] = parse_number(f"--set {name}", name, value)
     family = _law_family(overrides)
+    if "law_params" in family:
+        family["law_params"] = {**(base.get("law_params") or {}), **family["law_params"]}
+        for name, value in family["law_params"].items():  # each value against its law's own bounds
+            try:
+                ContactModel(**{**base, **family, "law_params": {name: value}})
+            except ParameterError as e:
+                if e.symbol == name:
+                    raise option_error(f"--set {name}", e) from None
     for name, value in overrides.items():
         try:
             ContactModel(**{**base, **family, name: value})
@@ -126,7 +159,8 @@ def parse_model(settings: tuple[str, ...]) -> ContactModel:
             if e.symbol == name:  # the parameter's own range; combinations are checked below
                 raise option_error(f"--set {name}", e) from None
     # a combination out of range (the damping ratio) names every --set the user gave
-    given = " ".join(f"--set {k}={show_value(v)}" for k, v in overrides.items()) or "the paper's parameters"
+    given = " ".join(f"--set {k}={show_value(v)}" for k, v in {**overrides, **family.get("law_params", {})}.items()) \
+        or "the paper's parameters"
     try:
         return ContactModel(**{**base, **family, **overrides})
     except ParameterError as e:
@@ -205,7 +239,7 @@ def scoped_options(var: contextvars.ContextVar, names: tuple[str, ...], f):
 
 def law_options(f):
     """--law, --law-file, --damping, --preload: the contact-law family of ``parse_model``."""
-    from contactvib.model.laws import DAMPING_NAMES, LAW_NAMES
+    from contactvib.model.laws import DAMPING_NAMES, law_class, law_names
 
     f = scoped_options(LAW_OPTIONS, ("law", "law_file", "damping", "preload", "model_file"), f)
     f = click.option("--model", "model_file", default=None, metavar="FILE.json",
@@ -217,9 +251,11 @@ def law_options(f):
                           "(--set alpha [s/m]).")(f)
     f = click.option("--law-file", default=None, metavar="FILE.csv",
                      help="Load-deflection table of --law table: columns deflection_um,load_n from (0, 0).")(f)
-    f = click.option("--law", default="power", show_default=True, type=click.Choice(LAW_NAMES),
-                     help="Contact spring: power S c_n y^m2 (--set c_n, m2), exponential S c_e (exp(y/lam) - 1) "
-                          "(--set c_e [N/m^2], lam [m]) or table (--law-file).")(f)
+    laws = "; ".join(f"{n}: {law_class(n).formula}"
+                     + (f" (--set {', '.join(p.name for p in law_class(n).parameters)})" if law_class(n).parameters
+                        else "") for n in law_names())
+    f = click.option("--law", default="power", show_default=True, type=click.Choice(law_names()),
+                     help=f"Contact spring law: {laws}.")(f)
     return f
 
 
@@ -412,7 +448,7 @@ def operating_point_options(f):
     f = _excitation_family_options(law_options(f))
     f = click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
                      help="Override a model parameter by its symbol: "
-                          + ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" for k in SET_NAMES))(f)
+                          + ", ".join(f"{k} [{u}]" for k, u in SET_UNITS.items()))(f)
     f = click.option("--fe", default="360", show_default=True, metavar="HZ",
                      help="Excitation frequency f_e [Hz], > 0.")(f)
     f = click.option("--pa-newton", default=None, metavar="N",

@@ -93,8 +93,10 @@ def _header(model, exc, no_seeds, max_periods=None, header=True):
             return
         n_seeds = 0 if no_seeds else ballistic_seeds(exc)[0].shape[0]
         if header:
+            u = model.units
+            engages = f" past the contact's engagement at y = {u.y_offset_um:g} um" if u.y_offset_um else ""
             click.echo(f"{excitation_text(exc)}, f_e = {exc.f_e:g} Hz, "
-                       f"f_n0 = {model.f_n0:.1f} Hz, y0 = {model.units.y_um:.4f} um; "
+                       f"f_n0 = {model.f_n0:.1f} Hz, y0 = {u.y_um:.4f} um{engages}; "
                        f"{total - n_seeds} box starts + {n_seeds} seeds")
             if not (model.is_paper_family and model.parameters() == ContactModel().parameters()):
                 click.echo(f"model: {model.describe_law()}, zeta = {model.zeta:.4g}")

@@ -219,6 +219,7 @@ class OrbitProblem:
                                  "Q (no preload, no base motion); continue in f_e instead")
         self.level = excitation.level[1]  # recorded with each point of a branch in f_e
         self.y_um = model.units.y_um
+        self.position_um = model.units.position_um
         self.fn0 = model.f_n0
         if parameter == "f_e":
             lo, hi = settings.fmin_hz / self.fn0, settings.fmax_hz / self.fn0
@@ -359,7 +360,7 @@ class OrbitProblem:
         return Branch(
             branch=branch_id, period=self.k, parameter=self.parameter,
             fe_hz=np.array([r.fe_hz for r in rec]), pa_over_q=np.array([r.pa_over_q for r in rec]),
-            app_um=(xmax - xmin) * self.y_um, ymin_um=xmin * self.y_um, ymax_um=xmax * self.y_um,
+            app_um=(xmax - xmin) * self.y_um, ymin_um=self.position_um(xmin), ymax_um=self.position_um(xmax),
             floquet_multipliers=mu, stable=is_stable(np.max(np.abs(mu), axis=1)), state=u[:, :2].copy(),
             contact_loss_fraction=np.array([r.flight for r in rec]),
             minima_per_period=np.array([r.minima_per_period for r in rec], int), arclength=arc,

@@ -22,6 +22,7 @@ from bokeh.plotting import figure
 from contactvib.explore.level_graph import GRAPH_TIME_LIMIT_S, LevelRun, sweep_level
 from contactvib.explore.state import (
     DEFAULTS,
+    LAW_PARAMETERS,
     MODEL_FIELDS,
     TIME_LIMIT_S,
     BadInput,
@@ -39,7 +40,8 @@ log = logging.getLogger("contactvib.explore")
 _LABELS = {"pa": "P_a [Q]", "fe": "f_e [Hz]", "M": "M [kg]", "g": "g [m/s²]", "S": "S [m²]",
            "c_n": "c_n [N/m^(2+m2)]", "m2": "m2 [1]", "h_n": "h_n [N s/m^(3+l)]", "l": "l [1]",
            "law": "contact law (--law)", "damping": "damping (--damping)", "preload": "preload F_pre [N]",
-           "c_e": "c_e [N/m²]", "lam": "lam [m]", "alpha": "alpha [s/m]"}
+           "alpha": "alpha [s/m]", **{k: f"{k} [{u}]" for k, (u, _d) in LAW_PARAMETERS.items()},
+           "c_e": "c_e [N/m²]"}
 #: The page's choosers (Select widgets); every other field is typed.
 _CHOOSERS = ("law", "damping")
 _EXECUTOR = ThreadPoolExecutor(max_workers=2, thread_name_prefix="contactvib-explore")

@@ -15,18 +15,23 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib.errors import ContactvibError
-from contactvib.model.laws import DAMPING_NAMES, EXPONENTIAL_DEFAULTS, HUNT_CROSSLEY_DEFAULT, LAW_NAMES
-from contactvib.model.oscillator import FAMILY_PARAMETERS, PAPER_DEFAULTS
+from contactvib.model.laws import DAMPING_NAMES, HUNT_CROSSLEY_DEFAULT, law_class, law_names
+from contactvib.model.oscillator import PAPER_DEFAULTS, family_parameters
 
+#: Every registered law's parameters (plug-ins included) but the power law's, which are the
+#: model's own fields: (name, unit, default), the first law to declare a name giving its default.
+LAW_PARAMETERS = {p.name: (p.unit, p.default) for n in law_names() if n != "power"
+                  for p in reversed(law_class(n).parameters)}
 #: The contact-law fields: the law and damping choosers (the CLI's ``--law``, ``--damping``),
-#: the preload [N] (``--preload``, 0: none) and the parameters of the other families
-#: (``--set c_e``, ``lam``, ``alpha``) at the library's defaults.
+#: the preload [N] (``--preload``, 0: none) and the parameters of the other laws and of the
+#: Hunt–Crossley damping (``--set c_e``, ``lam``, ``c_lin``, ``gap_um``, …, ``alpha``) at their
+#: defaults.
 LAW_DEFAULTS = {"law": "power", "damping": "power", "preload": "0",
-                **{k: f"{v:g}" for k, v in EXPONENTIAL_DEFAULTS.items()}, "alpha": f"{HUNT_CROSSLEY_DEFAULT:g}"}
+                **{k: f"{d:g}" for k, (_u, d) in LAW_PARAMETERS.items()}, "alpha": f"{HUNT_CROSSLEY_DEFAULT:g}"}
 #: Text fields of the page (P_a/Q, f_e, the model parameters and the law fields) with their defaults.
 DEFAULTS = {"pa": "0.65", "fe": "360", **{k: f"{v:g}" for k, v in PAPER_DEFAULTS.items()}, **LAW_DEFAULTS}
 #: The model parameters the page may pass as ``--set`` (the CLI's ``SET_NAMES``), in its order.
-MODEL_FIELDS = (*PAPER_DEFAULTS, "c_e", "lam", "alpha")
+MODEL_FIELDS = (*PAPER_DEFAULTS, *LAW_PARAMETERS, "alpha")
 #: Default time limit of one computation [s].
 TIME_LIMIT_S = 30.0
 
@@ -64,7 +69,7 @@ class Point:
 
     def law_choices(self) -> tuple[str, ...]:
         """The laws the page offers: power, exponential, and table with a ``law_file``."""
-        return LAW_NAMES if self.law_file is not None else tuple(n for n in LAW_NAMES if n != "table")
+        return law_names() if self.law_file is not None else tuple(n for n in law_names() if n != "table")
 
     def query(self) -> dict[str, str]:
         """URL query parameters of the fields that differ from the defaults."""
@@ -74,7 +79,8 @@ class Point:
         """The model fields of the chosen law and damping: M, g, S (every law's), the spring's, the
         damping's."""
         law, damping = self.fields["law"].strip(), self.fields["damping"].strip()
-        return ("M", "g", "S", *FAMILY_PARAMETERS.get(law, ()), *FAMILY_PARAMETERS.get(f"damping {damping}", ()))
+        families = family_parameters()
+        return ("M", "g", "S", *families.get(law, ()), *families.get(f"damping {damping}", ()))
 
     def settings(self) -> tuple[str, ...]:
         """The model fields of the chosen families that differ from their defaults, as the CLI's

@@ -173,7 +173,8 @@ def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
             mult = np.linalg.eigvals(out_M).astype(complex)
             closure = float(np.max(np.abs(out_z - z)) / state_scale(z[0], z[1]))
     return HBSolution(fe_hz=fe, pa_over_q=exc_pa, harmonics=aft.H, app_um=(hi - lo) * y0_um,
-                      ymin_um=lo * y0_um, ymax_um=hi * y0_um, loses_contact=bool(lo < 0.0),
+                      ymin_um=model.units.position_um(lo), ymax_um=model.units.position_um(hi),
+                      loses_contact=bool(lo < 0.0),
                       top_energy_fraction=top_fraction(X), residual=res,
                       floquet_multipliers=mult, closure=closure, y0_um=y0_um,
                       coefficients=X.copy())

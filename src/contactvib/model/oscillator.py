@@ -30,16 +30,17 @@ from contactvib.model.contact_law import PowerLaw
 from contactvib.model.excitation import Excitation
 from contactvib.model.laws import (
     DAMPING_NAMES,
-    EXPONENTIAL_DEFAULTS,
+    DAMPING_PARAMETERS,
     HUNT_CROSSLEY_DEFAULT,
-    LAW_NAMES,
-    ExponentialLaw,
     PowerSpring,
+    SpringLaw,
     TableLaw,
+    law_class,
+    law_parameter_names,
 )
 from contactvib.model.units import Units
 
-__all__ = ["ContactModel", "Excitation", "PAPER_DEFAULTS", "PARAMETER_UNITS", "ZETA_MAX"]
+__all__ = ["ContactModel", "Excitation", "PAPER_DEFAULTS", "PARAMETER_UNITS", "ZETA_MAX", "family_parameters"]
 
 #: The paper's parameters (Section 2): SI units.
 PAPER_DEFAULTS = {
@@ -67,9 +68,15 @@ PARAMETER_UNITS = {
     "preload": "N",
 }
 
-#: The model parameters a ``--set`` may name, by family (``M``, ``g``, ``S`` belong to every law).
-FAMILY_PARAMETERS = {"power": ("c_n", "m2"), "exponential": ("c_e", "lam"), "table": (),
-                     "damping power": ("h_n", "l"), "damping hunt-crossley": ("alpha",)}
+
+
+def family_parameters() -> dict[str, tuple[str, ...]]:
+    """The model parameters a ``--set`` may name, by family: each registered law's (by its name)
+    and each damping family's (``"damping power"``, ``"damping hunt-crossley"``); ``M``, ``g``,
+    ``S`` belong to every law."""
+    return {**law_parameter_names(), **{f"damping {k}": v for k, v in DAMPING_PARAMETERS.items()}}
+
+
 #: Largest preload F_pre as a multiple of Q (guideways are preloaded by a few Q).
 PRELOAD_MAX_Q = 1e3
 
@@ -117,6 +124,22 @@ class ContactModel:
         Contact damping coefficient [N s/m^(3+l)], ≥ 0.
     l : float
         Damping exponent [1], ≥ 0.
+    law : str or SpringLaw
+        The spring law: a registered name (``contactvib.model.laws.law_names()``: power,
+        exponential, table, clearance and any plug-in) or a law object.
+    c_e, lam : float, optional
+        The exponential law's parameters (also accepted in ``law_params``).
+    table : TableLaw, optional
+        The table law's curve.
+    damping : str
+        ``"power"`` (h_n, l) or ``"hunt-crossley"`` (alpha).
+    alpha : float, optional
+        Hunt–Crossley coefficient [s/m].
+    preload : float
+        Constant normal force F_pre [N] added to the weight.
+    law_params : dict, optional
+        The parameters of any other law by name, e.g. ``{"c_lin": 2e10, "gap_um": 1.0}`` for
+        ``law="clearance"``; checked against the law's bounds.
 
     Examples
     --------
@@ -139,7 +162,8 @@ class ContactModel:
     damping: str = "power"
     alpha: float | None = None
     preload: float = 0.0
-    _checked: bool = field(default=False, repr=False, compare=False)
+    law_params: object = None
+    _spring: object = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         self._normalise_family()
@@ -168,38 +192,51 @@ class ContactModel:
                 f"alpha <= {self.alpha * ZETA_MAX / self.zeta:.3g} s/m")
 
     def _normalise_family(self) -> None:
-        """The law and damping families by name, their parameters filled in and checked."""
+        """The law (by name from the registry, or a law object) and damping family, their
+        parameters filled in and checked; the law object is kept for :attr:`spring_law`."""
         law = self.law
-        if isinstance(law, ExponentialLaw):
-            object.__setattr__(self, "c_e", law.c_e)
-            object.__setattr__(self, "lam", law.lam)
-            law = "exponential"
-        elif isinstance(law, TableLaw):
-            object.__setattr__(self, "table", law)
-            law = "table"
-        if law not in LAW_NAMES:
-            raise ParameterError("law", law, f"must be one of {', '.join(LAW_NAMES)} (or an ExponentialLaw, "
-                                             "a TableLaw)")
-        object.__setattr__(self, "law", law)
-        if law == "exponential":
-            for name in ("c_e", "lam"):
-                v = EXPONENTIAL_DEFAULTS[name] if getattr(self, name) is None else getattr(self, name)
-                object.__setattr__(self, name, check_range(name, v, 0.0, False, PARAMETER_UNITS[name]))
+        params = dict(self.law_params or {}) if not isinstance(self.law_params, tuple) else dict(self.law_params)
+        if isinstance(law, SpringLaw):
+            if params:
+                raise ParameterError("law_params", params, "give the law's parameters to the law object, not both")
+            obj, law = law, law.name
         else:
-            for name in ("c_e", "lam"):
-                if getattr(self, name) is not None:
-                    raise ParameterError(name, getattr(self, name), f"is a parameter of the exponential law, "
-                                                                    f"not of the {law} law (--law exponential)")
+            obj = None
+            law_class(law)  # unknown names: ParameterError listing the known laws
+        legacy = {k: getattr(self, k) for k in ("c_e", "lam") if getattr(self, k) is not None}
+        if law == "exponential":
+            params = {**params, **legacy}
+        elif legacy:
+            name, value = next(iter(legacy.items()))
+            raise ParameterError(name, value, f"is a parameter of the exponential law, not of the {law} law "
+                                              "(--law exponential)")
         if law == "table":
-            t = self.table
+            t = obj if obj is not None else self.table
             if isinstance(t, dict):
                 t = TableLaw.from_dict(t)
             if not isinstance(t, TableLaw):
                 raise ParameterError("law_file", t, "the table law needs a table (TableLaw, --law-file FILE.csv)")
-            object.__setattr__(self, "table", t)
+            obj = t
         elif self.table is not None:
             raise ParameterError("law_file", getattr(self.table, "source", self.table),
                                  f"a table belongs to the table law, not to the {law} law (--law table)")
+        if law in ("power", "table") and params:
+            name, value = next(iter(params.items()))
+            known = "c_n, m2 (the model's own)" if law == "power" else "none (--law-file)"
+            raise ParameterError(name, value, f"unknown parameter of the {law} law; known: {known}")
+        if obj is None and law not in ("power", "table"):
+            obj = law_class(law)(**params)
+        if obj is not None and tuple(obj.kinks()) != (0.0,):
+            raise ParameterError("law", law, f"has kinks at deflections {tuple(obj.kinks())} m: the integrators locate "
+                                             "only the engagement point (0,)")
+        if law == "exponential":
+            object.__setattr__(self, "c_e", obj.c_e)
+            object.__setattr__(self, "lam", obj.lam)
+        object.__setattr__(self, "table", obj if law == "table" else None)
+        object.__setattr__(self, "law", law)
+        own = law not in ("power", "exponential", "table")
+        object.__setattr__(self, "law_params", tuple(obj.values().items()) if own else None)
+        object.__setattr__(self, "_spring", obj)
         if self.damping not in DAMPING_NAMES:
             raise ParameterError("damping", self.damping, f"must be one of {', '.join(DAMPING_NAMES)}")
         if self.damping == "hunt-crossley":
@@ -254,13 +291,17 @@ class ContactModel:
         """The model's parameters, SI units, by symbol (JSON-able; ``ContactModel(**p)`` rebuilds it).
 
         The paper's family gives the seven paper symbols; another law adds ``law`` and its own
-        parameters (``c_e``, ``lam``; ``table`` with its rows and content hash), Hunt–Crossley
+        parameters (``c_e``, ``lam``; ``table`` with its rows and content hash; any other law's
+        as ``law_params``, a dict by the names of its ``--set``), Hunt–Crossley
         damping ``damping`` and ``alpha``, a preload ``preload`` [N]."""
         p = {name: getattr(self, name) for name in PAPER_DEFAULTS}
         if self.law != "power":
             del p["c_n"], p["m2"]
             p["law"] = self.law
-            p.update(self.spring_law.parameters())
+            if self.law_params is not None:
+                p["law_params"] = dict(self.law_params)
+            else:
+                p.update(self.spring_law.values())
         if self.damping != "power":
             del p["h_n"], p["l"]
             p["damping"] = self.damping
@@ -275,7 +316,7 @@ class ContactModel:
             return ", ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}" for k, v in d.items())
         law = (f"table law ({self.table.source}, {self.table.deflection_m.size} rows, sha256 "
                f"{self.table.sha256[:12]})" if self.law == "table" else
-               f"{self.law} law ({fmt(self.spring_law.parameters())})")
+               f"{self.law} law ({fmt(self.spring_law.values())})")
         damp = (f"power damping (h_n = {self.h_n:.4g}, l = {self.l:g})" if self.damping == "power"
                 else f"Hunt-Crossley damping (alpha = {self.alpha:.4g} s/m)")
         pre = f", preload {self.preload:.4g} N" if self.preload else ""
@@ -293,13 +334,11 @@ class ContactModel:
         return self.Q + self.preload
 
     @property
-    def spring_law(self):
-        """The spring family as an object (``contactvib.model.laws``)."""
-        if self.law == "exponential":
-            return ExponentialLaw(self.c_e, self.lam)
-        if self.law == "table":
-            return self.table
-        return PowerSpring(self.c_n, self.m2)
+    def spring_law(self) -> SpringLaw:
+        """The spring law as an object of the registry (``contactvib.model.laws``)."""
+        if self._spring is None:  # the power law: its parameters are the model's own c_n, m2
+            object.__setattr__(self, "_spring", PowerSpring(self.c_n, self.m2))
+        return self._spring
 
     @cached_property
     def y0(self) -> float:
@@ -353,8 +392,9 @@ class ContactModel:
 
     @property
     def units(self) -> Units:
-        """Factors from the kernels' x = y/y0, x' and τ = ω_n0 t to µm, mm/s and ms."""
-        return Units.of(self.y0, self.omega_n0)
+        """Factors from the kernels' x = δ/y0, x' and τ = ω_n0 t to µm, mm/s and ms (with the
+        law's engagement point as the offset of positions: y = y_e + x y0)."""
+        return Units.of(self.y0, self.omega_n0, self.spring_law.engagement_m)
 
     def superharmonic_frequencies(self, m_max: int = 6) -> np.ndarray:
         """Estimates f_n0/m [Hz] of the 1/m resonances, m = 1..m_max (Eq. 2.6).
@@ -373,15 +413,15 @@ class ContactModel:
         return PowerLaw(self.m2, self.l)
 
     def spring_force(self, y):
-        """Spring force F_s(y) = −S c_n y^m2 for y > 0, else 0 [N] (Eq. 2.3; the spring family's
-        F_s for the other laws); y in m.
+        """Spring force F_s(y) = −S c_n y^m2 for y > 0, else 0 [N] (Eq. 2.3; the spring law's
+        F_s(y − y_e) for the other laws, y_e its engagement point); y in m.
 
-        Evaluated by the compiled contact law: ``F_s = −W f_s(y/y0)`` since ``F_s(y0) = W``.
+        Evaluated by the compiled contact law: ``F_s = −W f_s((y − y_e)/y0)`` since ``F_s(y0) = W``.
         """
         y = np.asarray(y, dtype=float)
         from contactvib._kernels.contact import contact_force_array
 
-        x = np.ascontiguousarray(y / self.y0, dtype=float).ravel()
+        x = np.ascontiguousarray((y - self.spring_law.engagement_m) / self.y0, dtype=float).ravel()
         f, fx, fv = np.empty_like(x), np.empty_like(x), np.empty_like(x)
         par = self.excitation(0.0, self.f_n0).kernel_parameters()
         par[2] = 0.0  # no damping
@@ -411,9 +451,10 @@ class ContactModel:
                                  "resonance for this excitation")
 
     def check_motion(self, y_max_um: float, what: str = "the motion") -> None:
-        """Refuse (ParameterError ``law_file``) a deflection beyond a table law's last row."""
-        if self.law == "table":
-            self.table.check_deflection(y_max_um * 1e-6, what)
+        """Refuse (ParameterError) a largest position ``y_max_um`` [µm] beyond the law's range of
+        validity (a table law's last row, a tabulated law's extent)."""
+        if self.law != "power":
+            self.spring_law.check_motion(y_max_um * 1e-6 - self.spring_law.engagement_m, self.y0, what)
 
     # ----------------------------------------------------------------- kernel interface
     def excitation(self, pa_over_q: float, f_e: float, harmonics=()) -> Excitation:

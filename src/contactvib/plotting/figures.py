@@ -46,14 +46,15 @@ def set_margins(fig, left: float, right: float, bottom: float, top: float, wspac
                         wspace=wspace, hspace=hspace)
 
 
-def mark_equilibrium_and_gap(ax, t_ms, y_um, y0_um: float, gap) -> None:
-    """On a y(t) panel: the equilibrium y0 dashed, y = 0 thin, and the samples in flight
-    (``gap``, boolean) shaded down from 0 (every time-history panel of the package)."""
+def mark_equilibrium_and_gap(ax, t_ms, y_um, y0_um: float, gap, engagement_um: float = 0.0) -> None:
+    """On a y(t) panel: the equilibrium y0 dashed, the engagement point y = y_e thin (0 but for a
+    law with a clearance), and the samples in flight (``gap``, boolean) shaded down from it
+    (every time-history panel of the package)."""
     ax.axhline(y0_um, color="0.4", ls="--", lw=0.8, label="equilibrium $y_0$")
-    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.axhline(engagement_um, color="0.6", lw=0.6)
     if gap.any():
-        lo = min(float(y_um.min()), 0.0)
-        ax.fill_between(t_ms, lo, 0.0, where=gap, color="tab:red", alpha=0.15, step="mid",
+        lo = min(float(y_um.min()), engagement_um)
+        ax.fill_between(t_ms, lo, engagement_um, where=gap, color="tab:red", alpha=0.15, step="mid",
                         label="loss of contact")
 
 
@@ -65,7 +66,8 @@ def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
     if history.base_um is not None:  # base motion: the slider's absolute motion and the base's
         ax.plot(history.t_ms, history.slider_um, color="tab:blue", lw=0.9, label="slider, absolute: s = y + u")
         ax.plot(history.t_ms, history.base_um, color="tab:green", lw=0.7, ls=":", label="base u(t)")
-    mark_equilibrium_and_gap(ax, history.t_ms, history.y_um, history.y0_um, ~history.in_contact)
+    mark_equilibrium_and_gap(ax, history.t_ms, history.y_um, history.y0_um, ~history.in_contact,
+                             history.engagement_um)
     ax.set_xlabel("t [ms]")
     ax.set_ylabel("y [µm]" if history.base_um is None else "y, s, u [µm]")
     ax.legend(loc="best", fontsize=7, frameon=False)
@@ -73,10 +75,13 @@ def plot_time_history(history: TimeHistory, ax=None, label: str | None = None):
 
 
 def plot_phase_portrait(history: TimeHistory, ax=None):
-    """Phase portrait ẏ [mm/s] against y [µm]; the contact boundary y = 0 dotted."""
+    """Phase portrait ẏ [mm/s] against y [µm]; the contact boundary y = y_e dotted (y_e = 0 but
+    for a law with a clearance)."""
     ax = axes_or_new(ax)
     ax.plot(history.y_um, history.ydot_mm_s, color="k", lw=0.9)
-    ax.axvline(0.0, color="tab:red", ls=":", lw=0.8, label="y = 0 (contact boundary)")
+    y_e = history.engagement_um
+    ax.axvline(y_e, color="tab:red", ls=":", lw=0.8,
+               label="y = 0 (contact boundary)" if y_e == 0.0 else f"y = {y_e:g} µm (contact boundary)")
     ax.plot([history.y0_um], [0.0], "+", color="0.3", ms=8, label="equilibrium")
     ax.set_xlabel("y [µm]")
     ax.set_ylabel("dy/dt [mm/s]")
@@ -224,7 +229,9 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     Minima grey, maxima black, the extrema of sub-/ultrasubharmonic bouncing orbits light blue;
     the y axis is linear within ±``linthresh_um`` and logarithmic
     beyond (symlog), so the small superharmonic loops and the large main-resonance orbits show
-    together; y < 0 is loss of contact.
+    together; y < 0 is loss of contact. For a law with a clearance (the dataset's attribute
+    ``engagement_um`` = y_e) the extrema are drawn as the contact deflection y − y_e, so that
+    the symlog axis is centred where the contact engages.
     """
 
     ax = axes_or_new(ax)
@@ -236,7 +243,8 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     f_rep = np.repeat(fe, ne)
     bouncing = np.repeat([str(x).startswith(("subharmonic", "ultrasubharmonic"))
                           for x in ds["resonance"].values[sel]], ne)
-    y = ds["extremum_y_um"].values[idx]
+    y_e = float(ds.attrs.get("engagement_um", 0.0))
+    y = ds["extremum_y_um"].values[idx] - y_e if y_e else ds["extremum_y_um"].values[idx]
     is_min = ds["extremum_is_min"].values[idx].astype(bool)
     ax.plot(f_rep[bouncing], y[bouncing], ",", color="#9ecae1", rasterized=True)
     ax.plot(f_rep[is_min & ~bouncing], y[is_min & ~bouncing], ",", color="0.55", rasterized=True)
@@ -247,7 +255,7 @@ def extrema_diagram(ds, pa_over_q: float, ax=None, linthresh_um: float = 1.0):
     ax.axhline(0.0, color="tab:red", lw=0.5, ls=":")
     ax.set_yscale("symlog", linthresh=linthresh_um)
     ax.set_xlabel("$f_e$ [Hz]")
-    ax.set_ylabel("local extrema of y [µm]")
+    ax.set_ylabel("local extrema of y [µm]" if not y_e else f"local extrema of y − y_e [µm] (y_e = {y_e:g} µm)")
     ax.set_title(level_title(ds, pa_over_q), fontsize=9)
     ax.legend(loc="upper right", fontsize=7, frameon=False, markerscale=1)
     return ax

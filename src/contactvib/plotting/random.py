@@ -21,7 +21,7 @@ def plot_random_history(resp: RandomResponse, ax=None, span_ms: float = HISTORY_
     t = resp.t_ms
     sel = t <= t[0] + span_ms
     ax.plot(t[sel], resp.y_um[sel], color="k", lw=0.6)
-    mark_equilibrium_and_gap(ax, t[sel], resp.y_um[sel], resp.y0_um, resp.y_um[sel] <= 0.0)
+    mark_equilibrium_and_gap(ax, t[sel], resp.y_um[sel], resp.y0_um, ~resp.in_contact[sel], resp.engagement_um)
     ax.set_xlabel("t [ms]")
     ax.set_ylabel("y [µm]")
     ax.set_title(f"RMS {resp.rms_um:.3g} µm about the mean {resp.mean_um:.3g} µm", fontsize=8)

@@ -63,7 +63,7 @@ def default_box(model: ContactModel, excitation: Excitation) -> tuple[tuple[floa
     with x ∈ [1 − a, 1 + a], x' ∈ [−a, a], a = 2 + 10 P_a/Q."""
     a = box_half_width(excitation)
     u = model.units
-    return ((1.0 - a) * u.y_um, (1.0 + a) * u.y_um), (-a * u.ydot_mm_s, a * u.ydot_mm_s)
+    return (u.position_um(1.0 - a), u.position_um(1.0 + a)), (-a * u.ydot_mm_s, a * u.ydot_mm_s)
 
 
 def check_basins(grid, box, kmax, max_periods, n_starts=512, seed=0):
@@ -143,7 +143,7 @@ def basin_block(model: ContactModel, excitation: Excitation, search: AttractorSe
     ys, vs = grid_axes(grid, box)
     r0, r1 = rows
     u = model.units
-    X, V = np.meshgrid(ys / u.y_um, vs[r0:r1] / u.ydot_mm_s)
+    X, V = np.meshgrid(u.state(ys, 0.0)[0], vs[r0:r1] / u.ydot_mm_s)
     Z = np.column_stack([X.ravel(), V.ravel()])
     groups = _known_groups(excitation, search)
     n_known = len(groups)

@@ -113,7 +113,7 @@ def slider_app_um(excitation: Excitation, z_or_records, n_periods: int) -> float
     rec = record(excitation, z_or_records, n_periods)[0] if np.ndim(z_or_records) == 1 else z_or_records
     tau = np.linspace(0.0, n_periods * excitation.tau_period, n_periods * SLIDER_SAMPLES + 1)
     xs, _v, _c = sample_records(rec, tau)
-    s = xs * excitation.model.units.y_um + excitation.base_amplitude_um * np.cos(excitation.r * tau)
+    s = excitation.model.units.position_um(xs) + excitation.base_amplitude_um * np.cos(excitation.r * tau)
     return float(s.max() - s.min())
 
 
@@ -150,16 +150,16 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         kind=kind,
         minima_per_period=minima,
         app_um=(xmax - xmin) * u.y_um,
-        ymin_um=xmin * u.y_um,
-        ymax_um=xmax * u.y_um,
+        ymin_um=u.position_um(xmin),
+        ymax_um=u.position_um(xmax),
         loses_contact=bool(xmin < 0.0),
         contact_loss_fraction=float(flight),
         basin_fraction=float(basin_fraction),
         floquet_multipliers=np.asarray(multipliers, complex),
-        strobe_y_um=strobe[:, 0] * u.y_um,
+        strobe_y_um=u.position_um(strobe[:, 0]),
         strobe_ydot_mm_s=strobe[:, 1] * u.ydot_mm_s,
         extrema_t_ms=t_ext * u.t_ms,
-        extrema_y_um=x_ext * u.y_um,
+        extrema_y_um=u.position_um(x_ext),
         extrema_is_min=np.asarray(is_min, bool),
         closure=float(closure),
         hits=int(hits),

@@ -202,11 +202,12 @@ class RandomResponse:
     f_n0_hz: float
     discard_s: float
     n_batches: int
+    engagement_um: float = 0.0
 
     @property
     def in_contact(self) -> np.ndarray:
-        """True where y > 0."""
-        return self.y_um > 0.0
+        """True where the contact is deflected (y > y_e, the law's engagement point)."""
+        return self.y_um > self.engagement_um
 
     @property
     def mean_force_deviation(self) -> float:
@@ -338,11 +339,12 @@ def _raise_status(st: int, tau: float) -> None:
 
 
 def contact_force_n(model: ContactModel, y_um, ydot_mm_s) -> np.ndarray:
-    """Contact force R = F_s + F_d [N] at y [µm], ẏ [mm/s]: 0 in flight (y ≤ 0); F_s from
-    :meth:`ContactModel.spring_force`, F_d = S h_n y^l ẏ (power) or α F_s ẏ (Hunt–Crossley)."""
+    """Contact force R = F_s + F_d [N] at y [µm], ẏ [mm/s]: 0 in flight (δ = y − y_e ≤ 0); F_s from
+    :meth:`ContactModel.spring_force`, F_d = S h_n δ^l ẏ (power) or α F_s ẏ (Hunt–Crossley)."""
     y = np.asarray(y_um, dtype=float) * 1e-6
     v = np.asarray(ydot_mm_s, dtype=float) * 1e-3
     fs = -model.spring_force(y)
+    y = y - model.spring_law.engagement_m
     yc = np.where(y > 0.0, y, 0.0)
     if model.damping == "hunt-crossley":
         fd = model.alpha * fs * v
@@ -401,12 +403,13 @@ def random_response(model: ContactModel, force: RandomForce, duration_s: float =
     t_s = discard_s + dt_s * np.arange(n)
     xs, vs = _integrate(force.kernel_parameters(model), discard_s * w, t_s[-1] * w, t_s * w, rtol)
     u = model.units
-    y_um, ydot = xs * u.y_um, vs * u.ydot_mm_s
+    y_um, ydot = u.position_um(xs), vs * u.ydot_mm_s
     R = contact_force_n(model, y_um, ydot)
     mean, rms, psd_f, psd, edges, pdf, mean_R, err = _statistics(y_um, R, dt_s, n_batches, bins)
     return RandomResponse(
         t_ms=t_s * 1e3, y_um=y_um, ydot_mm_s=ydot, force_n=force.force_n(t_s), contact_force_n=R,
         rms_um=rms, mean_um=mean, psd_f_hz=psd_f, psd_um2_hz=psd,
-        contact_loss_probability=float(np.mean(y_um <= 0.0)), pdf_edges_n=edges, pdf_per_n=pdf,
+        contact_loss_probability=float(np.mean(xs <= 0.0)), pdf_edges_n=edges, pdf_per_n=pdf,
         mean_contact_force_n=mean_R, mean_contact_force_err_n=err, static_load_n=model.W, force=force,
-        y0_um=u.y_um, f_n0_hz=model.f_n0, discard_s=discard_s, n_batches=n_batches)
+        y0_um=u.y_static_um, f_n0_hz=model.f_n0, discard_s=discard_s, n_batches=n_batches,
+        engagement_um=u.y_offset_um)

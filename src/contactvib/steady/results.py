@@ -25,13 +25,16 @@ class TimeHistory:
     t_ms : ndarray
         Time [ms] from the start of the record (phase 0 of the excitation at t = 0).
     y_um : ndarray
-        Displacement y [µm] (y > 0 contact deflection, y < 0 gap).
+        Displacement y [µm] (y > y_e contact deflection, y < y_e gap; y_e = 0 but for a law with
+        a clearance).
     ydot_mm_s : ndarray
         Velocity ẏ [mm/s].
     in_contact : ndarray of bool
-        True where y > 0.
+        True where y > y_e (the contact's deflection is positive).
     y0_um : float
-        Static deflection [µm], the equilibrium.
+        Static equilibrium position [µm] (the static deflection for y_e = 0).
+    engagement_um : float
+        y_e [µm], where the contact engages (0 but for a law with a clearance).
     fe_hz : float
         Excitation frequency [Hz].
     pa_over_q : float
@@ -51,6 +54,7 @@ class TimeHistory:
     pa_over_q: float
     base_um: np.ndarray | None = None
     level: str = ""
+    engagement_um: float = 0.0
 
     @property
     def slider_um(self) -> np.ndarray:

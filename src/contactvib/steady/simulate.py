@@ -33,10 +33,11 @@ def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
     sym, val, unit = excitation.level
     return TimeHistory(
         t_ms=tau * u.t_ms,
-        y_um=x * u.y_um,
+        y_um=u.position_um(x),
         ydot_mm_s=v * u.ydot_mm_s,
         in_contact=x > 0.0,
-        y0_um=u.y_um,
+        y0_um=u.y_static_um,
+        engagement_um=u.y_offset_um,
         fe_hz=excitation.f_e,
         pa_over_q=excitation.pa_over_q,
         base_um=None if U is None else U * np.cos(excitation.r * tau),
@@ -59,8 +60,8 @@ def check_start(model: ContactModel, y_um, ydot_mm_s, n_periods, samples_per_per
     history must fit in :data:`~contactvib.model.checks.MEMORY_MAX`."""
     u = model.units
     ymax, vmax = STATE_MAX * u.y_um, STATE_MAX * u.ydot_mm_s
-    y_um = u.y_um if y_um is None else check_range("y", y_um, -ymax, True, "um (|y| <= 1e6 y0)",
-                                                  upper=ymax)
+    y_um = u.y_static_um if y_um is None else check_range("y", y_um, u.y_offset_um - ymax, True,
+                                                          "um (|y - y_e| <= 1e6 y0)", upper=u.y_offset_um + ymax)
     ydot_mm_s = check_range("ydot", ydot_mm_s, -vmax, True, "mm/s (|ydot| <= 1e6 y0 omega_n0)",
                             upper=vmax)
     n_periods = check_int("n_periods", n_periods, 1)

@@ -129,9 +129,9 @@ def _ragged_variables(rows, units) -> dict:
         "strobe_start": ("point", np.concatenate([[0], np.cumsum(n_str)[:-1]]).astype(np.int64)),
         "strobe_count": ("point", n_str.astype(np.int64)),
         "extremum_t_ms": ("extremum", rows.ext_t[mask] * units.t_ms, {"units": "ms"}),
-        "extremum_y_um": ("extremum", rows.ext_x[mask] * units.y_um, {"units": "um"}),
+        "extremum_y_um": ("extremum", units.position_um(rows.ext_x[mask]), {"units": "um"}),
         "extremum_is_min": ("extremum", rows.ext_min[mask].astype(np.int8), {"units": "1"}),
-        "strobe_y_um": ("strobe", sp[..., 0][smask] * units.y_um, {"units": "um"}),
+        "strobe_y_um": ("strobe", units.position_um(sp[..., 0][smask]), {"units": "um"}),
         "strobe_ydot_mm_s": ("strobe", sp[..., 1][smask] * units.ydot_mm_s, {"units": "mm/s"}),
     }
 
@@ -215,8 +215,8 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "period": ("point", k, {"units": "excitation periods", "comment": "0 = non-periodic"}),
         "minima_per_period": ("point", nmin, {"units": "1", "comment": "-1 = non-periodic"}),
         "app_um": ("point", app, {"units": "um", "long_name": "peak-to-peak amplitude y_max - y_min"}),
-        "ymin_um": ("point", rows.xmin * u.y_um, {"units": "um"}),
-        "ymax_um": ("point", rows.xmax * u.y_um, {"units": "um"}),
+        "ymin_um": ("point", u.position_um(rows.xmin), {"units": "um"}),
+        "ymax_um": ("point", u.position_um(rows.xmax), {"units": "um"}),
         "loses_contact": ("point", loses.astype(np.int8), {"units": "1", "comment": "1 where y < 0 on the orbit"}),
         "contact_loss_fraction": ("point", rows.flight,
                                   {"units": "1", "long_name": "fraction of the period with y < 0"}),
@@ -238,7 +238,7 @@ def level_dataset(model: ContactModel, level, settings: dict):
         "origin": ("point", np.array([status_message(o, "origin") for o in rows.origin], dtype=object)),
         "found_by": ("point", found_by, {"comment": "root of the trace that first reached the point: "
                                                     "sweep / perturbation seed / multi-start / continuation"}),
-        "state_y_um": ("point", rows.z[:, 0] * u.y_um, {"units": "um"}),
+        "state_y_um": ("point", u.position_um(rows.z[:, 0]), {"units": "um"}),
         "state_ydot_mm_s": ("point", rows.z[:, 1] * u.ydot_mm_s, {"units": "mm/s"}),
         "harmonics_um": (("point", "harmonic"), rows.harm * u.y_um,
                          {"units": "um", "comment": "one-sided amplitude at j f_e / period, j = 1.."}),
@@ -261,6 +261,10 @@ def level_dataset(model: ContactModel, level, settings: dict):
     if attrs:
         for name in ("branch_pa_over_q", "trace_pa_over_q"):
             ds[name].attrs["units"] = attrs["level_unit"]
+    if model.units.y_offset_um:  # a law with a clearance: where the contact engages
+        ds.attrs["engagement_um"] = model.units.y_offset_um
+        ds.attrs["conventions"] = "y > engagement_um contact deflection, below it a gap; ragged extrema/strobe " \
+                                  "via *_start/*_count"
     return ds
 
 

@@ -1,134 +1,38 @@
-"""Contact-law families (SI): the spring part F_s(y) and the damping part of the contact force.
-
-Every family keeps the paper's convention: ``y > 0`` is the contact deflection, the force acts
-only while ``y > 0``, nothing acts in flight. The static point ``y0`` solves
-``F_s(y0) = W = Q + F_pre`` (weight plus preload), the linear stiffness is ``k = F_s'(y0)``.
-
-Spring families
----------------
-* :class:`PowerSpring` — ``F_s = S c_n y^m2`` (Kostek 2013, Eq. 2.3; the default).
-* :class:`ExponentialLaw` — ``F_s = S c_e (exp(y/λ) − 1)``: rough surfaces with exponentially
-  distributed asperity heights; ``k = (W + S c_e)/λ``.
-* :class:`TableLaw` — a measured or computed static load–deflection curve, interpolated by PCHIP
-  (Fritsch–Carlson monotone cubic Hermite): monotone and shape-preserving, so the interpolated
-  stiffness is never negative and has no overshoot between rows, and C¹, so the stiffness that
-  the Jacobian and the Floquet multipliers use is continuous. Beyond the last row the curve is
-  continued linearly with the last stiffness; results whose motion goes there are refused
-  (:meth:`TableLaw.check_deflection`).
-
-Damping families (the coefficient in contact, ``F_d = c_d(y) ẏ``)
------------------------------------------------------------------
-* ``"power"`` — ``S h_n y^l ẏ`` (the paper's);
-* ``"hunt-crossley"`` — ``α F_s(y) ẏ`` (Hunt & Crossley 1975), ``alpha`` [s/m].
-
-For developers: a spring family is one class here with ``name``, ``parameters()``,
-``static_deflection(W)``, ``stiffness(y)``, ``force(y)`` (SI, vectorised) and
-``kernel_spring(y0, W)`` (the nondimensional code and data of :mod:`contactvib._kernels.contact`,
-where its compiled force goes: one branch of ``spring``).
+"""The table law: a measured or computed static load–deflection curve F_s(y), interpolated by
+PCHIP (Fritsch–Carlson monotone cubic Hermite): monotone and shape-preserving, so the interpolated
+stiffness is never negative and has no overshoot between rows, and C¹, so the stiffness that the
+Jacobian and the Floquet multipliers use is continuous. Beyond the last row the curve is continued
+linearly with the last stiffness; results whose motion goes there are refused
+(:meth:`TableLaw.check_deflection`). Its data is a file (``--law-file``), not ``--set`` values.
 """
 
 from __future__ import annotations
 
 import csv
 import hashlib
-import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 
-from contactvib.model.checks import ParameterError, check_range
+from contactvib.model.checks import ParameterError
+from contactvib.model.laws.contract import SpringLaw
+from contactvib.model.laws.registry import register_law
 
-__all__ = ["PowerSpring", "ExponentialLaw", "TableLaw", "LAW_NAMES", "DAMPING_NAMES", "TABLE_ROWS_MIN",
-           "EXPONENTIAL_DEFAULTS", "HUNT_CROSSLEY_DEFAULT"]
+__all__ = ["TableLaw", "TABLE_ROWS_MIN"]
 
-#: Spring families by CLI name (``--law``) and damping families (``--damping``).
-LAW_NAMES = ("power", "exponential", "table")
-DAMPING_NAMES = ("power", "hunt-crossley")
 #: Fewest rows of a load–deflection table (the origin and at least three measured points).
 TABLE_ROWS_MIN = 4
-#: Default exponential law: chosen so that with the paper's M, g, S its static deflection and
-#: linear natural frequency are those of the paper's power law to 1 % (y0 0.2254 µm, f_n0 1485 Hz).
-EXPONENTIAL_DEFAULTS = {"c_e": 584.0, "lam": 0.1413e-6}
-#: Default Hunt–Crossley coefficient [s/m]: the paper's linear damping ratio ζ ≈ 0.018 with the
-#: paper's power spring (α = S h_n y0 / Q).
-HUNT_CROSSLEY_DEFAULT = 34.4
-
-# Codes of the compiled families (contactvib._kernels.contact: SPRING_*).
-_SPRING_POWER, _SPRING_EXPONENTIAL, _SPRING_TABLE = 0.0, 1.0, 2.0
-
-
-@dataclass(frozen=True)
-class PowerSpring:
-    """``F_s = S c_n y^m2`` [N] (y in m): the paper's spring (Eq. 2.3)."""
-
-    c_n: float
-    m2: float
-    name: str = field(default="power", init=False)
-
-    def parameters(self) -> dict:
-        return {"c_n": self.c_n, "m2": self.m2}
-
-    def static_deflection(self, W: float, S: float) -> float:
-        """y0 [m] with F_s(y0) = W [N] on the nominal area S [m²]."""
-        return (W / (S * self.c_n)) ** (1.0 / self.m2)
-
-    def force(self, y, S: float):
-        y = np.asarray(y, dtype=float)
-        return np.where(y > 0.0, S * self.c_n * np.abs(y) ** self.m2, 0.0)
-
-    def stiffness(self, y, S: float):
-        y = np.asarray(y, dtype=float)
-        return np.where(y > 0.0, self.m2 * S * self.c_n * np.abs(y) ** (self.m2 - 1.0), 0.0)
-
-    def kernel_spring(self, y0: float, W: float, S: float):
-        return _SPRING_POWER, self.m2, 0.0, np.empty(0)
-
-
-@dataclass(frozen=True)
-class ExponentialLaw:
-    """``F_s = S c_e (exp(y/λ) − 1)`` [N]: exponentially distributed asperity heights.
-
-    Parameters
-    ----------
-    c_e : float
-        Pressure coefficient [N/m²], > 0.
-    lam : float
-        Decay length λ [m], > 0 (of the order of the asperity heights' standard deviation).
-    """
-
-    c_e: float = EXPONENTIAL_DEFAULTS["c_e"]
-    lam: float = EXPONENTIAL_DEFAULTS["lam"]
-    name: str = field(default="exponential", init=False)
-
-    def __post_init__(self):
-        object.__setattr__(self, "c_e", check_range("c_e", self.c_e, 0.0, False, "N/m^2"))
-        object.__setattr__(self, "lam", check_range("lam", self.lam, 0.0, False, "m"))
-
-    def parameters(self) -> dict:
-        return {"c_e": self.c_e, "lam": self.lam}
-
-    def static_deflection(self, W: float, S: float) -> float:
-        return self.lam * math.log1p(W / (S * self.c_e))
-
-    def force(self, y, S: float):
-        y = np.asarray(y, dtype=float)
-        return np.where(y > 0.0, S * self.c_e * np.expm1(np.maximum(y, 0.0) / self.lam), 0.0)
-
-    def stiffness(self, y, S: float):
-        y = np.asarray(y, dtype=float)
-        return np.where(y > 0.0, S * self.c_e / self.lam * np.exp(np.maximum(y, 0.0) / self.lam), 0.0)
-
-    def kernel_spring(self, y0: float, W: float, S: float):
-        return _SPRING_EXPONENTIAL, y0 / self.lam, S * self.c_e / W, np.empty(0)
 
 
 def _table_error(source: str, why: str) -> ParameterError:
     return ParameterError("law_file", source, why)
 
 
+@register_law
 @dataclass(frozen=True, eq=False)
-class TableLaw:
+class TableLaw(SpringLaw):
     """A static load–deflection curve F_s(y) from rows (deflection [m], load [N]).
 
     The first row is (0, 0); deflections and loads increase strictly; at least
@@ -136,10 +40,13 @@ class TableLaw:
     row with the last stiffness (refused by :meth:`check_deflection` in results).
     """
 
+    name: ClassVar[str] = "table"
+    formula: ClassVar[str] = "a measured load-deflection curve F_s(y) (--law-file FILE.csv), PCHIP"
+    taylor: ClassVar[bool] = True
+
     deflection_m: np.ndarray
     load_n: np.ndarray
     source: str = "table"
-    name: str = field(default="table", init=False)
 
     def __post_init__(self):
         d = np.asarray(self.deflection_m, dtype=float).ravel()
@@ -228,8 +135,12 @@ class TableLaw:
 
         return PchipInterpolator(self.deflection_m, self.load_n, extrapolate=False)
 
-    def parameters(self) -> dict:
+    def values(self) -> dict:
+        """The table (rows, source, content hash) by its keyword ``table``."""
         return {"table": self.to_dict()}
+
+    def __repr__(self):
+        return f"TableLaw({self.source!r}, {self.deflection_m.size} rows, sha256 {self.sha256[:12]})"
 
     @property
     def y_max(self) -> float:
@@ -264,7 +175,11 @@ class TableLaw:
         x = self.deflection_m / y0
         f = self.load_n / W
         d = self._slopes() * (y0 / W)
-        return _SPRING_TABLE, float(x.size), 0.0, np.concatenate([x, f, d])
+        return self.compiled_table(x, f, d)
+
+    def check_motion(self, delta_max_m: float, y0: float = 0.0, what: str = "the motion") -> None:
+        """Refuse a result whose deflection leaves the table (ParameterError naming the file)."""
+        self.check_deflection(delta_max_m, what)
 
     def check_deflection(self, y_max_m: float, what: str = "the motion") -> None:
         """Refuse a result whose deflection leaves the table (ParameterError naming the file)."""
