@@ -36,7 +36,12 @@ extensions = [
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "_ext", "generated", "**/GALLERY_HEADER.rst"]
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+# equations: $...$, $$...$$ and amsmath environments, typeset by MathJax
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
+myst_dmath_double_inline = True
+# no typographic replacements: `--pa` must stay two hyphens (docutils' smart quotes would make an
+# en dash of it in the command-line reference, and a copied option would fail)
+smartquotes = False
 myst_heading_anchors = 3
 
 html_theme = "pydata_sphinx_theme"

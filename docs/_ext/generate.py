@@ -1,7 +1,8 @@
 """Pages written when the documentation is built (called from ``docs/conf.py``).
 
-- ``api/generated/<package>.rst``: one autodoc entry per name of the package's ``__all__``, so a
-  new public name appears by itself and a removed one disappears;
+- ``api/generated/<topic>.rst``: one page per topic of :data:`API_TOPICS`, one autodoc entry per
+  name of the public packages' ``__all__`` on the page of the subpackage that defines it, so a new
+  public name appears by itself and a removed one disappears;
 - ``generated/paper_statements.md``: the paper's statements S2.1–S4.7, where ``contactvib paper``
   shows each and which tests and modules name it;
 - ``benchmarks.md``: one table per committed ``benchmarks/results_*.json``, flattened to
@@ -19,6 +20,41 @@ from pathlib import Path
 #: package (``contactvib`` first) is only listed under a later one
 API_PACKAGES = ("contactvib", "contactvib.model", "contactvib.plotting", "contactvib.fitting",
                 "contactvib.friction", "contactvib.cli")
+
+
+#: the topics of the API reference, in its order: (page, title, what the page holds). Each public
+#: name is on the page of the subpackage that defines it (:func:`topic_of`).
+API_TOPICS = (
+    ("model", "The model: contact laws, excitations, units",
+     "The oscillator and its parameters (`ContactModel`), the excitations, the contact laws as objects, "
+     "the units and the input checks that every command and function shares."),
+    ("steady", "Steady states, attractors and basins",
+     "Every coexisting attractor at one operating point, its time history, Newton-refined orbits and "
+     "basins of attraction."),
+    ("continuation", "Continuation and bifurcations",
+     "Pseudo-arclength continuation of periodic orbits in f_e or P_a, special points, branch "
+     "switching, two-parameter fold and period-doubling curves."),
+    ("frequency", "Perturbation series and harmonic balance",
+     "The frequency-domain methods: the perturbation series in P_a/Q and harmonic balance with its "
+     "continuation."),
+    ("sweeps", "Resonance sweeps, datasets and the paper",
+     "Resonance graphs over many levels and frequencies, the datasets they write and read, the "
+     "reproduction of the paper, the film and the regime maps."),
+    ("friction", "Friction under normal vibration",
+     "The tangential motion of the slider driven along the slideway while the normal contact vibrates."),
+    ("fitting", "Fitting a contact to measurements",
+     "Least-squares fits of the contact parameters to static, free-decay and stepped-sine data."),
+    ("plotting", "Plotting",
+     "The figures of the command line as functions (matplotlib)."),
+    ("errors", "Errors",
+     "The base class of the package's errors. Each part raises its own subclass, documented with it: "
+     "`ParameterError` (model), `OrbitError` (steady states), `ContinuationError`, `HBError`, "
+     "`DatasetError` (sweeps), `FrictionError`, `FitError`."),
+    ("cli", "Command-line entry point",
+     "The click group behind the `contactvib` command and its console-script entry point; every "
+     "command and option is in the command-line reference."),
+)
+_TOPIC_SLUGS = tuple(t[0] for t in API_TOPICS)
 
 
 def _directive(module: str, name: str, obj) -> str:
@@ -48,28 +84,57 @@ def api_entries() -> dict[str, list[tuple[str, str | None]]]:
     return out
 
 
+def topic_of(package: str, name: str) -> str:
+    """The API page of ``package.name``: the subpackage that defines it (``contactvib.steady.…`` →
+    ``steady``), that of ``package`` for a subpackage's data, ``model`` for the top level's data."""
+    obj = getattr(importlib.import_module(package), name)
+    where = getattr(obj, "__module__", None) if (inspect.isclass(obj) or callable(obj)) else None
+    parts = (where or package).split(".")
+    part = parts[1] if len(parts) > 1 else "model"
+    if part not in _TOPIC_SLUGS:
+        raise ValueError(f"{package}.{name} (module {where}): no API topic for {part!r}; add it to API_TOPICS")
+    return part
+
+
+def api_topics() -> dict[str, list[tuple[str, list[str], list[tuple[str, str]]]]]:
+    """topic -> [(package, names documented on the topic's page, [(name, home)] of the package's
+    names documented under an earlier package)] for the packages with a name on the page."""
+    out: dict[str, dict[str, tuple[list[str], list[tuple[str, str]]]]] = {t: {} for t in _TOPIC_SLUGS}
+    for package, rows in api_entries().items():
+        for name, home in rows:
+            topic = topic_of(home or package, name)
+            own, again = out[topic].setdefault(package, ([], []))
+            (own.append(name) if home is None else again.append((name, home)))
+    return {t: [(p, own, again) for p, (own, again) in packages.items()] for t, packages in out.items()}
+
+
+def api_rst(topic: str, sections) -> str:
+    slug, title, summary = next(t for t in API_TOPICS if t[0] == topic)
+    lines = [title, "=" * len(title), "", summary.replace("`", "``"), ""]
+    for package, own, again in sections:
+        mod = importlib.import_module(package)
+        head = f"From ``{package}``"
+        lines += [head, "-" * len(head), "", f".. currentmodule:: {package}", ""]
+        if again:
+            lines += ["Also importable from ``" + package + "``: "
+                      + ", ".join(f":py:obj:`{n} <{home}.{n}>`" for n, home in again) + ".", ""]
+        lines += [_directive(package, name, getattr(mod, name)) for name in own]
+    return "\n".join(lines) + "\n"
+
+
 def write_api_pages(folder: Path) -> list[Path]:
+    """``folder/generated/<topic>.rst``, one page per entry of :data:`API_TOPICS`."""
     gen = folder / "generated"
     gen.mkdir(parents=True, exist_ok=True)
     written = []
-    for package, rows in api_entries().items():
-        mod = importlib.import_module(package)
-        title = f"``{package}``"
-        lines = [title, "=" * len(title), "", f".. module:: {package}", "   :no-index:", ""]
-        doc = inspect.getdoc(mod) or ""
-        lines += [doc.split("\n\n", 1)[0], ""]
-        again = [(n, home) for n, home in rows if home is not None]
-        if again:
-            lines += ["Also importable from here: "
-                      + ", ".join(f":py:obj:`{n} <{home}.{n}>`" for n, home in again) + ".", ""]
-        for name, home in rows:
-            if home is None:
-                lines.append(_directive(package, name, getattr(mod, name)))
-        path = gen / f"{package}.rst"
-        text = "\n".join(lines) + "\n"
+    for topic, sections in api_topics().items():
+        path = gen / f"{topic}.rst"
+        text = api_rst(topic, sections)
         if not path.is_file() or path.read_text() != text:  # unchanged pages keep Sphinx's cache
             path.write_text(text)
         written.append(path)
+    for stale in set(gen.glob("*.rst")) - set(written):
+        stale.unlink()
     return written
 
 
@@ -98,14 +163,16 @@ def _cell(value) -> str:
 def benchmarks_markdown(folder: Path) -> str:
     files = sorted(folder.glob("results_*.json"))
     out = ["# Benchmarks", "",
-           "The current result of each benchmark, read from the result files committed in "
-           "`benchmarks/` when this page was built (one table per file; nested keys are joined "
-           "with dots). Each file is written by the benchmark script of the same name; the "
-           "machine and load are in the file when the script records them.", "",
+           "How long the main computations take and how they compare with a general-purpose "
+           "integrator. The numbers are read, when this page is built, from the measurement files "
+           "kept in the repository's `benchmarks/` folder (one table per measurement; nested keys "
+           "are joined with dots); the machine and its load are in the table where they were "
+           "recorded.", "",
            (Path(__file__).parent / "benchmarks_intro.md").read_text(), ""]
     for f in files:
         name = f.stem.removeprefix("results_")
-        out += [f"## `{name}`", "", f"`benchmarks/{f.name}`", "", "| quantity | value |", "|---|---|"]
+        out += [f"## `{name}`", "", f"From `benchmarks/{f.name}` (`python -m benchmarks {name}`).", "",
+                "| quantity | value |", "|---|---|"]
         out += [f"| `{k}` | {_cell(v)} |" for k, v in _flatten(json.loads(f.read_text()))]
         out.append("")
     return "\n".join(out)

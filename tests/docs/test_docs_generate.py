@@ -4,6 +4,7 @@ entry, every committed benchmark result a table, every paper statement a row."""
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import json
 import sys
 from pathlib import Path
@@ -33,10 +34,28 @@ def test_every_public_name_is_documented_once():
 def test_api_pages_hold_a_directive_per_name(tmp_path):
     pages = generate.write_api_pages(tmp_path)
     text = {p.stem: p.read_text() for p in pages}
-    assert ".. autofunction:: contactvib.find_attractors" in text["contactvib"]
-    assert ".. autoclass:: contactvib.ContactModel" in text["contactvib"]
-    assert ".. autoclass:: contactvib.model.PowerLaw" in text["contactvib.model"]
-    assert ":py:obj:`ContactModel <contactvib.ContactModel>`" in text["contactvib.model"]
+    assert list(text) == [t[0] for t in generate.API_TOPICS]
+    assert ".. autofunction:: contactvib.find_attractors" in text["steady"]
+    assert ".. autoclass:: contactvib.ContactModel" in text["model"]
+    assert ".. autoclass:: contactvib.model.PowerLaw" in text["model"]
+    assert ":py:obj:`ContactModel <contactvib.ContactModel>`" in text["model"]
+    assert ".. autofunction:: contactvib.continue_orbit" in text["continuation"]
+    assert ".. autofunction:: contactvib.hb_solve" in text["frequency"]
+    assert ".. autofunction:: contactvib.resonance_dataset" in text["sweeps"]
+    assert ".. autoclass:: contactvib.ContactvibError" in text["errors"]
+    # every documented name is on exactly one page
+    directives = [line.split("::")[1].split()[0] for t in text.values() for line in t.splitlines()
+                  if line.startswith(".. auto")]
+    expected = [f"{package}.{name}" for package, rows in generate.api_entries().items()
+                for name, home in rows if home is None]
+    assert sorted(directives) == sorted(expected)
+
+
+def test_api_index_lists_every_topic_page():
+    index = (ROOT / "docs" / "api" / "index.md").read_text()
+    listed = [line.strip().removeprefix("generated/") for line in index.splitlines()
+              if line.strip().startswith("generated/")]
+    assert listed == [t[0] for t in generate.API_TOPICS]
 
 
 def test_benchmarks_page_has_one_table_per_result_file():
@@ -71,3 +90,17 @@ def test_dataset_table_lists_every_variable_with_its_units():
                         ("branch_reached_by_sweep", "1"), ("trace_stop", "")]:
         assert any(r.startswith(f"| `{name}` |") and r.split(" | ")[3] == units for r in text.splitlines()), name
     assert "`levels_pa_over_q`" in text and "`model`" in text
+
+
+def test_tutorial_figures_are_small_and_shown():
+    """The committed figures of docs/make_tutorial_figures.py: each made by a command of its table,
+    shown by a tutorial page, under 200 KB (3 MB together)."""
+    spec = importlib.util.spec_from_file_location("make_tutorial_figures", ROOT / "docs" / "make_tutorial_figures.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    made = {target for _, figures in script.FIGURES.values() for target in figures.values()}
+    files = {p.name: p.stat().st_size for p in (ROOT / "docs" / "_static" / "tutorials").glob("*.png")}
+    assert set(files) == made
+    assert all(size < 200_000 for size in files.values()) and sum(files.values()) < 3_000_000
+    pages = "".join(p.read_text() for p in (ROOT / "docs" / "tutorials").glob("*.md"))
+    assert all(f"_static/tutorials/{name}" in pages for name in files), sorted(n for n in files if n not in pages)
