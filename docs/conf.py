@@ -16,7 +16,13 @@ DOCS = Path(__file__).resolve().parent
 sys.path.insert(0, str(DOCS / "_ext"))
 sys.path.insert(0, str(DOCS.parent / "src"))  # the package of this checkout, installed or not
 
-from generate import write_api_pages, write_benchmarks_page, write_dataset_page, write_statements_page  # noqa: E402
+from generate import (  # noqa: E402
+    write_api_pages,
+    write_benchmarks_page,
+    write_dataset_page,
+    write_laws_page,
+    write_statements_page,
+)
 
 import contactvib  # noqa: E402
 
@@ -81,3 +87,4 @@ def setup(app):
     write_benchmarks_page(DOCS.parent / "benchmarks", DOCS / "benchmarks.md")
     write_statements_page(DOCS.parent, DOCS / "generated" / "paper_statements.md")
     write_dataset_page(DOCS / "generated" / "dataset_variables.md")
+    write_laws_page(DOCS / "generated" / "laws_table.md")

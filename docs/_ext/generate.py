@@ -259,3 +259,28 @@ def write_dataset_page(page: Path) -> Path:
     if not page.is_file() or page.read_text() != text:
         page.write_text(text)
     return page
+
+
+def laws_markdown() -> str:
+    """The table of the registered contact laws (the registry's, plug-ins included): name,
+    formula, parameters with unit, default and bounds, and the fast paths each one takes."""
+    from contactvib.model.laws import law_class, law_names
+
+    rows = ["| `--law` | force | parameters (`--set`) | Taylor flow | harmonic balance |", "|---|---|---|---|---|"]
+    for name in law_names():
+        cls = law_class(name)
+        params = "; ".join(f"`{p.name}` [{_cell(p.unit)}] {_cell(p.description)}, default {p.default:g}, "
+                           f"{_cell(p.bounds_text())}" for p in cls.parameters)
+        if name == "table":
+            params = "`--law-file FILE.csv` (deflection_um, load_n)"
+        rows.append(f"| `{name}` | {_cell(cls.formula)} | {params or '(none)'} | {'yes' if cls.taylor else 'no'} "
+                    f"| {'yes' if cls.fourier else 'no'} |")
+    return "\n".join(rows) + "\n"
+
+
+def write_laws_page(page: Path) -> Path:
+    page.parent.mkdir(parents=True, exist_ok=True)
+    text = laws_markdown()
+    if not page.is_file() or page.read_text() != text:
+        page.write_text(text)
+    return page

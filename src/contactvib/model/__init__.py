@@ -26,12 +26,23 @@ from contactvib.model.checks import (
 from contactvib.model.contact_law import PowerLaw
 from contactvib.model.excitation import LEVEL_KINDS, LEVEL_TAGS, check_level_kind, excitation_at, level_text
 from contactvib.model.greenwood_williamson import GreenwoodWilliamson
-from contactvib.model.laws import ExponentialLaw, TableLaw
+from contactvib.model.laws import (
+    ClearanceLaw,
+    ExponentialLaw,
+    LawParameter,
+    PowerSpring,
+    SpringLaw,
+    TableLaw,
+    law_class,
+    law_names,
+    register_law,
+)
 from contactvib.model.oscillator import PAPER_DEFAULTS, PARAMETER_UNITS, ZETA_MAX, ContactModel, Excitation
 from contactvib.model.units import Units
 
 __all__ = ["ContactModel", "Excitation", "ParameterError", "PowerLaw", "ExponentialLaw",
-           "TableLaw", "PAPER_DEFAULTS", "PARAMETER_UNITS",
+           "TableLaw", "ClearanceLaw", "PowerSpring", "SpringLaw", "LawParameter", "register_law", "law_names",
+           "law_class", "PAPER_DEFAULTS", "PARAMETER_UNITS",
            "ZETA_MAX", "Units", "check_finite", "check_range", "check_int", "check_choice",
            "check_frequency_range", "check_pa_level", "PA_NOTE", "SHOOTING_RTOL_RANGE",
            "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX",

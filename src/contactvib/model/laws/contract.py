@@ -33,7 +33,7 @@ and implements, in SI units and vectorised over ``delta``:
   relative error below 1e-9 from 1e-3 δ0 to 100 δ0 for a smooth force, see
   ``tests/model/test_law_registry.py``).
 
-Register a law with :func:`contactvib.model.laws.register_law`: a module dropped into the package
+Register a law with :func:`contactvib.model.register_law`: a module dropped into the package
 ``contactvib.model.laws`` is found by itself; a law of another package is registered through the
 entry-point group ``contactvib.laws`` (see the documentation page "Add a contact law").
 """
@@ -183,7 +183,7 @@ class SpringLaw:
 
     def kernel_spring(self, y0: float, W: float, S: float):
         """The compiled form ``(code, s1, s2, data)`` for deflections in units of ``y0`` = δ0 [m]
-        and forces in units of W [N]. Default: :func:`tabulated_form` of :meth:`force`."""
+        and forces in units of W [N]. Default: ``tabulated_form`` of :meth:`force`."""
         return tabulated_form(self, y0, W, S)
 
     def check_motion(self, delta_max_m: float, y0: float, what: str = "the motion") -> None:

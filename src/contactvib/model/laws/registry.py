@@ -7,7 +7,7 @@ Laws come from two places, both found the first time the registry is read:
 * every module of the package ``contactvib.model.laws`` (a law's class decorated with
   :func:`register_law`): a new built-in law is one file there;
 * the entry-point group ``contactvib.laws`` of installed distributions (each entry a
-  :class:`~contactvib.model.laws.contract.SpringLaw` subclass), the ecosystem's plug-in
+  :class:`~contactvib.model.SpringLaw` subclass), the ecosystem's plug-in
   convention: ``[project.entry-points."contactvib.laws"] mylaw = "mypackage.module:MyLaw"``.
 """
 
