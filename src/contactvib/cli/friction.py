@@ -1,4 +1,4 @@
-"""CLI command ``friction``: friction under normal contact vibration (issue 26) at one operating
+"""CLI command ``friction``: friction under normal contact vibration at one operating
 point, or against f_e (``--fe-range``) or the drive velocity (``--vd-range``)."""
 
 from __future__ import annotations
@@ -79,7 +79,7 @@ def friction_spec_option(f):
     """``--friction mu=…,kt_ratio=…,vd=…`` of ``resonance`` and ``atlas``: friction columns in the dataset."""
     return click.option(
         "--friction", "friction", default=None, metavar="NAME=VALUE,...",
-        help="Add friction columns (issue 26: friction ratio, stick and free fractions, tangential "
+        help="Add friction columns (friction ratio, stick and free fractions, tangential "
              "oscillation of every periodic point) with these tangential parameters, the defaults of "
              "`contactvib friction` otherwise: mu (0.3), kt_ratio (0.8235), kt_law (normal|constant), kd [N/m] "
              "(1e5), cd [N s/m] (30), vd [mm/s] (0.1), beta (1), drive (velocity|force), ft [N]; "
@@ -182,14 +182,15 @@ def _point_row(i, a, r, force=False) -> str:
 
 
 def _one_point(model, exc, found, fm, out, as_json) -> None:
-    from contactvib.friction import FrictionError, friction_at
+    from contactvib.errors import ComputationError
+    from contactvib.friction import friction_at
 
     results = []
     with ctrl_c():
         for a in found:
             try:
                 results.append(friction_at(model, exc, a, fm))
-            except FrictionError:
+            except ComputationError:
                 results.append(None)
     if as_json:
         items = [{"period": a.period, "app_um": a.app_um, "contact_loss_fraction": a.contact_loss_fraction,
@@ -266,7 +267,7 @@ _SWEEP_HEAD = (f"{'f_e [Hz]':>8} {'v_d[mm/s]':>9} {'#':>2} {'period':>6} {'A_pp 
 def friction(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, out, as_json):
     """Friction under normal contact vibration: the slider dragged along the slideway by a drive
     spring moving at v_d, a Jenkins contact (tangential stiffness k_t, Coulomb slip at mu R(t)),
-    R(t) the normal contact force of each normal attractor (issue 26)."""
+    R(t) the normal contact force of each normal attractor."""
     model = parse_model(settings)
     exc = parse_excitation(model, pa, pa_newton, fe)
     fm = _friction_model()

@@ -230,7 +230,8 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
     from contactvib._kernels.describe import NP_LYAPUNOV, describe_point, lyapunov_strobe, new_rows
     from contactvib._kernels.shooting import newton_orbit
     from contactvib._kernels.table import find_known, settle_known_many
-    from contactvib.continuation.shooting import ContinuationError, ContinuationSettings, continue_orbit
+    from contactvib.continuation.shooting import ContinuationSettings, continue_orbit
+    from contactvib.errors import ComputationError
 
     st = settings
     f0 = 0.5 * model.f_n0  # a small in-contact orbit: every kernel returns within milliseconds
@@ -252,7 +253,7 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
         continue_orbit(model, exc, z, 1, "f_e", "down",
                        ContinuationSettings(fmin_hz=0.9 * f0, fmax_hz=f0, max_points=2, max_failures=2,
                                             rtol=st.rtol, tol=st.close_tol))
-    except (ContinuationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
+    except (ComputationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         pass
     newton_orbit(z.copy(), 1, par, st.rtol, st.rtol, st.close_tol, 8, np.empty(2), np.empty((2, 2)))
     settle_known_many(z.reshape(1, 2).copy(), np.zeros(1), 0, lv.par.copy(), lv.cfg, st.capture_tol,
