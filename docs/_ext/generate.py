@@ -18,7 +18,7 @@ from pathlib import Path
 #: the public packages, in the order of the API reference; a name documented under an earlier
 #: package (``contactvib`` first) is only listed under a later one
 API_PACKAGES = ("contactvib", "contactvib.model", "contactvib.plotting", "contactvib.fitting",
-                "contactvib.friction", "contactvib.cli")
+                "contactvib.friction", "contactvib.cli", "contactvib.testing")
 
 
 def _directive(module: str, name: str, obj) -> str:
