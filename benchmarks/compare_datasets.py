@@ -1,6 +1,6 @@
 """Compare two resonance datasets (``paper.nc`` / ``resonance.nc``) variable by variable.
 
-Used to show that a refactoring left ``contactvib paper`` unchanged::
+It shows whether a refactoring leaves ``contactvib paper`` unchanged::
 
     python benchmarks/compare_datasets.py BEFORE/paper.nc AFTER/paper.nc [--rtol 1e-10]
 

@@ -218,11 +218,9 @@ def model_blamed(model: ContactModel, e: ParameterError, accepts, option: str = 
         edge = _boundary(model, name, accepts)
         if edge is not None:
             ranges.append(f"{name} {'>=' if edge > value else '<='} {edge:.4g}")
-    allowed = (f"; with the other parameters as given, this f_e needs {' or '.join(ranges)}" if ranges
-               else "")
-    return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz and zeta = {model.zeta:.3g} (the paper's "
-                      f"parameters: f_n0 = {paper.f_n0:.6g} Hz, zeta = {paper.zeta:.3g}), with which "
-                      f"{option} (f_e) = {show_value(e.value)}: {e.allowed}{allowed}")
+    allowed = f"; this f_e needs {' or '.join(ranges)} (each alone)" if ranges else ""
+    return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz, zeta = {model.zeta:.3g}; {option} (f_e) = "
+                      f"{show_value(e.value)}: {e.allowed}{allowed}")
 
 
 def scoped_options(var: contextvars.ContextVar, names: tuple[str, ...], f):

@@ -77,7 +77,7 @@ def _continue(point, model, exc, result, n):
     and that command: ``(branch, command)``."""
     from contactvib.cli.continuation import continuation_settings
     from contactvib.continuation.diagram import continue_attractors
-    from contactvib.continuation.shooting import ContinuationError
+    from contactvib.errors import ComputationError
     from contactvib.explore.continuation_view import window_hz
     from contactvib.explore.state import BadInput
 
@@ -92,7 +92,7 @@ def _continue(point, model, exc, result, n):
                                        attractors=result, parameter="f_e")
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
-    except (ContinuationError, ValueError) as e:
+    except (ComputationError, ValueError) as e:
         raise BadInput(f"contactvib: continuation failed: {e}") from None
     if not len(branches):
         raise BadInput(f"contactvib: attractor {n} is not a periodic orbit: nothing to continue")

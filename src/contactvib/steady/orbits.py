@@ -15,11 +15,11 @@ import numpy as np
 from contactvib._kernels.orbit import measure_orbit, record_steps, sample_records
 from contactvib._kernels.shooting import newton_orbit, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
-from contactvib.errors import ContactvibError
+from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation
 from contactvib.steady.results import Attractor
 
-__all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points", "OrbitError",
+__all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points",
            "RTOL_REFINE", "CLOSE_TOL"]
 
 #: Integration tolerance for refined orbits and their description.
@@ -28,10 +28,6 @@ RTOL_REFINE = 1e-12
 CLOSE_TOL = 1e-10
 #: Two orbits are the same when their stroboscopic sets agree to this (relative), any cyclic order.
 SAME_TOL = 1e-6
-
-
-class OrbitError(ContactvibError, RuntimeError):
-    """Shooting or integration of an orbit failed."""
 
 
 def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) -> np.ndarray:
@@ -44,7 +40,7 @@ def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) 
         pts[j] = cur
         st = strobe_map(cur, 1, par, rtol, rtol, nxt, np.empty((0, 0)))
         if st != STATUS_OK:
-            raise OrbitError(f"integration failed ({status_message(st)})")
+            raise ComputationError(f"integration failed ({status_message(st)})", stage="integration")
         cur = nxt.copy()
     return pts
 
@@ -63,16 +59,16 @@ def refine_orbit(excitation: Excitation, z, k: int, tol: float = CLOSE_TOL,
 
     Raises
     ------
-    OrbitError
-        If Newton does not reach ``tol``.
+    ComputationError
+        If Newton does not reach ``tol`` (``stage`` "newton").
     """
     par = excitation.kernel_parameters()
     out_z = np.empty(2)
     out_M = np.empty((2, 2))
     st, res = newton_orbit(np.asarray(z, float), int(k), par, rtol, rtol, tol, max_iter, out_z, out_M)
     if st != STATUS_OK:
-        raise OrbitError(f"Newton shooting for a period-{k} orbit failed ({status_message(st)}, "
-                         f"closure {res:.2e}); try another start")
+        raise ComputationError(f"Newton shooting for a period-{k} orbit failed ({status_message(st)}, "
+                               f"closure {res:.2e}); try another start", stage="newton")
     return out_z, out_M, res
 
 
@@ -94,7 +90,7 @@ def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE,
     rec, z_end, t_flight, _n_events, st = record_steps(
         np.asarray(z, float), phase0, int(n_periods), par, rtol, 4096 * max(1, n_periods), 0)
     if st != STATUS_OK:
-        raise OrbitError(f"integration failed ({status_message(st)})")
+        raise ComputationError(f"integration failed ({status_message(st)})", stage="integration")
     return rec, z_end, t_flight
 
 

@@ -157,14 +157,15 @@ def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndar
     points; NaN for non-periodic ones)."""
     if kind == "force":
         return {}, {}
-    from contactvib.steady.orbits import OrbitError, slider_app_um
+    from contactvib.errors import ComputationError
+    from contactvib.steady.orbits import slider_app_um
 
     def slider(j):
         if rows.kind[j] != 0:
             return math.nan
         try:
             return slider_app_um(excitation_at(model, pa, float(fe[j]), kind), rows.z[j], int(rows.k[j]))
-        except OrbitError:
+        except ComputationError:
             return math.nan
 
     sym, unit, long_name = LEVEL_KINDS[kind]

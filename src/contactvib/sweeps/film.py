@@ -1,4 +1,4 @@
-"""The film of a resonance dataset (``contactvib animate``, issue 14 "Animation"): one frame per
+"""The film of a resonance dataset (``contactvib animate``): one frame per
 P_a level, Fig. 2 and Fig. 3 side by side at axes fixed over all levels, a P_a counter, and the
 stage of each 1/m resonance (S3.8) computed from the data as the paper's index page does
 (:func:`contactvib.sweeps.facts.level_stages`).

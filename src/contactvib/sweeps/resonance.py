@@ -162,7 +162,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     st = SweepSettings(**settings)
     level = trace_level(model, pa, st)
     ds = level_dataset(model, level, settings)
-    if st.friction is not None:  # issue 26: the tangential motion under every periodic point
+    if st.friction is not None:  # the tangential motion under every periodic point
         from contactvib.friction.columns import with_friction
 
         ds = with_friction(ds, model, level, st)
