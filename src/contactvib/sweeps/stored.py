@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.errors import ContactvibError
+from contactvib.steady.results import dofs_and_contacts
 from contactvib.sweeps.dataset import FORMAT
 
 __all__ = ["DATASET_NAMES", "find_dataset", "open_dataset", "attractors_at", "check_damage", "DatasetError",
@@ -41,6 +42,11 @@ _QUERY_POINT = ("pa_over_q", "fe_hz", "period", "kind", "minima_per_period", "ap
                 "attractor_type")
 _QUERY_OTHER = ("extremum_t_ms", "extremum_y_um", "extremum_is_min", "strobe_y_um", "strobe_ydot_mm_s",
                 "branch_id", "branch_label", "branch_reached_by_sweep")
+#: The per-point dof/contact variables (point, dof) and (point, contact) and their name coordinates,
+#: from which :func:`contactvib.steady.results.dofs_and_contacts` rebuilds ``dofs``/``contacts``.
+_DOF_POINT = ("dof_min", "dof_max", "dof_app", "dof_h1", "contact_loses_contact", "contact_loss_frac",
+              "contact_mean_force_n")
+_DOF_NAMES = ("dof_name", "dof_unit", "contact_name")
 #: Attributes every reader of a dataset may need (the model, the sweep's grid, f_n0).
 _ATTRIBUTES = ("model", "settings", "fn0_hz")
 #: Variables that must be finite everywhere (the others may hold NaN: basin, Lyapunov, ...).
@@ -136,7 +142,8 @@ def _refuse_damaged(ds) -> None:
 
 
 def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
-    """The attractors stored at the grid point nearest (P_a, f_e), in the attractors JSON contract.
+    """The attractors stored at the grid point nearest (P_a, f_e), in the attractors JSON contract
+    (``dofs`` and ``contacts`` rebuilt from the dof/contact variables).
 
     P_a must match a stored level within 1e-6, f_e the nearest grid frequency within half a
     grid step. Raises ``LookupError`` with a one-line message otherwise, ``DamagedDataset``
@@ -171,6 +178,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
     e_t, e_y, e_m = (ds[x].values for x in ("extremum_t_ms", "extremum_y_um", "extremum_is_min"))
     s_y, s_v = ds["strobe_y_um"].values, ds["strobe_ydot_mm_s"].values
     b_id, b_lab = ds["branch_id"].values, ds["branch_label"].values
+    n_mult, dofs = int(ds.sizes["multiplier"]), _dofs_and_contacts_of(ds)  # 2n multipliers: two for y
 
     def num(x):
         x = float(x)
@@ -195,7 +203,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
             "basin_fraction": num(v["basin_fraction"][p]),
             "floquet_abs_max": num(v["floquet_abs_max"][p]) if periodic else None,
             "floquet_multipliers": ([[float(v["floquet_re"][p, q]), float(v["floquet_im"][p, q])]
-                                     for q in range(2)] if periodic else []),
+                                     for q in range(n_mult)] if periodic else []),
             "closure": num(v["closure"][p]),
             "lyapunov_per_period": num(v["lyapunov_per_period"][p]),
             "resonance": str(v["resonance"][p]),
@@ -210,6 +218,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
                               for q in range(s0, s0 + ns)],
             "extrema": [{"t_ms": float(e_t[q]), "y_um": float(e_y[q]),
                          "type": "min" if e_m[q] else "max"} for q in range(e0, e0 + ne)],
+            **dofs(p),
         }
         atts.append(d)
     atts.sort(key=lambda a: -a["app_um"])
@@ -224,6 +233,17 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
         "attractors": atts,
         **_level_kind_record(ds, idx),
     }
+
+
+def _dofs_and_contacts_of(ds):
+    """A function of the point index: the point's ``dofs`` and ``contacts``, rebuilt from the
+    dataset's dof/contact variables by :func:`contactvib.steady.results.dofs_and_contacts` (an
+    empty dict for a dataset written before these variables)."""
+    if not all(name in ds.variables for name in _DOF_POINT + _DOF_NAMES):
+        return lambda p: {}
+    cols = {name: ds[name].values for name in _DOF_POINT + _DOF_NAMES}
+    return lambda p: dofs_and_contacts(**{name: cols[name][p] for name in _DOF_POINT},
+                                       **{name: cols[name] for name in _DOF_NAMES})
 
 
 def _level_kind_record(ds, idx) -> dict:
