@@ -133,7 +133,7 @@ def mean_contact_force_n(model: ContactModel, excitation: Excitation, rec, n_per
     h = steps[:, REC_H][:, None]
     tau = (steps[:, REC_T][:, None] + 0.5 * h * (theta[None, :] + 1.0)).ravel()
     x, v, _c = sample_records(rec, tau)
-    f = model.contact_force(x * model.y0, v * u_v).reshape(-1, FORCE_NODES)
+    f = model.contact_force(x * model.y0 + model.spring_law.engagement_m, v * u_v).reshape(-1, FORCE_NODES)
     return float(np.sum(0.5 * h * weight[None, :] * f) / (n_periods * u_t))
 
 
