@@ -26,6 +26,7 @@ EXPECTED = {
     "Stopped": ("contactvib.explore.state", Exception),
     "DatasetError": ("contactvib.sweeps.stored", ValueError),
     "DamagedDataset": ("contactvib.sweeps.stored", LookupError),
+    "MissingLevel": ("contactvib.sweeps.stored", LookupError),
     "ResumeMismatch": ("contactvib.sweeps.resonance", ValueError),
     "OutputLocked": ("contactvib.sweeps.resonance", ValueError),
     "HBError": ("contactvib.frequency.hb_results", RuntimeError),
