@@ -9,7 +9,8 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attract
 :func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
 :func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
-:func:`attractors_at`, :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`,
+:func:`open_resonance` (a stored dataset, :class:`ResonanceData`), :func:`attractors_at`,
+:func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`,
 :func:`friction_at`.
 """
 
@@ -65,6 +66,8 @@ _LAZY = {
     "SweepSettings": ("contactvib.sweeps.sweep", "SweepSettings"),
     "trace_level": ("contactvib.sweeps.sweep", "trace_level"),
     "resonance_dataset": ("contactvib.sweeps.resonance", "resonance_dataset"),
+    "open_resonance": ("contactvib.sweeps.stored", "open_resonance"),
+    "ResonanceData": ("contactvib.sweeps.stored", "ResonanceData"),
     "attractors_at": ("contactvib.sweeps.stored", "attractors_at"),
     "reproduce_paper": ("contactvib.sweeps.paper", "reproduce_paper"),
     "PaperResult": ("contactvib.sweeps.paper", "PaperResult"),
@@ -72,6 +75,7 @@ _LAZY = {
     "FilmResult": ("contactvib.sweeps.film", "FilmResult"),
     "open_levels": ("contactvib.sweeps.film", "open_levels"),
     "DatasetError": ("contactvib.sweeps.stored", "DatasetError"),
+    "MissingLevel": ("contactvib.sweeps.stored", "MissingLevel"),
     # friction under normal contact vibration
     "friction_at": ("contactvib.friction.tangential", "friction_at"),
     "FrictionModel": ("contactvib.friction.model", "FrictionModel"),

@@ -25,6 +25,7 @@ EXPECTED = {
     "Stopped": ("contactvib.explore.state", Exception),
     "DatasetError": ("contactvib.sweeps.stored", ValueError),
     "DamagedDataset": ("contactvib.sweeps.stored", LookupError),
+    "MissingLevel": ("contactvib.sweeps.stored", LookupError),
     "ResumeMismatch": ("contactvib.sweeps.resonance", ValueError),
     "OutputLocked": ("contactvib.sweeps.resonance", ValueError),
     "ComputationError": ("contactvib.errors", RuntimeError),

@@ -423,14 +423,14 @@ def _finite_or_none(obj):
 
 
 def open_dataset_argument(dataset, option: str = "DATASET", load: bool = False):
-    """``(file, dataset)``: the resonance dataset a command was given (a file, or a folder holding
-    atlas.nc, paper.nc or resonance.nc), opened as every command opens one
-    (:func:`contactvib.sweeps.stored.open_dataset`); its refusal is the one-line InputError
-    ``DATASET = <why>``."""
-    from contactvib.sweeps.stored import DatasetError, open_dataset
+    """The resonance dataset a command was given (a file, or a folder holding atlas.nc, paper.nc
+    or resonance.nc) as a :class:`contactvib.sweeps.stored.ResonanceData`, opened by
+    :func:`contactvib.sweeps.stored.open_resonance` (lazily; into memory with ``load``); its
+    refusal is the one-line InputError ``<option> = <why>``."""
+    from contactvib.sweeps.stored import DatasetError, open_resonance
 
     try:
-        return open_dataset(dataset, load=load)
+        return open_resonance(dataset, load=load)
     except DatasetError as e:
         raise InputError(f"{option} = {e}") from None
 

@@ -14,6 +14,7 @@ from contactvib.cli.common import (
     feasible_frequencies,
     law_options,
     mapped_options,
+    open_dataset_argument,
     parse_excitation,
     parse_int,
     parse_levels,
@@ -240,12 +241,9 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
                    err=True)
     levels = None
     if dataset is not None:
-        from contactvib.explore.dataset_view import DatasetError, DatasetLevels
+        from contactvib.explore.dataset_view import DatasetLevels
 
-        try:
-            levels = DatasetLevels(dataset)
-        except DatasetError as e:
-            raise InputError(f"DATASET = {e}") from None
+        levels = DatasetLevels(open_dataset_argument(dataset))
     from contactvib.explore.server import serve
 
     def ready(url):
