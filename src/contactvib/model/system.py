@@ -354,19 +354,26 @@ class System:
                 return q
             J = self.tangent_stiffness(q)
             s = np.linalg.svd(J, compute_uv=False)
+            r_model, search = r, True
             if s[-1] <= 1e-10 * max(s[0], 1e-300):
+                # no stiffness along some direction: a contact without stiffness there becomes a
+                # linear spring of its reference stiffness, engaged from where it is (the gap
+                # closed), and the full step is taken (the residual is flat along it)
+                search = False
                 for c, kr in zip(self.contacts, k_ref):
-                    if c.stiffness(c.deflection(q)) <= 1e-10 * kr:
+                    d = c.deflection(q)
+                    if c.stiffness(d) <= 1e-10 * kr:
                         J = J + kr * np.outer(c.w, c.w)
+                        r_model = r_model + c.w * kr * min(d, 0.0)
             try:
-                dq = np.linalg.solve(J, -r)
+                dq = np.linalg.solve(J, -r_model)
             except np.linalg.LinAlgError:
                 break
             lam, norm = 1.0, float(np.max(np.abs(r)))
             while True:
                 q_new = q + lam * dq
                 r_new = self.static_residual(q_new)
-                if float(np.max(np.abs(r_new))) < (1.0 - 1e-4 * lam) * norm or lam < 1e-10:
+                if not search or float(np.max(np.abs(r_new))) < (1.0 - 1e-4 * lam) * norm or lam < 1e-10:
                     break
                 lam *= 0.5
             q, r = q_new, r_new
