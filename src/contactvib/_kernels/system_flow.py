@@ -43,7 +43,7 @@ import numpy as np
 from numba import njit
 
 from .contact import contact_force, contact_partials
-from .flow import A, B, C, E3, E5, dense_root, dense_value, interpolant
+from .flow import E3, E5, A, B, C, dense_root, dense_value, interpolant
 from .status import (
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,

@@ -217,7 +217,8 @@ def _records(sa, form, system, x, n_periods, rtol):
     width = rec_width(system.n, m)
     rows = _RECORD_ROWS * n_periods
     while True:
-        check_memory("n_periods", n_periods, rows * width * 8.0, max(1, int(MEMORY_MAX // (width * 8 * rows / n_periods))))
+        per_period = width * 8.0 * rows / n_periods
+        check_memory("n_periods", n_periods, rows * width * 8.0, max(1, int(MEMORY_MAX // per_period)))
         rec = np.empty((rows, width))
         out = np.empty(x.size)
         nrec, st = km.record_span(sa, np.ascontiguousarray(x), int(n_periods), rtol, rtol, rec, out)
