@@ -1,4 +1,4 @@
-"""Benchmark of ``contactvib atlas`` (issue 14, Performance), measured in one run:
+"""Benchmark of ``contactvib atlas``, measured in one run:
 
 * a slice of the 96-level atlas (``--levels`` levels spread evenly over 0.05–1.0 Q, 30–2000 Hz
   at 1 Hz, warm numba cache) on the local pool with 2 workers: wall time, CPU seconds per level
@@ -17,7 +17,7 @@ Run from the repository root::
     python -m benchmarks atlas --levels 4  # a smaller slice
     python -m benchmarks atlas --full-atlas --paper-runs 3  # also the whole 96-level atlas (~6 min), paper cold 3x
 
-``--full-atlas`` runs the issue's own command, ``contactvib atlas --pa-min 0.05 --pa-max 1.0
+``--full-atlas`` runs the reference atlas's command, ``contactvib atlas --pa-min 0.05 --pa-max 1.0
 --npa 96 --fmin 30 --fmax 2000 --df 1`` (local pool, 2 workers, warm cache): its wall time is the
 96-level figure, measured rather than extrapolated from the slice. ``--paper-runs N`` repeats the
 cold and warm ``contactvib paper`` pair N times (each cold run with a new empty cache folder): on
@@ -68,7 +68,7 @@ def _atlas(levels, tmp, name, backend) -> dict:
 
 
 def _full_atlas(tmp) -> dict:
-    """The issue's 96-level atlas, 30–2000 Hz at 1 Hz, local pool with 2 workers."""
+    """The reference 96-level atlas, 30–2000 Hz at 1 Hz, local pool with 2 workers."""
     out = Path(tmp) / "atlas96"
     r = _run(["atlas", "--pa-min", "0.05", "--pa-max", "1.0", "--npa", "96", "--fmin", "30",
               "--fmax", "2000", "--df", "1", "--workers", "2", "--no-progress", "--out", str(out)])

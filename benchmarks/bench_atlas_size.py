@@ -1,4 +1,4 @@
-"""Storage size of the atlas (issue 14: the 96-level atlas must stay under ~400 MB).
+"""Storage size of the atlas (the target: the 96-level atlas stays under ~400 MB).
 
 A standalone script, not a test. It reads finished level files (the ``.chunks/level_pa*.nc`` of
 ``paper`` for its eight levels and of an atlas of a few low levels), writes each level with three
@@ -9,8 +9,8 @@ NetCDF4 encodings and reports bytes per attractor point and MB per level, then e
     # writes benchmarks/results_atlas_size.json
 
 Encodings: ``vlen strings`` (zlib 4 + shuffle, strings as NetCDF variable-length strings, which
-NetCDF4 cannot compress: the encoding before this round), ``char strings`` (the strings as UTF-8
-character arrays: :func:`contactvib.sweeps.dataset.compressed_encoding` now; lossless) and
+NetCDF4 cannot compress), ``char strings`` (the strings as UTF-8 character arrays: the encoding
+of :func:`contactvib.sweeps.dataset.compressed_encoding`; lossless) and
 ``char strings + float32 harmonics`` (harmonics_um rounded to float32: not used, see README).
 """
 

@@ -6,7 +6,7 @@
 2. Lower branch from 297 Hz up through the jump-up fold (and back down its unstable part to
    297 Hz); the fold frequency's convergence with the integrator tolerance.
 
-AUTO-07p reference (from the issue): about 7 s on one core for part 1 (orthogonal collocation,
+AUTO-07p reference: about 7 s on one core for part 1 (orthogonal collocation,
 300 mesh intervals). Usage::
 
     PYTHONPATH=src python benchmarks/bench_continuation.py [--repeat 5] [--out FILE]

@@ -1,5 +1,5 @@
-"""Benchmark of ``contactvib fit`` on a stepped-sine FRF at two force levels (issue 24: ≤ 60 s on
-2 cores for ~150 points).
+"""Benchmark of ``contactvib fit`` on a stepped-sine FRF at two force levels (the target: ≤ 60 s
+on 2 cores for ~150 points).
 
 The data: the paper's contact, up and down sweeps of 38 steps at P_a = 0.3 Q (f_e/f_n0 =
 0.64 … 1.04) and 0.65 Q (0.54 … 1.0), 152 points, the grid of ``tests/data/fit_paper_frf.csv``

@@ -1,5 +1,5 @@
-"""Benchmark of the friction columns of a resonance sweep (issue 26, acceptance: "a 1 Hz sweep of
-one level with friction costs no more than 1.5x the same sweep without").
+"""Benchmark of the friction columns of a resonance sweep (the target: a 1 Hz sweep of
+one level with friction costs no more than 1.5x the same sweep without).
 
 Runs ``contactvib resonance --pa 0.65 --df 1 --workers 1`` (30-2000 Hz, warm numba cache) with and
 without ``--friction default``, alternately, ``--repeats`` times each, and reports the wall and CPU

@@ -1,6 +1,6 @@
-"""Trajectory-periods per second per core of the atlas's own trajectory work (issue 14).
+"""Trajectory-periods per second per core of the atlas's own trajectory work.
 
-``bench_atlas.py`` reports levels per minute; this script adds the other rate the issue asks for:
+``bench_atlas.py`` reports levels per minute; this script adds the other rate of the atlas's performance:
 trajectory-periods per second per core. One numba thread (``numba.set_num_threads(1)``, and every
 kernel timed here is serial anyway), CPU time of this process (``time.process_time``) taken around
 the kernel calls only, each kernel warmed by one call before timing (warm numba cache assumed).

@@ -19,7 +19,7 @@ from pathlib import Path
 #: the public packages, in the order of the API reference; a name documented under an earlier
 #: package (``contactvib`` first) is only listed under a later one
 API_PACKAGES = ("contactvib", "contactvib.model", "contactvib.plotting", "contactvib.fitting",
-                "contactvib.friction", "contactvib.cli")
+                "contactvib.friction", "contactvib.cli", "contactvib.testing")
 
 
 #: the topics of the API reference, in its order: (page, title, what the page holds). Each public
@@ -47,9 +47,13 @@ API_TOPICS = (
     ("plotting", "Plotting",
      "The figures of the command line as functions (matplotlib)."),
     ("errors", "Errors",
-     "The base class of the package's errors. Each part raises its own subclass, documented with it: "
-     "`ParameterError` (model), `OrbitError` (steady states), `ContinuationError`, `HBError`, "
-     "`DatasetError` (sweeps), `FrictionError`, `FitError`."),
+     "The base class of the package's errors and the one error of a computation that fails, "
+     "`ComputationError`, whose `stage` says where (Newton shooting, continuation, harmonic balance, "
+     "friction, a fit, ...). Bad input raises `ParameterError` (model) or `DatasetError` (sweeps) before "
+     "any computation."),
+    ("testing", "Reference solver",
+     "The reference the tests check the kernels against: the contact oscillator in scipy's `solve_ivp`, "
+     "mode by mode with located contact events, written independently of the compiled kernels."),
     ("cli", "Command-line entry point",
      "The click group behind the `contactvib` command and its console-script entry point; every "
      "command and option is in the command-line reference."),

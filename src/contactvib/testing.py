@@ -1,11 +1,13 @@
-"""Independent scipy references for tests and benchmarks (the package's ``numpy.testing``).
+"""The public reference solver: the contact oscillator in scipy, independent of contactvib's
+kernels (the package's ``numpy.testing``), for checking results against.
 
 The contact oscillator integrated with :func:`scipy.integrate.solve_ivp` (DOP853), mode by mode,
 switching the right-hand side at every located crossing of y = 0 (terminal events). Nothing
 here imports the package's kernels or derived scales: only a model's parameters are read, so the
-results are a reference written independently of the code under test. Used by ``tests/`` (and
-``tests/data/make_reference.py``, ``tests/data/make_fit_reference.py``, which made the stored
-reference data) and by the scipy rows of ``benchmarks/``.
+results are a reference written independently of the code under test. A public module of the
+API (documented with it): contactvib's own tests, the scripts that made their stored reference
+data (``tests/data/make_reference.py``, ``tests/data/make_fit_reference.py``) and the scipy rows
+of ``benchmarks/`` use it, and so can a user who wants to check a result or a new contact law.
 
 * :func:`integrate_modes`: any pair of right-hand sides (contact, flight) in any units, with
   extra events, dense output and counters — the one switching loop.
@@ -100,7 +102,7 @@ def integrate_modes(f_contact, f_flight, y0, t0, t1, *, contact=None, rtol=1e-12
     rtol, atol : float or array_like
         solve_ivp tolerances.
     events : sequence of callable
-        Extra non-terminal events, recorded in :attr:`ModeTrajectory.events`.
+        Extra non-terminal events, recorded in the ``events`` of the :class:`ModeTrajectory`.
     dense_output : bool
         Keep each segment's dense output.
     graze : float

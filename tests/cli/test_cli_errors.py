@@ -23,7 +23,8 @@ CMD = [sys.executable, "-m", "contactvib"]
 
 # ------------------------------------------------------------------ model and operating point
 
-@pytest.mark.parametrize("args, message", [
+#: attractors options and the start of their one error line
+BAD_INPUT = [
     (["--fe", "-5"], "contactvib: error: --fe (f_e) = -5: must be > 0 Hz"),
     (["--fe", "0"], "contactvib: error: --fe (f_e) = 0: must be > 0 Hz"),
     (["--pa", "nan"], "contactvib: error: --pa (P_a/Q) = nan: must be a finite number"),
@@ -36,7 +37,10 @@ CMD = [sys.executable, "-m", "contactvib"]
     (["--pa-newton", "-2"], "contactvib: error: --pa-newton (P_a) = -2: must be >= 0 N"),
     (["--set", "l=0"], "contactvib: error: --set l=0 (h_n) = 3.5e+11: gives the damping ratio "
                        "zeta = 8.02e+04 with l = 0: must give zeta <= 100"),
-])
+]
+
+
+@pytest.mark.parametrize("args, message", BAD_INPUT)
 def test_bad_input_one_line(args, message):
     """Bad input: one stderr line naming option, symbol, value and range; exit 2; no traceback."""
     r = subprocess.run(CMD + ["attractors", *args], capture_output=True, text=True, timeout=60)
@@ -47,7 +51,8 @@ def test_bad_input_one_line(args, message):
     assert lines[0].startswith(message)
 
 
-@pytest.mark.parametrize("args, start, needle", [
+#: attractors options whose refusal the --set values cause: the line's start and a part of it
+MODEL_ERRORS = [
     # f_e is ordinary; the --set values move f_n0 out of its reach: they are named, with their range
     (["--set", "m2=1", "--pa", "0.65", "--fe", "360"],
      "contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz", "this f_e needs m2 >= 1.466"),
@@ -59,13 +64,16 @@ def test_bad_input_one_line(args, message):
     (["--set", "c_n=1e-10", "--pa", "0.65", "--fe", "360"],
      "contactvib: error: --set c_n=1e-10 (h_n) = 3.5e+11: gives the damping ratio zeta = 1.77e+18", "h_n <="),
     # little damping: the automatic transient limit makes the search's work out of reach
-    (["--set", "h_n=1e3"], "contactvib: error: --set h_n = 1000: gives f_n0 = 1485.02 Hz and zeta = 5.16e-11",
+    (["--set", "h_n=1e3"], "contactvib: error: --set h_n = 1000: gives f_n0 = 1485.02 Hz, zeta = 5.16e-11",
      "this f_e needs h_n >= 9.473e+07"),
-    (["--set", "l=10"], "contactvib: error: --set l = 10: gives f_n0 = 1485.02 Hz and zeta = 2.71e-62",
+    (["--set", "l=10"], "contactvib: error: --set l = 10: gives f_n0 = 1485.02 Hz, zeta = 2.71e-62",
      "this f_e needs l <= 1.537"),
     # f_e is out of reach of the paper's f_n0 as well: --fe is named
     (["--set", "M=2", "--fe", "1e-9"], "contactvib: error: --fe (f_e) = 1e-9: must lie in", "f_n0 = 845.941 Hz"),
-])
+]
+
+
+@pytest.mark.parametrize("args, start, needle", MODEL_ERRORS)
 def test_model_parameter_errors_name_the_parameter(args, start, needle, capsys):
     """An error a --set value causes names that --set (not --fe), one line, exit 2."""
     assert main(["attractors", *args]) == 2
@@ -86,6 +94,34 @@ def test_model_parameter_errors_name_the_parameter_in_every_command(command, tmp
         "contactvib: error: --set m2 = 1: gives f_n0 = 2.21198e+06 Hz"), lines
     assert "this f_e needs m2 >= " in lines[0]
     assert not out.exists() or not any(out.iterdir())
+
+
+#: the longest refusals: many --set values, a basin map's work, every frequency option
+LONG_ERRORS = [
+    ["attractors", "--set", "m2=1"],
+    ["attractors", "--set", "c_n=1e-10", "--set", "h_n=0"],
+    ["attractors", "--set", "M=3", "--set", "S=1e-3", "--set", "m2=1", "--set", "h_n=1e-3", "--set", "l=2"],
+    ["attractors", "--set", "c_n=1e20", "--set", "m2=1", "--set", "h_n=1", "--set", "l=3"],
+    ["basins", "--set", "M=3", "--set", "S=1e-3", "--set", "m2=1", "--set", "h_n=1e-3"],
+    ["continue", "--set", "m2=1"],
+    ["resonance", "--pa", "0.5", "--set", "m2=1"],
+    ["attractors", "--starts", "100000000"],
+    ["attractors", "--max-periods", "1000000000"],
+]
+#: the most an error line may hold: the option, the value, the range and the key numbers
+MAX_ERROR_LINE = 400
+
+
+@pytest.mark.parametrize("args", [["attractors", *a] for a, *_ in BAD_INPUT + MODEL_ERRORS] + LONG_ERRORS,
+                         ids=lambda a: " ".join(a))
+def test_every_error_is_one_short_line(args, tmp_path, capsys):
+    """Exit 2, nothing on stdout, one stderr line of at most MAX_ERROR_LINE characters."""
+    out = ["--out", str(tmp_path / "out")] if args[0] != "attractors" else []
+    assert main([*args, *out]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1, captured.err
+    assert len(lines[0]) <= MAX_ERROR_LINE, f"{len(lines[0])} characters: {lines[0]}"
 
 
 @pytest.mark.parametrize("args, message", [

@@ -1,5 +1,5 @@
 """Every command that reads a resonance dataset (``query``, ``map``, ``animate``, ``explore``)
-finds and opens it in one place (:func:`contactvib.sweeps.stored.open_dataset`): they accept the
+finds and opens it in one place (:func:`contactvib.sweeps.stored.open_resonance`): they accept the
 same files and folders, and refuse the same inputs with the same one-line message."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import xarray as xr
 
 from contactvib.cli.main import main
 from contactvib.sweeps.dataset import FORMAT
-from contactvib.sweeps.stored import DATASET_NAMES, DatasetError, find_dataset, open_dataset
+from contactvib.sweeps.stored import DATASET_NAMES, DatasetError, find_dataset, open_resonance
 
 
 def _argv(command: str, dataset: str, tmp_path) -> list:
@@ -61,7 +61,7 @@ def _bad_inputs(tmp_path, small_dataset) -> dict:
 def test_every_command_refuses_the_same_inputs_with_the_same_line(tmp_path, small_dataset, capsys):
     for name, (path, why) in _bad_inputs(tmp_path, small_dataset).items():
         with pytest.raises(DatasetError) as e:
-            open_dataset(path)
+            open_resonance(path)
         assert str(e.value) == why, name
         for command in COMMANDS:
             assert main(_argv(command, str(path), tmp_path)) == 2, (name, command)

@@ -211,7 +211,7 @@ ATTRACTORS_KEYS = {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "n_box", "n_seeds", 
                    "attractors"}
 ATTRACTOR_KEYS = {"period", "minima_per_period", "app_um", "ymin_um", "ymax_um", "loses_contact",
                   "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_multipliers",
-                  "closure", "hits", "strobe_points", "extrema"}
+                  "closure", "hits", "strobe_points", "extrema", "dofs", "contacts"}
 #: `query --json`: the attractors contract plus the dataset's labels (docs/formats.md, "Dataset layout");
 #: the dataset stores no start counts and no `hits`.
 QUERY_TOP_KEYS = {"fn0_hz", "y0_um", "pa_over_q", "fe_hz", "requested", "units", "attractors"}
@@ -227,7 +227,9 @@ DATASET_VARS = {"pa_over_q", "fe_hz", "kind", "period", "minima_per_period", "ap
                 "strobe_ydot_mm_s", "branch_id", "branch_label", "branch_pa_over_q", "branch_period",
                 "branch_minima", "branch_fmin_hz", "branch_fmax_hz", "branch_npoints",
                 "branch_app_max_um", "branch_reached_by_sweep", "trace_label", "trace_root",
-                "trace_direction", "trace_f_start_hz", "trace_f_stop_hz", "trace_stop"}
+                "trace_direction", "trace_f_start_hz", "trace_f_stop_hz", "trace_stop", "dof_name", "dof_unit",
+                "dof_min", "dof_max", "dof_app", "dof_h1", "contact_name", "contact_loses_contact",
+                "contact_loss_frac", "contact_mean_force_n"}
 DATASET_ATTRS = {"model", "settings", "fn0_hz", "y0_um", "levels_pa_over_q"}
 #: A branch file `branch_<id>.nc` (docs/tutorials/continuation.md).
 BRANCH_VARS = {"fe_hz", "pa_over_q", "app_um", "ymin_um", "ymax_um", "floquet_re", "floquet_im",

@@ -13,8 +13,8 @@ import pytest
 
 from contactvib import (
     Branch,
+    ComputationError,
     ContactModel,
-    ContinuationError,
     ContinuationSettings,
     ParameterError,
     continue_attractors,
@@ -267,8 +267,9 @@ def test_bad_continuation_input(primary_1930):
         continue_orbit(MODEL, exc, a.state, 1, parameter="c_n")
     with pytest.raises(ParameterError, match="continuation range"):
         continue_orbit(MODEL, exc, a.state, 1, settings=ContinuationSettings(fmin_hz=30, fmax_hz=1000))
-    with pytest.raises(ContinuationError):
+    with pytest.raises(ComputationError) as failed:
         continue_orbit(MODEL, exc, [1e4, 1e4], 1, settings=ContinuationSettings(max_iter=2))
+    assert failed.value.stage == "continuation"
     with pytest.raises(ParameterError, match="attractor"):
         continue_attractors(MODEL, 0.65, 1930.0, attractor=3, attractors=[])
 

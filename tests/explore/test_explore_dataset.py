@@ -12,10 +12,11 @@ from contactvib.cli import main
 from contactvib.explore.dataset_view import DatasetError, DatasetLevels, graph_figure
 from contactvib.labels import label_family
 from contactvib.plotting.style import order_colour
+from contactvib.sweeps.stored import open_resonance
 
 
 def test_levels_read_lazily_equal_the_file(small_dataset):
-    levels = DatasetLevels(small_dataset)
+    levels = DatasetLevels(open_resonance(small_dataset))
     ds = xr.load_dataset(small_dataset)
     assert levels.levels == (0.65,)
     lv = levels.level(0.65 + 1e-9)
@@ -30,7 +31,7 @@ def test_levels_read_lazily_equal_the_file(small_dataset):
 
 
 def test_graph_draws_every_stored_point_once_in_the_papers_colours(small_dataset):
-    lv = DatasetLevels(small_dataset).level(0.65)
+    lv = DatasetLevels(open_resonance(small_dataset)).level(0.65)
     fig, current = graph_figure(lv)
     periodic = lv.kind == "periodic"
     drawn, colours = 0, set()
@@ -69,6 +70,6 @@ def test_an_atlas_folder_is_opened_by_its_dataset(small_dataset, tmp_path):
     import shutil
 
     shutil.copy(small_dataset, tmp_path / "atlas.nc")
-    levels = DatasetLevels(tmp_path)
+    levels = DatasetLevels(open_resonance(tmp_path))
     assert levels.path == tmp_path / "atlas.nc" and levels.levels == (0.65,)
-    assert levels.level(0.65).fe_hz.size == DatasetLevels(small_dataset).level(0.65).fe_hz.size
+    assert levels.level(0.65).fe_hz.size == DatasetLevels(open_resonance(small_dataset)).level(0.65).fe_hz.size

@@ -20,6 +20,7 @@ from contactvib.explore.level_graph import LevelRun, sweep_level
 from contactvib.explore.state import DEFAULTS, BadInput, Point, derived, search, table_rows
 from contactvib.model.laws import TableLaw, law_names
 from contactvib.steady.attractors import find_attractors
+from contactvib.sweeps.stored import open_resonance
 
 ROOT = Path(__file__).resolve().parents[2]
 TABLE = ROOT / "examples" / "power_law_table.csv"
@@ -109,7 +110,7 @@ def test_background_level_with_the_law_equals_the_resonance_command(tmp_path, ca
     args = shlex.split(run.command)[1:] + ["--workers", "1", "--no-progress", "--out", str(tmp_path)]
     assert main(args) == 0
     capsys.readouterr()
-    stored = DatasetLevels(tmp_path).level(0.3)
+    stored = DatasetLevels(open_resonance(tmp_path)).level(0.3)
     assert got.fe_hz.size >= 3
     for name in ("fe_hz", "app_um", "branch", "kind", "resonance"):
         assert np.array_equal(getattr(got, name), getattr(stored, name)), name

@@ -20,6 +20,7 @@ from contactvib.explore.app import Page
 from contactvib.explore.dataset_view import DatasetLevels
 from contactvib.explore.level_graph import LevelRun, sweep_level
 from contactvib.explore.state import BadInput, Point
+from contactvib.sweeps.stored import open_resonance
 
 SMALL = ("340", "380", "2")  # the grid of the small_dataset fixture (21 frequencies)
 
@@ -38,7 +39,7 @@ def test_background_level_equals_the_resonance_command(tmp_path):
     assert 0 < run.points <= run.total == 21  # the sweep's own reports (4/5 of the grid)
     args = run.command.split()[1:] + ["--workers", "1", "--no-progress", "--out", str(tmp_path)]
     assert main(args) == 0
-    stored = DatasetLevels(tmp_path).level(0.65)
+    stored = DatasetLevels(open_resonance(tmp_path)).level(0.65)
     assert got.pa_over_q == stored.pa_over_q and got.fe_hz.size > 21
     for name in ("fe_hz", "app_um", "branch", "kind", "resonance", "isolated"):
         assert np.array_equal(getattr(got, name), getattr(stored, name)), name

@@ -14,6 +14,7 @@ from contactvib.friction import FrictionModel
 from contactvib.model import ContactModel
 from contactvib.sweeps.regimes import FRICTION_MAPS, regime_maps
 from contactvib.sweeps.resonance import resonance_dataset
+from contactvib.sweeps.stored import open_resonance
 from contactvib.sweeps.sweep import SweepSettings
 from figure_files import assert_figure_file
 
@@ -55,7 +56,7 @@ def test_map_without_friction_has_no_friction_maps(small_dataset, tmp_path):
 
 
 def test_explore_dataset_view_shows_the_friction_ratio(friction_dataset, small_dataset):
-    lv = DatasetLevels(friction_dataset).level(0.65)
+    lv = DatasetLevels(open_resonance(friction_dataset)).level(0.65)
     ds = xr.load_dataset(friction_dataset)
     sel = np.abs(ds["pa_over_q"].values - 0.65) <= 1e-6
     assert np.array_equal(lv.friction_ratio, ds["friction_ratio"].values[sel], equal_nan=True)
@@ -66,5 +67,5 @@ def test_explore_dataset_view_shows_the_friction_ratio(friction_dataset, small_d
           for seg in r.data_source.data["ys"] for y in seg]
     periodic = lv.kind == "periodic"
     assert sorted(ys) == sorted(lv.friction_ratio[periodic])  # every periodic point drawn once
-    plain = DatasetLevels(small_dataset).level(0.65)
+    plain = DatasetLevels(open_resonance(small_dataset)).level(0.65)
     assert plain.friction_ratio is None and friction_figure(plain) is None

@@ -156,11 +156,12 @@ def test_switches_are_located_events(paper_360):
 def test_non_periodic_attractor_is_refused(paper_360):
     import dataclasses
 
-    from contactvib.friction import FrictionError
+    from contactvib import ComputationError
 
     m, exc, found = paper_360
-    with pytest.raises(FrictionError, match="non-periodic"):
+    with pytest.raises(ComputationError, match="non-periodic") as failed:
         friction_at(m, exc, dataclasses.replace(found[3], period=None))
+    assert failed.value.stage == "friction"
 
 
 def test_table_law_gives_the_power_laws_friction(paper_360):

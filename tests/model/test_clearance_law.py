@@ -119,3 +119,29 @@ def test_command_line():
         r = subprocess.run([sys.executable, "-m", "contactvib", "attractors", "--law", "clearance", *bad],
                            capture_output=True, text=True)
         assert r.returncode == 2 and r.stderr.strip() == f"contactvib: error: {line}"
+
+
+def test_every_command_takes_it(tmp_path):
+    """resonance, continue and hbm on the clearance law: positions above the gap, contact loss
+    where y < gap (the same rows as the power law at m2 = 1, shifted)."""
+    import xarray as xr
+
+    from contactvib.cli.main import main
+
+    law = ["--law", "clearance", "--set", f"c_lin={C_LIN}", "--set", f"gap_um={GAP_UM}"]
+    assert main(["resonance", *law, "--pa", "0.3", "--fmin", "1190", "--fmax", "1210", "--df", "10",
+                 "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress",
+                 "--out", str(tmp_path / "res")]) == 0
+    with xr.open_dataset(tmp_path / "res" / "resonance.nc") as ds:
+        assert ds.attrs["engagement_um"] == GAP_UM
+        assert np.all(ds["ymax_um"].values > GAP_UM)
+        lost = ds["ymin_um"].values < GAP_UM
+        assert np.array_equal(lost, ds["contact_loss_fraction"].values > 0.0)
+    assert main(["continue", *law, "--pa", "0.3", "--from-fe", "1200", "--attractor", "0", "--fmin", "1100",
+                 "--fmax", "1300", "--max-points", "30", "--out", str(tmp_path / "br")]) == 0
+    branch, = (tmp_path / "br").glob("branch_*.nc")
+    with xr.open_dataset(branch) as b:
+        assert b.sizes["point"] >= 5 and np.all(b["ymax_um"].values > GAP_UM)
+    assert main(["hbm", *law, "--pa", "0.1", "--fmin", "1000", "--fmax", "1100", "--out",
+                 str(tmp_path / "hb")]) == 0
+    assert list((tmp_path / "hb").glob("*.png"))

@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from contactvib import ContactModel, find_attractors, refine_orbit
+from contactvib import ComputationError, ContactModel, find_attractors, refine_orbit
 from contactvib.steady.attractors import UnsettledWarning
-from contactvib.steady.orbits import OrbitError, same_orbit, strobe_points
+from contactvib.steady.orbits import same_orbit, strobe_points
 
 MODEL = ContactModel()
 
@@ -25,8 +25,9 @@ def test_refine_converges_and_closes():
 
 def test_refine_failure_is_reported():
     exc = MODEL.excitation(0.65, 360.0)
-    with pytest.raises(OrbitError, match="period-1"):
+    with pytest.raises(ComputationError, match="period-1") as failed:
         refine_orbit(exc, [1e3, 1e3], 1, max_iter=1)
+    assert failed.value.stage == "newton"
 
 
 def test_same_orbit_cyclic_order():

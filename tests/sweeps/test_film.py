@@ -18,13 +18,13 @@ from contactvib.sweeps.dataset import merge_levels
 from contactvib.sweeps.facts import level_stages, resonance_facts
 from contactvib.sweeps.film import (
     DatasetError,
-    LevelSource,
     animate,
     check_film,
     film_limits,
     open_levels,
 )
 from contactvib.sweeps.resonance import resonance_dataset
+from contactvib.sweeps.stored import ResonanceData
 from contactvib.sweeps.sweep import SweepSettings
 
 LEVELS = (0.5, 0.65, 0.7)
@@ -134,8 +134,8 @@ def test_stages_are_the_index_pages(films, tmp_path):
 
 def test_open_levels(films, tmp_path):
     src = open_levels(films / "res")
-    assert isinstance(src, LevelSource) and src.path.name == "resonance.nc" and src.levels == LEVELS
-    assert src.level(0.65) is src.ds and src.fn0_hz == pytest.approx(ContactModel().f_n0)
+    assert isinstance(src, ResonanceData) and src.path.name == "resonance.nc" and src.levels == LEVELS
+    assert src.level(0.65)["pa_over_q"].size == int((src.ds["pa_over_q"] == 0.65).sum()) > 0
     two = tmp_path / "two"
     two.mkdir()
     for name in ("paper.nc", "atlas.nc"):

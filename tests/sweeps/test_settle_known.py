@@ -10,7 +10,8 @@ from contactvib._kernels import table as tb
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_PERIODIC
 from contactvib.model import ContactModel
 from contactvib.steady.attractors import ballistic_seeds, start_box
-from contactvib.sweeps.sweep import LevelState, SweepSettings, _settle_from
+from contactvib.sweeps.level_state import LevelState
+from contactvib.sweeps.sweep import SweepSettings, _settle_from
 
 
 def _level_with_known_orbit():

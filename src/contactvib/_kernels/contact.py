@@ -20,9 +20,9 @@ Everything that evaluates the law is built from the functions here:
 * :func:`power_series_partial`: J. C. P. Miller's recurrence for the power series of
   ``(1 + u)^α`` (any real α), used by the perturbation series.
 
-For the paper's law (m2 = 2, l = 1) the floating-point operation order is the one the kernels
-had before this module existed (``x·|x|``, the order of the additions), so results are
-bit-identical. What a new law must provide: ``contactvib.model.contact_law`` ("For developers").
+For the paper's law (m2 = 2, l = 1) the floating-point operation order is fixed (``x·|x|``, the
+order of the additions), so that ``contactvib paper`` is bit-identical from version to version.
+What a new law must provide: ``contactvib.model.contact_law`` ("For developers").
 
 References
 ----------

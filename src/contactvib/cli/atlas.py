@@ -23,7 +23,7 @@ from contactvib.model import WORKERS_MAX, ParameterError
 
 __all__: list = []
 
-#: The defaults of the P_a range (the issue's atlas: 96 levels from 0.05 Q to 1 Q).
+#: The defaults of the P_a range (the reference atlas: 96 levels from 0.05 Q to 1 Q).
 _RANGE_DEFAULTS = {"pa_min": "0.05", "pa_max": "1.0", "npa": "96"}
 _RANGE_OPTIONS = {"pa_min": "--pa-min", "pa_max": "--pa-max", "npa": "--npa"}
 

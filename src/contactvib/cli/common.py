@@ -218,11 +218,9 @@ def model_blamed(model: ContactModel, e: ParameterError, accepts, option: str = 
         edge = _boundary(model, name, accepts)
         if edge is not None:
             ranges.append(f"{name} {'>=' if edge > value else '<='} {edge:.4g}")
-    allowed = (f"; with the other parameters as given, this f_e needs {' or '.join(ranges)}" if ranges
-               else "")
-    return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz and zeta = {model.zeta:.3g} (the paper's "
-                      f"parameters: f_n0 = {paper.f_n0:.6g} Hz, zeta = {paper.zeta:.3g}), with which "
-                      f"{option} (f_e) = {show_value(e.value)}: {e.allowed}{allowed}")
+    allowed = f"; this f_e needs {' or '.join(ranges)} (each alone)" if ranges else ""
+    return InputError(f"{label}: gives f_n0 = {model.f_n0:.6g} Hz, zeta = {model.zeta:.3g}; {option} (f_e) = "
+                      f"{show_value(e.value)}: {e.allowed}{allowed}")
 
 
 def scoped_options(var: contextvars.ContextVar, names: tuple[str, ...], f):
@@ -425,14 +423,14 @@ def _finite_or_none(obj):
 
 
 def open_dataset_argument(dataset, option: str = "DATASET", load: bool = False):
-    """``(file, dataset)``: the resonance dataset a command was given (a file, or a folder holding
-    atlas.nc, paper.nc or resonance.nc), opened as every command opens one
-    (:func:`contactvib.sweeps.stored.open_dataset`); its refusal is the one-line InputError
-    ``DATASET = <why>``."""
-    from contactvib.sweeps.stored import DatasetError, open_dataset
+    """The resonance dataset a command was given (a file, or a folder holding atlas.nc, paper.nc
+    or resonance.nc) as a :class:`contactvib.sweeps.stored.ResonanceData`, opened by
+    :func:`contactvib.sweeps.stored.open_resonance` (lazily; into memory with ``load``); its
+    refusal is the one-line InputError ``<option> = <why>``."""
+    from contactvib.sweeps.stored import DatasetError, open_resonance
 
     try:
-        return open_dataset(dataset, load=load)
+        return open_resonance(dataset, load=load)
     except DatasetError as e:
         raise InputError(f"{option} = {e}") from None
 

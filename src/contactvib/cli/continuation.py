@@ -121,19 +121,16 @@ def _open_dataset(path, levels, kind: str = "force"):
         return None
     from contactvib.cli.common import open_dataset_argument
 
-    _, ds = open_dataset_argument(path, "--dataset", load=True)
-    import numpy as np
-
-    stored_kind = str(ds.attrs.get("excitation", "force"))
+    data = open_dataset_argument(path, "--dataset", load=True)
+    stored_kind = data.kind
     if stored_kind != kind:
         raise InputError(f"--dataset = {path}: its levels are {LEVEL_KINDS[stored_kind][0]} "
                          f"(--excitation {stored_kind}), not {LEVEL_KINDS[kind][0]} (--excitation {kind})")
-    stored = np.unique(ds["pa_over_q"].values)
     for p in levels:
-        if np.min(np.abs(stored - p)) > 1e-6:
+        if data.match(p) is None:
             raise InputError(f"--pa ({LEVEL_KINDS[kind][0]}) = {p:g}: not in --dataset; stored levels: "
-                             + ", ".join(f"{v:g}" for v in stored))
-    return ds
+                             + data.levels_text())
+    return data.ds
 
 
 def _write(bset, out: Path, tag: str, title: str, ds=None, pa=None, parameter="f_e"):

@@ -14,6 +14,7 @@ from contactvib.cli.common import (
     feasible_frequencies,
     law_options,
     mapped_options,
+    open_dataset_argument,
     parse_excitation,
     parse_int,
     parse_levels,
@@ -77,7 +78,7 @@ def _continue(point, model, exc, result, n):
     and that command: ``(branch, command)``."""
     from contactvib.cli.continuation import continuation_settings
     from contactvib.continuation.diagram import continue_attractors
-    from contactvib.continuation.shooting import ContinuationError
+    from contactvib.errors import ComputationError
     from contactvib.explore.continuation_view import window_hz
     from contactvib.explore.state import BadInput
 
@@ -92,7 +93,7 @@ def _continue(point, model, exc, result, n):
                                        attractors=result, parameter="f_e")
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
-    except (ContinuationError, ValueError) as e:
+    except (ComputationError, ValueError) as e:
         raise BadInput(f"contactvib: continuation failed: {e}") from None
     if not len(branches):
         raise BadInput(f"contactvib: attractor {n} is not a periodic orbit: nothing to continue")
@@ -240,12 +241,9 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
                    err=True)
     levels = None
     if dataset is not None:
-        from contactvib.explore.dataset_view import DatasetError, DatasetLevels
+        from contactvib.explore.dataset_view import DatasetLevels
 
-        try:
-            levels = DatasetLevels(dataset)
-        except DatasetError as e:
-            raise InputError(f"DATASET = {e}") from None
+        levels = DatasetLevels(open_dataset_argument(dataset))
     from contactvib.explore.server import serve
 
     def ready(url):

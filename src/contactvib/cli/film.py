@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from contactvib.cli.common import InputError, checked_output_folder, ctrl_c, option_error
+from contactvib.cli.common import InputError, checked_output_folder, ctrl_c, open_dataset_argument, option_error
 from contactvib.model import ParameterError, level_text
 
 _FILM_OPTIONS = {"fps": "--fps", "width": "--size", "height": "--size"}
@@ -47,22 +47,19 @@ def animate(dataset, out, fps, gif, size):
     """The film of a resonance dataset (paper.nc, resonance.nc or an atlas; a file or its folder):
     one frame per P_a level with Figs. 2 and 3 side by side at fixed axes, a P_a counter and the
     stage of each 1/m resonance (S3.8)."""
-    from contactvib.sweeps.film import DatasetError, check_film, open_levels
+    from contactvib.sweeps.film import check_film
 
     try:
         fps_, width, height = check_film(fps, *_size(size))
     except ParameterError as e:
         raise option_error(_FILM_OPTIONS.get(e.symbol, e.symbol), e) from None
     path = _output_file(out, gif)
-    try:
-        source = open_levels(dataset)
-    except DatasetError as e:
-        raise InputError(f"DATASET = {e}") from None
+    source = open_dataset_argument(dataset, load=True)
     from contactvib.sweeps import film
 
     with ctrl_c():
         res = film.animate(source, path, fps=fps_, size=(width, height), gif=gif)
-    kind = str(source.ds.attrs.get("excitation", "force"))
+    kind = source.kind
     sym, unit = level_text(1.0, kind).split(" = 1 ")
     click.echo(f"{len(res.levels)} frames ({res.size[0]}x{res.size[1]} px, {res.fps:g} frames/s, "
                f"{sym} = {res.levels[0]:g}..{res.levels[-1]:g} {unit}) -> {res.path}")

@@ -85,7 +85,7 @@ def _read(kind: str, path):
 @click.option("--no-progress", is_flag=True, help="No progress bar on stderr.")
 def fit(static, decay, frf, settings, fix, bounds, starts, seed, save_model, out, as_json, no_progress):
     """Fit the contact parameters (S c_n, m2, S h_n, l) to measurements by least squares."""
-    from contactvib.fitting.solver import FitError
+    from contactvib.errors import ComputationError
     from contactvib.fitting.solver import fit as fit_data
 
     if static is None and decay is None and frf is None:
@@ -109,7 +109,7 @@ def fit(static, decay, frf, settings, fix, bounds, starts, seed, save_model, out
                               progress=not no_progress and not as_json)
     except ParameterError as e:
         raise option_error(options.get(e.symbol, e.symbol), e, options) from None
-    except FitError as e:
+    except ComputationError as e:
         click.echo(f"contactvib: error: {e}", err=True)
         result, code = e.result, 1
     if as_json:

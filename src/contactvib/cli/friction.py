@@ -1,4 +1,4 @@
-"""CLI command ``friction``: friction under normal contact vibration (issue 26) at one operating
+"""CLI command ``friction``: friction under normal contact vibration at one operating
 point, or against f_e (``--fe-range``) or the drive velocity (``--vd-range``)."""
 
 from __future__ import annotations
@@ -182,14 +182,15 @@ def _point_row(i, a, r, force=False) -> str:
 
 
 def _one_point(model, exc, found, fm, out, as_json) -> None:
-    from contactvib.friction import FrictionError, friction_at
+    from contactvib.errors import ComputationError
+    from contactvib.friction import friction_at
 
     results = []
     with ctrl_c():
         for a in found:
             try:
                 results.append(friction_at(model, exc, a, fm))
-            except FrictionError:
+            except ComputationError:
                 results.append(None)
     if as_json:
         items = [{"period": a.period, "app_um": a.app_um, "contact_loss_fraction": a.contact_loss_fraction,

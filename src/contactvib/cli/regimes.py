@@ -62,9 +62,10 @@ def map_(dataset, orders, curves_dir, out):
             curves = load_curves(curves_dir)
         except LookupError as e:
             raise InputError(f"--curves = {e}") from None
-    path, ds = open_dataset_argument(dataset)
-    with ds:
-        levels = sorted(set(ds["pa_over_q"].values.tolist()))
+    data = open_dataset_argument(dataset)
+    path, ds = data.path, data.ds
+    with data:
+        levels = data.levels
         model = _model_of(ds, path) if ms else None
         if ms and ds.attrs.get("excitation", "force") != "force":
             raise InputError(f"--orders: the curves are continued in P_a; DATASET = {path} holds base-motion "

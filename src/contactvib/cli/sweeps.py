@@ -184,12 +184,13 @@ def query(dataset, pa, fe, as_json):
     """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one (P_a, f_e)."""
     p = parse_number("--pa", "P_a/Q", pa)
     f = parse_positive("--fe", "f_e", fe, "Hz")
-    from contactvib.sweeps.stored import DamagedDataset, attractors_at
+    from contactvib.sweeps.stored import DamagedDataset
 
-    path, ds = open_dataset_argument(dataset)
-    with ds:
+    data = open_dataset_argument(dataset)
+    path = data.path
+    with data:
         try:
-            res = attractors_at(ds, p, f)
+            res = data.attractors_at(p, f)
         except DamagedDataset as e:
             raise InputError(f"DATASET = {path}: {e}") from None
         except LookupError as e:

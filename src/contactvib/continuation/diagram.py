@@ -16,13 +16,13 @@ import numpy as np
 
 from contactvib.continuation.branch import Branch, BranchSet
 from contactvib.continuation.shooting import (
-    ContinuationError,
     ContinuationSettings,
     continue_orbit,
     switch_period_doubling,
 )
+from contactvib.errors import ComputationError
 from contactvib.model import LEVEL_TAGS, ContactModel, ParameterError, check_range
-from contactvib.steady.orbits import OrbitError, refine_orbit, same_orbit, strobe_points
+from contactvib.steady.orbits import refine_orbit, same_orbit, strobe_points
 
 __all__ = ["continue_attractors", "bifurcation_diagram", "on_branch", "DEFAULT_SEED_FE"]
 
@@ -54,7 +54,7 @@ def on_branch(model: ContactModel, branch: Branch, exc, z, k: int, parameter: st
         guess = branch.state[i] + a * (branch.state[i + 1] - branch.state[i])
         try:
             zb, _M, _res = refine_orbit(exc, guess, k, max_iter=30)
-        except OrbitError:
+        except ComputationError:
             continue
         if same_orbit(strobe_points(exc, zb, k), pts_seed):
             return True
@@ -97,7 +97,7 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
             try:
                 nb = switch_period_doubling(model, sp, parameter=parameter, settings=settings,
                                             branch_id=f"{sp.branch}.pd{len(branches)}")
-            except ContinuationError as e:
+            except ComputationError as e:
                 log(f"branch switching at {_where(sp, parameter)} failed: {e}")
                 continue
             branches.append(nb)
@@ -109,7 +109,7 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
             k = b.period // 2
             try:
                 z, _M, _r = refine_orbit(exc, st.merge_state, k, max_iter=30)
-            except OrbitError:
+            except ComputationError:
                 continue
             if any(on_branch(model, o, exc, z, k, parameter) for o in branches):
                 continue
@@ -117,7 +117,7 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
             try:
                 nb = continue_orbit(model, exc, z, k, parameter=parameter, settings=settings,
                                     branch_id=bid)
-            except (ContinuationError, ParameterError) as e:
+            except (ComputationError, ParameterError) as e:
                 log(f"continuation from the merge at {_where(st, parameter)} failed: {e}")
                 continue
             log(f"{bid}: period {k} branch found where {b.branch} merges ({_where(st, parameter)})")
@@ -199,7 +199,7 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
         try:
             b = continue_orbit(model, exc, a.state, a.period, parameter=parameter,
                                settings=settings, branch_id=bid)
-        except ContinuationError as e:
+        except ComputationError as e:
             log(f"attractor {i}: {e}")
             continue
         new.append(b)

@@ -46,7 +46,7 @@ from contactvib.continuation.engine import (
     continue_branch,
     correct,
 )
-from contactvib.errors import ContactvibError
+from contactvib.errors import ComputationError
 from contactvib.model import (
     SHOOTING_RTOL_RANGE,
     ContactModel,
@@ -59,14 +59,10 @@ from contactvib.model import (
     excitation_at,
 )
 
-__all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling", "ContinuationError",
+__all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling",
            "OrbitProblem", "OrbitRecord"]
 
 _IP = {"f_e": 4, "P_a": 3}
-
-
-class ContinuationError(ContactvibError, RuntimeError):
-    """The seed orbit could not be refined (Newton shooting failed)."""
 
 
 #: Smallest ``max_points``: a direction of a branch is its start and at least one step.
@@ -418,8 +414,8 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     ------
     ParameterError
         Bad input. The operating point must lie inside the settings' range.
-    ContinuationError
-        The seed does not converge to a period-k orbit.
+    ComputationError
+        The seed does not converge to a period-k orbit (``stage`` "continuation").
     """
     settings = settings or ContinuationSettings()
     if not isinstance(settings, ContinuationSettings):
@@ -434,8 +430,8 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
         raise ParameterError(parameter, val, f"seed must lie in the continuation range [{lo:g}, {hi:g}]")
     st, start = prob.fix_q(np.array([z[0], z[1], q0]))
     if st != STATUS_OK:
-        raise ContinuationError(f"the seed does not converge to a period-{k} orbit at "
-                                f"f_e = {excitation.f_e:g} Hz ({status_message(st)})")
+        raise ComputationError(f"the seed does not converge to a period-{k} orbit at "
+                               f"f_e = {excitation.f_e:g} Hz ({status_message(st)})", stage="continuation")
     dirs = {"both": (-1, 1), "down": (-1,), "up": (1,), -1: (-1,), 1: (1,)}[direction]
     parts = []
     for sgn in dirs:
@@ -482,7 +478,7 @@ def switch_period_doubling(model: ContactModel, special: SpecialPoint,
     prob_k = OrbitProblem(model, exc, int(special.period), parameter, settings)
     st, pk = prob_k.fix_q(np.array([special.state[0], special.state[1], q_star]))
     if st != STATUS_OK:
-        raise ContinuationError("the period-doubling point could not be re-converged")
+        raise ComputationError("the period-doubling point could not be re-converged", stage="continuation")
     u_star = pk.u
     vals, vecs = np.linalg.eig(pk.data)
     e = np.real(vecs[:, int(np.argmin(np.abs(vals + 1.0)))])
@@ -497,8 +493,8 @@ def switch_period_doubling(model: ContactModel, special: SpecialPoint,
                 break
         ds *= 0.5
     else:
-        raise ContinuationError(f"no period-{k2} branch found at the period doubling "
-                                f"f_e = {special.fe_hz:.6g} Hz")
+        raise ComputationError(f"no period-{k2} branch found at the period doubling "
+                               f"f_e = {special.fe_hz:.6g} Hz", stage="continuation")
     # the first step leaves the point along the new branch, away from (z*, q*) along (e, 0)
     points, specials, stop = prob.run(pt, t_dir, bid)
     return prob.branch(points, specials, [stop], bid, parent=special.branch,

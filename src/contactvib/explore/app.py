@@ -427,11 +427,11 @@ class Page:
         level computed in the background for this P_a and model."""
         if self.levels is None:
             return (self.graph_level if self.graph_key == self._level_key() else None), None
-        from contactvib.explore.dataset_view import DatasetError
+        from contactvib.explore.dataset_view import MissingLevel
 
         try:
             return self.levels.level(self._float("pa", float("nan"))), None
-        except DatasetError as e:
+        except MissingLevel as e:
             return None, str(e)
 
     def _draw_graph(self, result):

@@ -1,7 +1,8 @@
 """The explore page's resonance graph from a stored dataset (``paper.nc``, ``resonance.nc`` or an
 atlas): one P_a level at a time, read lazily, drawn as the paper's Fig. 2 (Bokeh).
 
-:class:`DatasetLevels` opens the dataset once (only ``pa_over_q`` is read whole) and reads one
+:class:`DatasetLevels` holds the dataset, opened once as every reader opens one
+(:class:`contactvib.sweeps.stored.ResonanceData`: only ``pa_over_q`` is read whole), and reads one
 level's points when the page asks for it; :func:`graph_figure` draws it as
 :func:`contactvib.plotting.figures.resonance_graph` does (A_pp [µm, log] against f_e [Hz]; colour
 = resonance order with the same colours, :func:`contactvib.plotting.style.order_colour`; dashed
@@ -16,9 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactvib.sweeps.stored import DatasetError, open_dataset
+from contactvib.sweeps.stored import DatasetError, MissingLevel, ResonanceData
 
-__all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "friction_figure", "DatasetError"]
+__all__ = ["DatasetLevels", "LevelPoints", "level_points", "graph_figure", "friction_figure", "DatasetError",
+           "MissingLevel"]
 
 _VARS = ("fe_hz", "app_um", "branch_index", "kind", "resonance")
 
@@ -45,47 +47,37 @@ class LevelPoints:
 
 
 class DatasetLevels:
-    """A resonance dataset opened for the page: ``levels`` [Q] (increasing) and :meth:`level`."""
+    """The page's resonance dataset: a :class:`ResonanceData` (``data``; ``path``), its
+    ``levels`` [level unit] (increasing), :meth:`nearest_level` and :meth:`level` (the points of
+    a level, read on first use, then kept)."""
 
-    def __init__(self, path):
-        self.path, self.ds = open_dataset(path)  # DatasetError: one line
-        self._pa = np.round(self.ds["pa_over_q"].values.astype(float), 6)
-        self.levels = tuple(float(p) for p in np.unique(self._pa))
+    def __init__(self, data: ResonanceData):
+        self.data, self.path, self.levels = data, data.path, data.levels
         self._cache: dict[float, LevelPoints] = {}
 
     def nearest_level(self, pa_over_q: float) -> float | None:
-        """The stored level within 1e-6 of ``pa_over_q``, or None."""
-        lv = np.asarray(self.levels)
-        j = int(np.argmin(np.abs(lv - pa_over_q)))
-        return self.levels[j] if abs(lv[j] - pa_over_q) <= 1e-6 else None
+        """The stored level that ``pa_over_q`` designates (within ``LEVEL_TOL``), or None."""
+        return self.data.match(pa_over_q)
 
     def level(self, pa_over_q: float) -> LevelPoints:
-        """The points of the stored level ``pa_over_q`` (read on first use, then kept)."""
-        pa = self.nearest_level(pa_over_q)
-        if pa is None:
-            raise DatasetError(f"P_a = {pa_over_q:g} Q is not a level of {self.path.name} "
-                               f"(levels: {', '.join(f'{p:g}' for p in self.levels)} Q)")
+        """The points of the stored level ``pa_over_q`` (read on first use, then kept);
+        :class:`MissingLevel` (one line naming the levels) when it is not stored."""
+        pa = self.data.stored_level(pa_over_q)
         if pa not in self._cache:
-            self._cache[pa] = level_points(self.ds, pa, self._pa)
+            self._cache[pa] = level_points(self.data, pa)
         return self._cache[pa]
 
 
-def level_points(ds, pa_over_q: float, pa_rounded=None) -> LevelPoints:
-    """The points of level ``pa_over_q`` [Q] (compared to 1e-6) of a resonance dataset: a file
-    opened lazily (only that level's slice is read) or a sweep's dataset in memory
-    (:mod:`.level_graph`). ``pa_rounded``: ``pa_over_q`` of every point rounded to 6 decimals,
-    when the caller holds it already. Empty when the level holds no point."""
-    pa_all = np.round(ds["pa_over_q"].values.astype(float), 6) if pa_rounded is None else pa_rounded
-    pa = float(np.round(float(pa_over_q), 6))
-    idx = np.flatnonzero(pa_all == pa)
-    lo, hi = (int(idx[0]), int(idx[-1]) + 1) if idx.size else (0, 0)
-    part = ds.isel(point=slice(lo, hi))  # a level is contiguous
-    keep = pa_all[lo:hi] == pa
-    v = {k: part[k].values[keep] for k in _VARS}
+def level_points(data: ResonanceData, pa_over_q: float) -> LevelPoints:
+    """The points of level ``pa_over_q`` of a resonance dataset (:meth:`ResonanceData.level`: a
+    file opened lazily, of which only that level's slice is read, or a sweep's dataset in memory,
+    :mod:`.level_graph`). :class:`MissingLevel` when the dataset does not hold it."""
+    part, ds = data.level(pa_over_q), data.ds
+    v = {k: part[k].values for k in _VARS}
     reach = (ds["branch_reached_by_sweep"].values if "branch_reached_by_sweep" in ds
              else np.ones(ds.sizes.get("branch", 0), np.int8))
     br = v["branch_index"].astype(int)
-    friction = part["friction_ratio"].values[keep].astype(float) if "friction_ratio" in ds else None
+    friction = part["friction_ratio"].values.astype(float) if "friction_ratio" in ds else None
     return LevelPoints(float(pa_over_q), v["fe_hz"].astype(float), v["app_um"].astype(float), br,
                        v["kind"].astype(str), v["resonance"].astype(str),
                        reach[br] == 0 if reach.size else np.zeros(br.size, bool), friction)

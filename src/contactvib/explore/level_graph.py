@@ -64,6 +64,7 @@ def sweep_level(run: LevelRun, limit_s: float = GRAPH_TIME_LIMIT_S):
     from contactvib.model import ParameterError
     from contactvib.sweeps.level_progress import points_to
     from contactvib.sweeps.resonance import resonance_dataset
+    from contactvib.sweeps.stored import ResonanceData
 
     if run.flag[0]:
         return "stopped", "stopped"
@@ -79,4 +80,4 @@ def sweep_level(run: LevelRun, limit_s: float = GRAPH_TIME_LIMIT_S):
     except Exception as e:  # a failure is one line in the page, its traceback in the server's log
         logging.getLogger("contactvib.explore").exception("explore: the level sweep failed")
         return "error", f"contactvib: the sweep failed: {type(e).__name__}: {e}"
-    return "ok", (level_points(ds, run.pa_over_q), time.perf_counter() - t0)
+    return "ok", (level_points(ResonanceData(ds), run.pa_over_q), time.perf_counter() - t0)

@@ -5,6 +5,7 @@
 :class:`FitResult` (:mod:`.results`) with standard errors, correlations and the fitted model.
 """
 
+from ..errors import ComputationError
 from .data import (
     DecayData,
     FrfData,
@@ -17,7 +18,10 @@ from .data import (
     static_data,
 )
 from .results import FitResult
-from .solver import FitError, fit
+from .solver import fit
 
-__all__ = ["DecayData", "FitError", "FitResult", "FrfData", "StaticData", "decay_data", "fit", "frf_data",
+__all__ = ["DecayData", "FitResult", "FrfData", "StaticData", "decay_data", "fit", "frf_data",
            "read_decay", "read_frf", "read_static", "static_data"]
+
+#: An alias of :class:`contactvib.ComputationError` (a failure at ``stage`` "fit").
+FitError = ComputationError

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactvib.errors import ContactvibError
+from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, ParameterError
 
 from .forward import CONTACT_NAMES, LOG_NAMES, UNITS, guess_contact, make_model, make_set
@@ -56,14 +56,6 @@ DECAY_WINDOWS = (4, 10, None)
 #: ~1e-8..1e-6 (settle and Newton tolerances, warm or cold starts), so 1e-5 made Jacobian columns
 #: wrong by up to 150 %; 1e-3 keeps their error below 1 % and its own truncation error as small.
 FD_STEP = 1e-3
-
-
-class FitError(ContactvibError, RuntimeError):
-    """The fit did not converge; ``result`` holds the best point found."""
-
-    def __init__(self, message: str, result: FitResult):
-        super().__init__(message)
-        self.result = result
 
 
 def _coords_of(p: dict, base: ContactModel) -> dict:
@@ -330,8 +322,8 @@ def fit(*, static=None, decay=None, frf=None, model: ContactModel | None = None,
     ------
     ParameterError
         Bad data or options; a data set that no parameter set inside the bounds reaches.
-    FitError
-        The solver did not converge (its ``result`` is the best point found).
+    ComputationError
+        The solver did not converge (``stage`` "fit"; its ``result`` is the best point found).
     """
     from tqdm import tqdm
 
@@ -398,6 +390,7 @@ def _result(prob: _Problem, best, J, t0: float, n_starts: int) -> FitResult:
                                  f"no parameter set inside the bounds reaches these data: the best fit stays "
                                  f"{100 * far:.0f} % (RMS{' of ln A_pp' if s.kind == 'frf' else ''}) away from them")
     if not result.converged:
-        raise FitError(f"the fit did not converge ({best.message}); best point: "
-                       + ", ".join(f"{k} = {v['value']:.6g}" for k, v in values.items()), result)
+        raise ComputationError(f"the fit did not converge ({best.message}); best point: "
+                               + ", ".join(f"{k} = {v['value']:.6g}" for k, v in values.items()),
+                               stage="fit", result=result)
     return result

@@ -44,8 +44,9 @@ import numpy as np
 
 from contactvib._kernels.shooting import is_stable
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
+from contactvib.errors import ComputationError
 from contactvib.frequency.aft import AFT as _AFT
-from contactvib.frequency.hb_results import HBBranch, HBError, HBSolution, series_extrema, series_value, top_fraction
+from contactvib.frequency.hb_results import HBBranch, HBSolution, series_extrema, series_value, top_fraction
 from contactvib.model import (
     HARMONICS_MAX,
     LEVEL_KINDS,
@@ -59,7 +60,7 @@ from contactvib.model import (
 )
 from contactvib.model.contact_law import PowerLaw
 
-__all__ = ["HBSettings", "HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit", "HBError",
+__all__ = ["HBSettings", "HBSolution", "HBBranch", "hb_solve", "hb_continuation", "coefficients_from_orbit",
            "HBProblem"]
 
 
@@ -148,8 +149,8 @@ def _newton(X, r, par, aft, tol, max_iter):
             break
         dX = np.linalg.solve(J, -R)
         X = X + dX
-    raise HBError(f"harmonic-balance Newton did not converge (residual {res:.2e} after {it} "
-                  "iterations); start closer, e.g. from a neighbouring solution")
+    raise ComputationError(f"harmonic-balance Newton did not converge (residual {res:.2e} after {it} "
+                           "iterations); start closer, e.g. from a neighbouring solution", stage="harmonic-balance")
 
 
 def _solution(model, exc_pa, fe, X, par, aft, res, stability, y0_um):
@@ -225,8 +226,8 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
 
     Raises
     ------
-    HBError
-        If Newton does not converge.
+    ComputationError
+        If Newton does not converge (``stage`` "harmonic-balance").
     """
     H, n_time = _check_harmonics(harmonics, n_time)
     _check_force_harmonics(excitation, H)

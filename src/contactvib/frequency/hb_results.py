@@ -13,14 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib._kernels.shooting import is_stable
-from contactvib.errors import ContactvibError
 
-__all__ = ["HBSolution", "HBBranch", "HBError"]
-
-
-class HBError(ContactvibError, RuntimeError):
-    """Harmonic-balance Newton did not converge."""
-
+__all__ = ["HBSolution", "HBBranch"]
 
 
 @dataclass(frozen=True)

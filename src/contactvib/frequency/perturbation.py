@@ -470,8 +470,9 @@ def steady_counterpart(model: ContactModel, excitation: Excitation, result: Pert
     that loses contact, the multi-start search is used and the period-1 attractor without loss of
     contact closest in A_pp is taken (else the closest one).
     """
+    from contactvib.errors import ComputationError
     from contactvib.steady.attractors import find_attractors
-    from contactvib.steady.orbits import OrbitError, describe_orbit, refine_orbit
+    from contactvib.steady.orbits import describe_orbit, refine_orbit
 
     try:
         z, M, res = refine_orbit(excitation, result.state, 1)
@@ -479,11 +480,11 @@ def steady_counterpart(model: ContactModel, excitation: Excitation, result: Pert
         if not att.loses_contact or not result.valid:
             if abs(att.app_um - result.app_um) <= 0.5 * max(result.app_um, 1e-12) or not result.valid:
                 return att
-    except OrbitError:
+    except ComputationError:
         pass
     found = find_attractors(model, excitation)
     if len(found) == 0:
-        raise RuntimeError("no steady state found at this operating point")
+        raise ComputationError("no steady state found at this operating point", stage="settle")
     return found[described_attractor(found, result)]
 
 

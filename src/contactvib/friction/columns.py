@@ -1,4 +1,4 @@
-"""Friction columns of a resonance dataset (issue 26): the steady tangential motion under every
+"""Friction columns of a resonance dataset: the steady tangential motion under every
 periodic point of a level, as variables of dimension ``point``.
 
 A sweep with ``SweepSettings(friction=FrictionModel(...))`` (``contactvib resonance/atlas
@@ -29,9 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactvib.errors import ComputationError
 from contactvib.friction.model import FrictionModel
 from contactvib.friction.newton import WarmStart
-from contactvib.friction.tangential import FrictionError, friction_at
+from contactvib.friction.tangential import friction_at
 
 __all__ = ["FRICTION_VARIABLES", "friction_variables", "with_friction"]
 
@@ -94,7 +95,7 @@ def friction_variables(model, level, settings) -> dict:
             ws = WarmStart() if ws is None else ws
             res = friction_at(model, exc, orbit, fm, with_limit=False, warm=ws)
             warm[j] = ws
-        except FrictionError:
+        except ComputationError:
             continue
         for name, (attr, _a) in FRICTION_VARIABLES.items():
             values[name][j] = float(getattr(res, attr))

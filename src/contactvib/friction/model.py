@@ -1,4 +1,4 @@
-"""The tangential model: friction under normal contact vibration (issue 26), its parameters.
+"""The tangential model: friction under normal contact vibration, its parameters.
 
 A second coordinate u along the slideway. The slider (mass M) is pulled by a drive spring k_d
 and damper c_d whose end moves at v_d::

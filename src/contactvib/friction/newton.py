@@ -1,5 +1,5 @@
 """The steady tangential motion by Newton's method on the period map: what makes the friction
-columns of a resonance sweep cheap (issue 26).
+columns of a resonance sweep cheap.
 
 From a cold start the tangential transient decays with the slider's time on its drive,
 2 M / c_d (≈ 0.2 s at the defaults: hundreds of normal periods). The steady state is a fixed

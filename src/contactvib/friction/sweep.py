@@ -10,8 +10,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from contactvib.errors import ComputationError
 from contactvib.friction.model import FrictionModel
-from contactvib.friction.tangential import FrictionError, friction_at
+from contactvib.friction.tangential import friction_at
 from contactvib.model import ContactModel, Excitation, ParameterError, check_range
 from contactvib.steady import attractors as _search
 
@@ -96,7 +97,7 @@ def friction_vs_frequency(model: ContactModel, excitations, friction: FrictionMo
         for rank, a in enumerate(found):
             try:
                 new.append(_row(exc, fm.vd, rank, a, friction_at(model, exc, a, fm)))
-            except FrictionError:
+            except ComputationError:
                 skipped += 1
         acc += new
         if on_point is not None:
@@ -126,7 +127,7 @@ def friction_vs_velocity(model: ContactModel, excitation: Excitation, attractors
         for vd in velocities:
             try:
                 res = friction_at(model, excitation, a, replace(fm, vd=float(vd)))
-            except FrictionError:
+            except ComputationError:
                 skipped += 1
                 break
             acc.append(_row(excitation, float(vd), rank, a, res))

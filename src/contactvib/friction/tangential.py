@@ -28,14 +28,14 @@ from contactvib._kernels.contact import contact_force_array
 from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import sample_records
 from contactvib._kernels.status import STATUS_INTERRUPTED, STATUS_OK, status_message
-from contactvib.errors import ContactvibError
+from contactvib.errors import ComputationError
 from contactvib.friction.model import FrictionModel
 from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor
 
-__all__ = ["FrictionResult", "FrictionHistory", "FrictionError", "friction_at", "mean_limit"]
+__all__ = ["FrictionResult", "FrictionHistory", "friction_at", "mean_limit"]
 
 #: Integrator tolerance of the tangential motion.
 RTOL = 1e-11
@@ -58,11 +58,6 @@ STUCK_DRIFT = 1e-10
 JMAX = 8
 #: Gauss–Legendre nodes per normal step of :func:`mean_limit`.
 _GL_NODES = 12
-
-
-class FrictionError(ContactvibError, RuntimeError):
-    """The tangential motion of an attractor could not be computed (a non-periodic normal
-    attractor, an integration failure)."""
 
 
 @dataclass
@@ -192,7 +187,7 @@ class FrictionResult:
         ts = np.arange(j * n) * (period / n)
         st, so = kp.samples(rec, period, par, tpar, z0, mode, sigma, RTOL, fm.scales(model), j, ts)
         if st != STATUS_OK:
-            raise FrictionError(f"tangential integration failed ({status_message(st)})")
+            raise ComputationError(f"tangential integration failed ({status_message(st)})", stage="friction")
         u, W = model.units, model.W
         w, v = so[:, kp.S_W], so[:, kp.S_V]
         names = np.array(["stick", "slip", "free"])
@@ -206,8 +201,8 @@ class FrictionResult:
 
 def _normal_record(excitation: Excitation, attractor: Attractor, rtol: float | None = None):
     if attractor.period is None:
-        raise FrictionError("a non-periodic normal attractor has no periodic R(t): friction is "
-                            "computed for periodic attractors only")
+        raise ComputationError("a non-periodic normal attractor has no periodic R(t): friction is "
+                               "computed for periodic attractors only", stage="friction")
     kw = {} if rtol is None else {"rtol": rtol}
     rec, _z, _tf = record(excitation, attractor.state, attractor.period, **kw)
     return rec, attractor.period * excitation.tau_period
@@ -371,7 +366,8 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
     if st == STATUS_INTERRUPTED:
         raise KeyboardInterrupt
     if st != STATUS_OK:
-        raise FrictionError(f"tangential integration failed after {n} periods ({status_message(st)})")
+        raise ComputationError(f"tangential integration failed after {n} periods ({status_message(st)})",
+                               stage="friction")
     jj = j if j > 0 else max(1, n // 2)  # unsettled (quasi-periodic stick-slip): the last half's mean
     sel = slice(n - jj, n)
     q = quad[sel].sum(axis=0)

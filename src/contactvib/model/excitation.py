@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
@@ -13,9 +13,6 @@ from contactvib.model.checks import PA_MAX, PA_NOTE, R_RANGE, ParameterError, ch
 
 #: What an Excitation asks of its model (every :class:`ContactModel` has them)
 _MODEL_MEMBERS = ("f_n0", "Q", "M", "spring_law", "require_paper_family")
-
-if TYPE_CHECKING:  # the model module imports this one
-    from contactvib.model.oscillator import ContactModel
 
 __all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX", "LEVEL_KINDS", "LEVEL_TAGS", "excitation_at", "level_text"]
 
@@ -31,6 +28,30 @@ LEVEL_KINDS = {
     "base-um": ("U", "um", "base displacement amplitude U"),
     "base-g": ("A", "g", "base acceleration amplitude A"),
 }
+
+
+class ExcitedModel(Protocol):
+    """What an :class:`Excitation` reads of its model: every :class:`contactvib.ContactModel` is
+    one. The type is stated here, by what it offers, because the model's module
+    (``model/oscillator.py``) imports this one and not the reverse."""
+
+    M: float
+    Q: float
+    S: float
+    W: float
+    y0: float
+    f_n0: float
+    k_lin: float
+    kappa: float
+    m2: float
+    l: float
+    law: str
+    damping: str
+    preload: float
+    damping_coefficient: float
+    spring_law: object
+
+    def require_paper_family(self, what: str, excitation: Excitation | None = None) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -57,7 +78,7 @@ class Excitation:
         Base displacement amplitude U [µm] or acceleration amplitude A [g] (set by :meth:`base`).
     """
 
-    model: ContactModel
+    model: ExcitedModel
     pa_over_q: float
     f_e: float
     harmonics: tuple = ()
@@ -75,9 +96,8 @@ class Excitation:
             raise ParameterError(
                 "f_e", self.f_e,
                 f"must lie in [{format_number(lo)} f_n0, {format_number(hi)} f_n0] = "
-                f"[{format_number(lo * f_n0)}, {format_number(hi * f_n0)}] Hz with the model's "
-                f"f_n0 = {format_number(f_n0)} Hz (the frequency ratio r = f_e/f_n0 must be in "
-                f"[{format_number(lo)}, {format_number(hi)}] for the integration)")
+                f"[{format_number(lo * f_n0)}, {format_number(hi * f_n0)}] Hz, f_n0 = {format_number(f_n0)} Hz "
+                f"(the range of r = f_e/f_n0 the integration takes)")
         object.__setattr__(self, "f_e", f_e)
         if self.base_um is not None or self.base_g is not None:
             if self.base_um is not None and self.base_g is not None:
@@ -103,7 +123,7 @@ class Excitation:
         object.__setattr__(self, "harmonics", _check_harmonics(self.harmonics))
 
     @classmethod
-    def from_newtons(cls, model: ContactModel, P_a: float, f_e: float, harmonics=()) -> Excitation:
+    def from_newtons(cls, model: ExcitedModel, P_a: float, f_e: float, harmonics=()) -> Excitation:
         """Excitation from an amplitude P_a in newtons."""
         P_a = check_range("P_a", P_a, 0.0, True, "N")
         P_a = check_range("P_a", P_a, None, unit=f"N (P_a/Q <= {format_number(PA_MAX)})",
@@ -111,7 +131,7 @@ class Excitation:
         return cls(model, P_a / model.Q, f_e, harmonics=harmonics)
 
     @classmethod
-    def base(cls, model: ContactModel, f_e: float, u_um: float | None = None,
+    def base(cls, model: ExcitedModel, f_e: float, u_um: float | None = None,
              a_g: float | None = None) -> Excitation:
         """Base (support) motion of amplitude U = ``u_um`` µm, or acceleration A = ``a_g`` g."""
         if (u_um is None) == (a_g is None):
@@ -236,7 +256,7 @@ def check_level_kind(kind) -> str:
     return kind
 
 
-def excitation_at(model: ContactModel, level: float, f_e: float, kind: str = "force") -> Excitation:
+def excitation_at(model: ExcitedModel, level: float, f_e: float, kind: str = "force") -> Excitation:
     """The excitation at f_e [Hz] of a sweep held at ``level``: P_a/Q (``kind`` "force"), U [µm]
     ("base-um") or A [g] ("base-g"); see :data:`~contactvib.model.LEVEL_KINDS`."""
     kind = check_level_kind(kind)

@@ -10,7 +10,7 @@ at separation d between the mean summit plane and the flat (Greenwood & Williams
 from a chosen first-contact separation d0 = n σ (``first_contact_sigma`` n, default 4: 3e-5 of
 the summits are above it): F_s(y) = F(d0 − y) − F(d0), so that the curve starts at (0, 0) as the
 table law requires. F_3/2 is computed by adaptive quadrature (scipy ``quad``) on the rows of a
-:class:`~contactvib.model.TableLaw` once, at start-up; far from the mean plane (h ≫ 1, the
+:class:`~contactvib.TableLaw` once, at start-up; far from the mean plane (h ≫ 1, the
 small-load limit) it follows the asymptotic series
 
     F_3/2(h) ≈ φ(h) Σ_k (−1/2)^k / k! Γ(5/2 + 2k) h^−(5/2 + 2k)
@@ -81,7 +81,7 @@ class GreenwoodWilliamson:
         return c * (f32(n - y.ravel() / self.sigma) - f32(n)[0]).reshape(y.shape)
 
     def table(self, area: float, y_max: float, n: int = 400):
-        """The law as a :class:`~contactvib.model.TableLaw` on ``n`` rows from 0 to
+        """The law as a :class:`~contactvib.TableLaw` on ``n`` rows from 0 to
         ``y_max`` [m] (the rows closer where the load grows fastest: uniform in y^(1/2))."""
         from contactvib.model.laws import TableLaw
 

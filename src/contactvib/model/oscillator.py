@@ -428,6 +428,24 @@ class ContactModel:
         contact_force_array(x, np.zeros_like(x), par, f, fx, fv)
         return -self.W * f.reshape(y.shape)
 
+    def contact_force(self, y, ydot):
+        """Contact force F_c(y, ẏ) = S c_n y^m2 + S h_n y^l ẏ for y > 0, else 0 [N] (Eq. 2.3: the
+        force the contact exerts on the slider is −F_c; the spring and damping laws' F_s + F_d of
+        the deflection δ = y − y_e for the other laws, y_e their engagement point); y in m, ẏ in
+        m/s, arrays of one shape.
+
+        Evaluated by the compiled contact law, as the kernels integrate it: ``F_c = W f(x, x')``
+        with x = (y − y_e)/y0, x' = ẏ/(y0 ω_n0).
+        """
+        y, ydot = np.broadcast_arrays(np.asarray(y, dtype=float), np.asarray(ydot, dtype=float))
+        from contactvib._kernels.contact import contact_force_array
+
+        x = np.ascontiguousarray((y - self.spring_law.engagement_m) / self.y0, dtype=float).ravel()
+        v = np.ascontiguousarray(ydot / (self.y0 * self.omega_n0), dtype=float).ravel()
+        f, fx, fv = np.empty_like(x), np.empty_like(x), np.empty_like(x)
+        contact_force_array(x, v, self.excitation(0.0, self.f_n0).kernel_parameters(), f, fx, fv)
+        return self.W * f.reshape(y.shape)
+
     def conservative_force(self, y):
         """Conservative force F_k = F_s + Q + F_pre [N] (Eq. 2.4 with the preload); y in m."""
         return self.spring_force(y) + self.W

@@ -139,11 +139,11 @@ def level_title(ds, level: float) -> str:
 
 
 def _level(ds, pa_over_q):
+    """The indices of the points of the level ``pa_over_q`` (MissingLevel, a ValueError, when
+    the dataset does not hold it)."""
+    from contactvib.sweeps.stored import ResonanceData
 
-    sel = np.nonzero(np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6)[0]
-    if sel.size == 0:
-        raise ValueError(f"P_a = {pa_over_q:g} Q is not in the dataset")
-    return sel
+    return ResonanceData(ds).points(pa_over_q)
 
 
 def resonance_graph(ds, pa_over_q: float, ax=None, fn0_hz: float | None = None, m_max: int = 6,

@@ -1,4 +1,4 @@
-"""Figures of friction under normal contact vibration (issue 26): the friction ratio against the
+"""Figures of friction under normal contact vibration: the friction ratio against the
 excitation frequency or the drive velocity (one point per normal attractor, coloured by its
 period), and the steady tangential motion of one attractor over time (R, μR, F_t and the drive
 force; the slip velocity; stick shaded)."""

@@ -230,7 +230,7 @@ def basins(model: ContactModel, excitation: Excitation, grid=(400, 400), box=Non
     box = default_box(model, excitation) if box is None else box
     limit = default_max_periods(excitation) if max_periods is None else max_periods
     check_work(excitation, grid[0] * grid[1], limit,
-               options="the grid (grid, --grid) or the transient limit (max_periods, --max-periods)")
+               options="--grid or --max-periods")
     search = find_attractors(model, excitation, n_starts=n_starts, seed=seed, kmax=kmax,
                              max_periods=max_periods)
     step = max(1, block_starts // grid[0])

@@ -12,14 +12,16 @@ import math
 
 import numpy as np
 
+from contactvib._kernels.describe import harmonic_amplitudes
+from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import measure_orbit, record_steps, sample_records
 from contactvib._kernels.shooting import newton_orbit, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
-from contactvib.errors import ContactvibError
+from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation
 from contactvib.steady.results import Attractor
 
-__all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points", "OrbitError",
+__all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points",
            "RTOL_REFINE", "CLOSE_TOL"]
 
 #: Integration tolerance for refined orbits and their description.
@@ -28,10 +30,6 @@ RTOL_REFINE = 1e-12
 CLOSE_TOL = 1e-10
 #: Two orbits are the same when their stroboscopic sets agree to this (relative), any cyclic order.
 SAME_TOL = 1e-6
-
-
-class OrbitError(ContactvibError, RuntimeError):
-    """Shooting or integration of an orbit failed."""
 
 
 def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) -> np.ndarray:
@@ -44,7 +42,7 @@ def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) 
         pts[j] = cur
         st = strobe_map(cur, 1, par, rtol, rtol, nxt, np.empty((0, 0)))
         if st != STATUS_OK:
-            raise OrbitError(f"integration failed ({status_message(st)})")
+            raise ComputationError(f"integration failed ({status_message(st)})", stage="integration")
         cur = nxt.copy()
     return pts
 
@@ -63,16 +61,16 @@ def refine_orbit(excitation: Excitation, z, k: int, tol: float = CLOSE_TOL,
 
     Raises
     ------
-    OrbitError
-        If Newton does not reach ``tol``.
+    ComputationError
+        If Newton does not reach ``tol`` (``stage`` "newton").
     """
     par = excitation.kernel_parameters()
     out_z = np.empty(2)
     out_M = np.empty((2, 2))
     st, res = newton_orbit(np.asarray(z, float), int(k), par, rtol, rtol, tol, max_iter, out_z, out_M)
     if st != STATUS_OK:
-        raise OrbitError(f"Newton shooting for a period-{k} orbit failed ({status_message(st)}, "
-                         f"closure {res:.2e}); try another start")
+        raise ComputationError(f"Newton shooting for a period-{k} orbit failed ({status_message(st)}, "
+                               f"closure {res:.2e}); try another start", stage="newton")
     return out_z, out_M, res
 
 
@@ -94,7 +92,7 @@ def record(excitation: Excitation, z, n_periods: int, rtol: float = RTOL_REFINE,
     rec, z_end, t_flight, _n_events, st = record_steps(
         np.asarray(z, float), phase0, int(n_periods), par, rtol, 4096 * max(1, n_periods), 0)
     if st != STATUS_OK:
-        raise OrbitError(f"integration failed ({status_message(st)})")
+        raise ComputationError(f"integration failed ({status_message(st)})", stage="integration")
     return rec, z_end, t_flight
 
 
@@ -117,6 +115,37 @@ def slider_app_um(excitation: Excitation, z_or_records, n_periods: int) -> float
     return float(s.max() - s.min())
 
 
+#: Gauss–Legendre nodes per recorded step for the mean contact force (exact for the polynomial
+#: force of the power law, m2 = 2, l = 1, on the steps' 7th-order interpolants: degree ≤ 15).
+FORCE_NODES = 8
+
+
+def mean_contact_force_n(model: ContactModel, excitation: Excitation, rec, n_periods: int) -> float:
+    """Time average [N] of the contact force F_c(y, ẏ) (:meth:`ContactModel.contact_force`) over
+    ``n_periods`` excitation periods of the step records ``rec`` (from phase 0): Gauss–Legendre
+    quadrature with :data:`FORCE_NODES` nodes on every in-contact step's dense output (the steps
+    end at the contact events, so each lies in one mode; flight steps add 0)."""
+    u_t, u_v = excitation.tau_period, model.y0 * model.omega_n0
+    steps = rec[rec[:, REC_MODE] > 0.5]
+    if steps.shape[0] == 0:
+        return 0.0
+    theta, weight = np.polynomial.legendre.leggauss(FORCE_NODES)
+    h = steps[:, REC_H][:, None]
+    tau = (steps[:, REC_T][:, None] + 0.5 * h * (theta[None, :] + 1.0)).ravel()
+    x, v, _c = sample_records(rec, tau)
+    f = model.contact_force(x * model.y0 + model.spring_law.engagement_m, v * u_v).reshape(-1, FORCE_NODES)
+    return float(np.sum(0.5 * h * weight[None, :] * f) / (n_periods * u_t))
+
+
+def first_harmonic_um(excitation: Excitation, rec, n_periods: int) -> float:
+    """One-sided amplitude [µm] of the f_e component of y over ``n_periods`` periods of the step
+    records ``rec``: the tracer's DFT (:func:`contactvib._kernels.describe.harmonic_amplitudes`,
+    the dataset's ``harmonics_um``) at j = ``n_periods``."""
+    out = np.empty(int(n_periods))
+    harmonic_amplitudes(rec, int(n_periods), excitation.tau_period, out)
+    return float(out[-1]) * excitation.model.units.y_um
+
+
 def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
                    monodromy=None, closure: float = math.inf, basin_fraction: float = 0.0,
                    hits: int = 0, n_periods_nonperiodic: int = 32, kind: str | None = None,
@@ -126,7 +155,8 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
     k-period; for a non-periodic attractor (of type ``kind``, "chaotic" or "quasi-periodic",
     with largest Lyapunov exponent ``lyapunov`` [1/period]) over ``n_periods_nonperiodic``
-    periods.
+    periods. The f_e amplitude (:func:`first_harmonic_um`) and the mean contact force
+    (:func:`mean_contact_force_n`) are measured over the same span.
     """
     u = model.units
     n = period if period is not None else n_periods_nonperiodic
@@ -166,4 +196,6 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
         state=np.asarray(z, float).copy(),
         lyapunov_per_period=float(lyapunov) if period is None else math.nan,
         slider_app_um=slider_app,
+        h1_um=first_harmonic_um(excitation, rec, n),
+        mean_contact_force_n=mean_contact_force_n(model, excitation, rec, n),
     )

@@ -35,6 +35,7 @@ from contactvib._kernels.flow import REC_WIDTH, advance, initial_mode
 from contactvib._kernels.orbit import sample_records
 from contactvib._kernels.shooting import MAX_STEPS_PER_PERIOD
 from contactvib._kernels.status import STATUS_OK, STATUS_RECORD_FULL, status_message
+from contactvib.errors import ComputationError
 from contactvib.interrupts import check_interrupt
 from contactvib.model import ContactModel, ParameterError, check_int, check_range
 from contactvib.model.checks import MEMORY_MAX, PA_MAX, check_memory, format_number
@@ -334,8 +335,8 @@ def _integrate(par, tau_start, tau_end, tau_samples, rtol):
 
 def _raise_status(st: int, tau: float) -> None:
     if st != STATUS_OK:
-        raise RuntimeError(f"integration of the random response failed near tau = {tau:.6g} "
-                           f"({status_message(st)})")
+        raise ComputationError(f"integration of the random response failed near tau = {tau:.6g} "
+                               f"({status_message(st)})", stage="integration")
 
 
 def contact_force_n(model: ContactModel, y_um, ydot_mm_s) -> np.ndarray:

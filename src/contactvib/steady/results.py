@@ -13,7 +13,60 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["TimeHistory", "Attractor", "AttractorSet"]
+__all__ = ["TimeHistory", "Attractor", "AttractorSet", "dofs_and_contacts", "DOF_NAMES", "DOF_UNITS",
+           "CONTACT_NAMES"]
+
+#: The model's coordinates (degrees of freedom) as results list them, and their display units:
+#: the paper's oscillator has one, the contact deflection y [µm].
+DOF_NAMES = ("y",)
+DOF_UNITS = ("um",)
+#: The model's contact elements as results list them: the paper's oscillator has one.
+CONTACT_NAMES = ("contact",)
+
+
+def _number(x) -> float | None:
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def dofs_and_contacts(*, dof_name, dof_unit, dof_min, dof_max, dof_app, dof_h1, contact_name,
+                      contact_loses_contact, contact_loss_frac, contact_mean_force_n) -> dict:
+    """The ``dofs`` and ``contacts`` lists of one steady state in the JSON contract.
+
+    The one builder of these lists: :meth:`Attractor.to_dict` and the dataset query
+    (:func:`contactvib.attractors_at`) both pass their columns here, named as the dataset's
+    variables (``docs/formats.md``).
+
+    Parameters
+    ----------
+    dof_name, dof_unit : sequence of str, length n
+        Each coordinate's name and display unit (the paper's model: ``("y",)``, ``("um",)``).
+    dof_min, dof_max, dof_app, dof_h1 : sequence of float, length n
+        Each coordinate's minimum, maximum, peak-to-peak amplitude and one-sided amplitude of
+        its component at f_e, in its display unit.
+    contact_name : sequence of str, one per contact element
+    contact_loses_contact : sequence of bool
+        Whether the element opens somewhere on the motion.
+    contact_loss_frac : sequence of float
+        Fraction of the period with the element open [1].
+    contact_mean_force_n : sequence of float
+        Time average of the element's contact force over the motion [N] (NaN: not known).
+
+    Returns
+    -------
+    dict
+        ``{"dofs": [{"name", "unit", "min", "max", "app", "h1"}, ...],
+        "contacts": [{"name", "loses_contact", "contact_loss_fraction", "mean_force_n"}, ...]}``;
+        a value that is not finite is ``None``.
+    """
+    dofs = [{"name": str(n), "unit": str(u), "min": _number(lo), "max": _number(hi), "app": _number(a),
+             "h1": _number(h)}
+            for n, u, lo, hi, a, h in zip(dof_name, dof_unit, dof_min, dof_max, dof_app, dof_h1, strict=True)]
+    contacts = [{"name": str(n), "loses_contact": bool(lc), "contact_loss_fraction": _number(fr),
+                 "mean_force_n": _number(fm)}
+                for n, lc, fr, fm in zip(contact_name, contact_loses_contact, contact_loss_frac,
+                                         contact_mean_force_n, strict=True)]
+    return {"dofs": dofs, "contacts": contacts}
 
 
 @dataclass(frozen=True)
@@ -85,7 +138,8 @@ class Attractor:
         Fraction of the random start box that converged here [1] (0: found only by the
         physics-derived seeds, below the box sampling's resolution).
     floquet_multipliers : ndarray of complex
-        Eigenvalues of the period-k monodromy matrix (empty for non-periodic).
+        The 2n eigenvalues of the period-k monodromy matrix (n = 1 coordinate: two), empty for
+        non-periodic.
     strobe_y_um, strobe_ydot_mm_s : ndarray
         Stroboscopic points at phase 0 of the excitation, in orbit order.
     extrema_t_ms, extrema_y_um, extrema_is_min : ndarray
@@ -103,6 +157,17 @@ class Attractor:
         Under base motion u(t): peak-to-peak amplitude [µm] of the slider's absolute displacement
         s = y + u over the orbit (what an accelerometer on the slider integrates to); None under
         a force, where s = y.
+    h1_um : float
+        One-sided amplitude [µm] of the f_e component of y(t) (the dataset's ``harmonics_um`` at
+        j = period; non-periodic: over the recorded span), NaN where not measured.
+    mean_contact_force_n : float
+        Time average [N] of the contact force S c_n y^m2 + S h_n y^l ẏ (y > 0; the law's F_s + F_d)
+        over the orbit's period (non-periodic: the recorded span), integrated along the orbit; for
+        a periodic orbit it equals the static load W = Q + F_pre (the mean of the equation of
+        motion). NaN where not measured.
+
+    ``dofs`` and ``contacts`` of the JSON contract come from :meth:`dof_columns` through
+    :func:`dofs_and_contacts`.
     """
 
     period: int | None
@@ -125,6 +190,17 @@ class Attractor:
     state: np.ndarray = field(repr=False)
     lyapunov_per_period: float = math.nan
     slider_app_um: float | None = None
+    h1_um: float = math.nan
+    mean_contact_force_n: float = math.nan
+
+    def dof_columns(self) -> dict:
+        """The columns of :func:`dofs_and_contacts` for this attractor (one coordinate y [µm], one
+        contact), named as the dataset's per-point variables."""
+        return {"dof_name": DOF_NAMES, "dof_unit": DOF_UNITS, "dof_min": [self.ymin_um],
+                "dof_max": [self.ymax_um], "dof_app": [self.app_um], "dof_h1": [self.h1_um],
+                "contact_name": CONTACT_NAMES, "contact_loses_contact": [self.loses_contact],
+                "contact_loss_frac": [self.contact_loss_fraction],
+                "contact_mean_force_n": [self.mean_contact_force_n]}
 
     @property
     def floquet_abs_max(self) -> float | None:
@@ -162,6 +238,7 @@ class Attractor:
         }
         if self.slider_app_um is not None:
             d["slider_app_um"] = float(self.slider_app_um)
+        d.update(dofs_and_contacts(**self.dof_columns()))
         return d
 
 

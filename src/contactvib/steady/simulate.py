@@ -83,7 +83,7 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     y_um, ydot_mm_s, n_periods, samples_per_period = check_start(model, y_um, ydot_mm_s, n_periods,
                                                                  samples_per_period)
     rtol = check_range("rtol", rtol, 0.0, False)
-    check_work(excitation, 1, n_periods, "the periods (n_periods, --periods)")
+    check_work(excitation, 1, n_periods, "--periods")
     rows = max(4096.0, 2.0 * steps_per_period(excitation))  # step records per period, with room
     row_bytes = rows * REC_WIDTH * 8
     check_memory("n_periods", n_periods, n_periods * row_bytes, int(MEMORY_MAX // row_bytes))

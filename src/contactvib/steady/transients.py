@@ -13,7 +13,7 @@ Work
     contact, so ``max(1, 1/r)`` times that per excitation period, each about
     :data:`SECONDS_PER_STEP` on one core (:func:`estimated_seconds`). :func:`check_work` refuses
     a search whose step count is beyond :data:`WORK_MAX_STEPS` (about a quarter of an hour on two
-    cores), naming f_n0, both times and the options that reduce it.
+    cores), naming both times and what reduces it (f_e, zeta, f_n0, the options).
 
 Non-periodic or unsettled
     A start whose stroboscopic points found no period ``≤ kmax`` is a non-periodic attractor
@@ -42,7 +42,7 @@ __all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "
 
 #: Strobe points per window of the recurrence test (two windows are compared).
 WINDOW = 64
-#: Smallest automatic transient limit [excitation periods] (the search's former fixed default).
+#: Smallest automatic transient limit [excitation periods] (what a well-damped model gets).
 MIN_TRANSIENT_PERIODS = 400
 #: Integration steps per natural period in contact (measured: 18–20 for the Taylor flow).
 STEPS_PER_NATURAL_PERIOD = 25.0
@@ -96,22 +96,19 @@ def duration_text(seconds: float) -> str:
 
 
 def check_work(excitation: Excitation, n_trajectories: int, n_periods: int,
-               options: str = "the starts (n_starts, --starts) or the transient limit "
-                              "(max_periods, --max-periods)") -> float:
+               options: str = "--starts or --max-periods") -> float:
     """Refuse a computation of ``n_trajectories × n_periods`` excitation periods whose estimated
-    step count exceeds :data:`WORK_MAX_STEPS`, naming f_n0 and ``options``; return the
-    estimate [steps]."""
+    step count exceeds :data:`WORK_MAX_STEPS` in one line (the steps and their factors, both
+    times, and what reduces them: f_e, zeta, f_n0 and ``options``); return the estimate [steps]."""
     steps = float(n_trajectories) * float(n_periods) * steps_per_period(excitation)
     if steps > WORK_MAX_STEPS:
         m = excitation.model
         raise ParameterError(
             "f_e", f"{excitation.f_e:g} Hz",
-            f"needs about {steps:.2g} integration steps: {n_trajectories} trajectories × "
-            f"{n_periods:.3g} periods (damping ratio zeta = {m.zeta:.2g}) × "
-            f"{steps_per_period(excitation):.3g} steps per period (f_e/f_n0 = {excitation.r:.3g}, "
-            f"f_n0 = {m.f_n0:.6g} Hz), about {duration_text(estimated_seconds(steps))} here; "
-            f"at most {WORK_MAX_STEPS:.0e} steps (about {duration_text(estimated_seconds(WORK_MAX_STEPS))}) "
-            f"are allowed: raise f_e, lower f_n0 (c_n, m2, M), or reduce {options}")
+            f"needs {steps:.2g} steps ({n_trajectories} trajectories × {n_periods:.3g} "
+            f"periods × {steps_per_period(excitation):.3g} steps), about {duration_text(estimated_seconds(steps))} "
+            f"here; at most {WORK_MAX_STEPS:.0e} steps (about {duration_text(estimated_seconds(WORK_MAX_STEPS))}) "
+            f"are allowed: raise f_e or zeta, lower f_n0 = {m.f_n0:.6g} Hz, or reduce {options}")
     return steps
 
 

@@ -17,6 +17,14 @@ Dimension ``point`` — one row per attractor at one (P_a, f_e):
     ``state_y_um`` [µm], ``state_ydot_mm_s`` [mm/s] (orbit point at phase 0),
     ``harmonics_um`` (point, harmonic) [µm] one-sided amplitudes at j·f_e/period, j = 1…,
     ``extrema_start``/``extrema_count`` and ``strobe_start``/``strobe_count`` (ragged indices).
+Dimension ``dof`` — the model's coordinates (coordinates ``dof_name``, ``dof_unit``: "y", "um"), and
+    per point ``dof_min``, ``dof_max``, ``dof_app``, ``dof_h1`` (point, dof) [the dof's unit]: range,
+    peak-to-peak and one-sided amplitude at f_e.
+Dimension ``contact`` — the model's contact elements (coordinate ``contact_name``: "contact"), and
+    per point ``contact_loses_contact`` [bool], ``contact_loss_frac`` [1] and
+    ``contact_mean_force_n`` [N] (point, contact): the time-averaged contact force, W = Q + F_pre
+    for a periodic point (the period average of the equation of motion), NaN for a non-periodic one.
+    :func:`contactvib.steady.results.dofs_and_contacts` rebuilds the JSON ``dofs``/``contacts``.
 Dimension ``extremum`` — local extrema of y(t) over one orbit period (non-periodic: 32 periods):
     ``extremum_t_ms`` [ms], ``extremum_y_um`` [µm], ``extremum_is_min`` [bool].
 Dimension ``strobe`` — stroboscopic points (phase 0 of the force): ``strobe_y_um``,
@@ -157,14 +165,15 @@ def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndar
     points; NaN for non-periodic ones)."""
     if kind == "force":
         return {}, {}
-    from contactvib.steady.orbits import OrbitError, slider_app_um
+    from contactvib.errors import ComputationError
+    from contactvib.steady.orbits import slider_app_um
 
     def slider(j):
         if rows.kind[j] != 0:
             return math.nan
         try:
             return slider_app_um(excitation_at(model, pa, float(fe[j]), kind), rows.z[j], int(rows.k[j]))
-        except OrbitError:
+        except ComputationError:
             return math.nan
 
     sym, unit, long_name = LEVEL_KINDS[kind]
@@ -181,6 +190,56 @@ def _level_kind_variables(model: ContactModel, kind: str, pa: float, fe: np.ndar
                            "comment": "NaN for non-periodic points"}),
     }
     return variables, {"excitation": kind, "level_symbol": sym, "level_unit": unit}
+
+
+def _dof_contact_variables(model: ContactModel, rows, app: np.ndarray, loses: np.ndarray, n_record: int) -> dict:
+    """The ``dof`` and ``contact`` variables of every row (layout in the module docstring), from the
+    range, the harmonics at j f_e / period (the f_e one at j = period; non-periodic: j = ``n_record``),
+    the contact loss and, for a periodic row, the exact mean contact force W."""
+    from contactvib.steady.results import CONTACT_NAMES, DOF_NAMES, DOF_UNITS
+
+    u, n = model.units, rows.kind.size
+    periodic = rows.kind == 0
+    j = np.where(periodic, rows.k, n_record)
+    ok = (j >= 1) & (j <= rows.harm.shape[1])
+    h1 = np.full(n, np.nan)
+    h1[ok] = rows.harm[np.nonzero(ok)[0], j[ok] - 1] * u.y_um
+    dof = {"dof_name": ("dof", np.array(DOF_NAMES, dtype=object),
+                        {"long_name": "the model's coordinates (y: the contact deflection)"}),
+           "dof_unit": ("dof", np.array(DOF_UNITS, dtype=object),
+                        {"long_name": "display unit of each coordinate (of dof_min, dof_max, dof_app, dof_h1)"})}
+    contact = {"contact_name": ("contact", np.array(CONTACT_NAMES, dtype=object),
+                                {"long_name": "the model's contact elements"})}
+
+    def per_dof(values, attrs):
+        return _with_coords(("point", "dof"), values[:, None], attrs, dof)
+
+    def per_contact(values, attrs):
+        return _with_coords(("point", "contact"), values[:, None], attrs, contact)
+
+    return {
+        "dof_min": per_dof(rows.xmin * u.y_um, {"units": "um", "long_name": "minimum of the coordinate"}),
+        "dof_max": per_dof(rows.xmax * u.y_um, {"units": "um", "long_name": "maximum of the coordinate"}),
+        "dof_app": per_dof(app, {"units": "um", "long_name": "peak-to-peak amplitude of the coordinate"}),
+        "dof_h1": per_dof(h1, {"units": "um", "long_name": "one-sided amplitude of the coordinate at f_e",
+                               "comment": "harmonics_um at j = period (non-periodic: over the recorded span)"}),
+        "contact_loses_contact": per_contact(loses.astype(np.int8), {"units": "1",
+                                             "comment": "1 where the contact opens on the orbit"}),
+        "contact_loss_frac": per_contact(rows.flight, {"units": "1",
+                                                       "long_name": "fraction of the period with the contact open"}),
+        "contact_mean_force_n": per_contact(np.where(periodic, model.W, np.nan), {
+            "units": "N", "long_name": "time-averaged contact force over the steady motion",
+            "comment": "periodic points: exactly W = Q + F_pre (the period average of the equation of motion, "
+                       "<y''> = 0 and <excitation> = 0); NaN for non-periodic points"}),
+    }
+
+
+def _with_coords(dims, values, attrs, coords):
+    """An ``xarray.DataArray`` of ``values`` on ``dims`` with ``attrs`` and the coordinates ``coords``
+    (name: (dim, values, attrs))."""
+    import xarray as xr
+
+    return xr.DataArray(values, dims=dims, attrs=attrs, coords={k: xr.Variable(*v) for k, v in coords.items()})
 
 
 def level_dataset(model: ContactModel, level, settings: dict):
@@ -245,6 +304,7 @@ def level_dataset(model: ContactModel, level, settings: dict):
     }
     level_vars, attrs = _level_kind_variables(model, settings.get("excitation", "force"), pa, fe, rows)
     point_vars.update(level_vars)
+    point_vars.update(_dof_contact_variables(model, rows, app, loses, NP_RECORD))
     ds = xr.Dataset(
         {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},
         attrs={**attrs,
@@ -299,7 +359,10 @@ def check_consistency(ds, rtol: float = 1e-9, atol: float = 1e-12) -> list[str]:
     """The rows of a resonance dataset that contradict themselves, one line each (empty: none).
 
     Per point: ``app_um`` = ``ymax_um`` − ``ymin_um`` (within ``rtol`` relative / ``atol`` µm),
-    and ``loses_contact`` ⇔ ``ymin_um`` < 0 ⇔ ``contact_loss_fraction`` > 0."""
+    and ``loses_contact`` ⇔ ``ymin_um`` < 0 ⇔ ``contact_loss_fraction`` > 0; where the dataset has
+    the ``dof``/``contact`` variables, the coordinate y's ``dof_min``, ``dof_max``, ``dof_app`` and
+    the contact's ``contact_loses_contact``, ``contact_loss_frac`` equal ``ymin_um``, ``ymax_um``,
+    ``app_um``, ``loses_contact`` and ``contact_loss_fraction``."""
     app, lo, hi = (np.asarray(ds[v].values, dtype=float) for v in ("app_um", "ymin_um", "ymax_um"))
     loses = np.asarray(ds["loses_contact"].values).astype(bool)
     flight = np.asarray(ds["contact_loss_fraction"].values, dtype=float)
@@ -307,16 +370,40 @@ def check_consistency(ds, rtol: float = 1e-9, atol: float = 1e-12) -> list[str]:
     wrong_app = ~(np.abs(app - span) <= np.maximum(rtol * np.abs(span), atol))
     wrong_contact = (loses != (lo < 0.0)) | (loses != (flight > 0.0))
     pa, fe = ds["pa_over_q"].values, ds["fe_hz"].values
+    wrong_dof = _dof_mismatch(ds, {"dof_min": lo, "dof_max": hi, "dof_app": app, "contact_loses_contact": loses,
+                                   "contact_loss_frac": flight}, rtol, atol)
     out = []
-    for p in np.nonzero(wrong_app | wrong_contact)[0]:
+    for p in np.nonzero(wrong_app | wrong_contact | wrong_dof.any(axis=1))[0]:
         what = []
         if wrong_app[p]:
             what.append(f"app_um = {app[p]:.17g} but ymax_um - ymin_um = {span[p]:.17g}")
         if wrong_contact[p]:
             what.append(f"loses_contact = {bool(loses[p])}, ymin_um = {lo[p]:.17g}, "
                         f"contact_loss_fraction = {flight[p]:.17g}")
+        what += [f"{name} differs from the point's own variable" for name, bad in zip(_DOF_CHECKED, wrong_dof[p])
+                 if bad]
         out.append(f"point {p} (P_a = {float(pa[p]):g} Q, f_e = {float(fe[p]):g} Hz): " + "; ".join(what))
     return out
+
+
+#: The dof/contact variables :func:`check_consistency` compares with the point's own variables.
+_DOF_CHECKED = ("dof_min", "dof_max", "dof_app", "contact_loses_contact", "contact_loss_frac")
+
+
+def _dof_mismatch(ds, own: dict, rtol: float, atol: float) -> np.ndarray:
+    """(point, variable) flags of :data:`_DOF_CHECKED` whose first dof/contact entry is not the
+    value in ``own`` (numbers: within ``rtol`` relative / ``atol``; all False for a dataset without
+    these variables)."""
+    flags = np.zeros((own["dof_app"].size, len(_DOF_CHECKED)), bool)
+    for q, name in enumerate(_DOF_CHECKED):
+        if name in ds.variables:
+            v, ref = np.asarray(ds[name].values)[:, 0], own[name]
+            if ref.dtype == bool:
+                flags[:, q] = v.astype(bool) != ref
+            else:
+                v = v.astype(float)
+                flags[:, q] = ~(np.abs(v - ref) <= np.maximum(rtol * np.abs(ref), atol))
+    return flags
 
 
 #: Points per NetCDF chunk of a compressed dataset (one level is a contiguous run of points, so

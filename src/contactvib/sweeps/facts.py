@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactvib.labels import resonance_order
+from contactvib.sweeps.stored import MissingLevel, ResonanceData
 
 __all__ = ["ResonanceFacts", "resonance_facts", "level_stages", "coexisting_resonances", "max_coexistence",
            "intervals", "SUPERHARMONIC_ORDERS"]
@@ -96,9 +97,8 @@ def resonance_facts(ds, pa_over_q: float, m: int, f_band=None) -> ResonanceFacts
     """
     df = float(json.loads(ds.attrs["settings"])["df_hz"])
     fn0 = float(ds.attrs["fn0_hz"])
-    sel = np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6
-    if not sel.any():
-        raise ValueError(f"P_a = {pa_over_q:g} Q is not in the dataset")
+    sel = np.zeros(ds.sizes["point"], bool)
+    sel[ResonanceData(ds).points(pa_over_q)] = True  # MissingLevel (a ValueError) when not stored
     mine = sel & (_orders(ds["resonance"].values, sel) == m)
     if f_band is not None:
         fe_all = ds["fe_hz"].values
@@ -162,17 +162,18 @@ def level_stages(ds, pa_over_q: float, orders=SUPERHARMONIC_ORDERS) -> dict:
 
 def coexisting_resonances(ds, pa_over_q: float, fe_hz: float) -> list:
     """Resonance orders m of the stable period-1 orbits of order m stored at (P_a, f_e), sorted."""
-    from contactvib.sweeps.stored import attractors_at
-
-    res = attractors_at(ds, pa_over_q, fe_hz)
+    res = ResonanceData(ds).attractors_at(pa_over_q, fe_hz)
     ms = {resonance_order(a["resonance"]) for a in res["attractors"] if a["period"] == 1}
     return sorted(m for m in ms if m is not None)
 
 
 def max_coexistence(ds, pa_over_q: float):
     """(largest number of resonance orders with period-1 orbits at one frequency, those f [Hz])."""
-    sel = np.nonzero((np.abs(ds["pa_over_q"].values - pa_over_q) <= 1e-6)
-                     & (ds["period"].values == 1) & (ds["kind"].values == "periodic"))[0]
+    try:
+        sel = ResonanceData(ds).points(pa_over_q)
+    except MissingLevel:
+        return 0, []
+    sel = sel[(ds["period"].values[sel] == 1) & (ds["kind"].values[sel] == "periodic")]
     orders = _orders(ds["resonance"].values[sel], np.ones(sel.size, bool))
     fe = ds["fe_hz"].values[sel]
     by_f: dict = {}

@@ -1,4 +1,4 @@
-"""The film of a resonance dataset (``contactvib animate``, issue 14 "Animation"): one frame per
+"""The film of a resonance dataset (``contactvib animate``): one frame per
 P_a level, Fig. 2 and Fig. 3 side by side at axes fixed over all levels, a P_a counter, and the
 stage of each 1/m resonance (S3.8) computed from the data as the paper's index page does
 (:func:`contactvib.sweeps.facts.level_stages`).
@@ -7,10 +7,9 @@ MP4 (H.264, yuv420p) is written through the ffmpeg binary of the ``imageio-ffmpe
 system ffmpeg needed); GIF through imageio's pillow plugin. Files are written under a temporary
 name and renamed when complete.
 
-:func:`open_levels` reads a dataset file, or a folder holding one
-(``contactvib.sweeps.stored.open_dataset``, as every command does); what it returns,
-``LevelSource``, hands the film one level at a time, so that a store that can load one
-level without the rest (the atlas) extends it by overriding :meth:`LevelSource.level`.
+:func:`animate` reads a dataset file, or a folder holding one, as every reader does
+(:func:`contactvib.sweeps.stored.open_resonance`, read into memory: :func:`open_levels`), and
+draws each frame from the dataset's :class:`~contactvib.sweeps.stored.ResonanceData`.
 """
 
 from __future__ import annotations
@@ -22,9 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.model.checks import ParameterError, check_int, check_range
-from contactvib.sweeps.stored import DatasetError, open_dataset
+from contactvib.sweeps.stored import DatasetError, ResonanceData, matching_level, open_resonance
 
-__all__ = ["FPS_RANGE", "SIZE_RANGE", "DatasetError", "LevelSource", "open_levels",
+__all__ = ["FPS_RANGE", "SIZE_RANGE", "DatasetError", "open_levels",
            "check_film", "film_limits", "FilmResult", "animate"]
 
 #: Frame rate [frames per second]: 0 < fps <= 60.
@@ -33,30 +32,11 @@ FPS_RANGE = (0.0, 60.0)
 SIZE_RANGE = (64, 4096)
 
 
-@dataclass
-class LevelSource:
-    """A resonance dataset as levels: ``path``, the ``levels`` [Q] in increasing order, and the
-    data (``ds``, the whole dataset in memory)."""
-
-    path: Path
-    ds: object
-    levels: tuple
-
-    def level(self, pa_over_q: float):
-        """The data to draw one level from (the dataset layout of :mod:`contactvib.sweeps.dataset`)."""
-        return self.ds
-
-    @property
-    def fn0_hz(self) -> float:
-        return float(self.ds.attrs["fn0_hz"])
-
-
-def open_levels(path) -> LevelSource:
-    """The levels of a resonance dataset: a ``.nc`` file written by ``paper``/``resonance`` (or
-    the atlas), or a folder holding one (``contactvib.sweeps.stored.find_dataset``). Raises
-    ``DatasetError`` (one line) when it cannot be read or holds no level."""
-    file, ds = open_dataset(path, load=True)
-    return LevelSource(file, ds, tuple(float(p) for p in np.unique(ds["pa_over_q"].values)))
+def open_levels(path) -> ResonanceData:
+    """The resonance dataset of ``path`` (a ``.nc`` file written by ``paper``, ``resonance`` or
+    ``atlas``, or a folder holding one) read into memory: :func:`open_resonance` with
+    ``load=True``. Raises ``DatasetError`` (one line) when it cannot be read or holds no level."""
+    return open_resonance(path, load=True)
 
 
 def check_film(fps, width, height) -> tuple[float, int, int]:
@@ -97,7 +77,7 @@ def _statement(pa: float, statements: dict) -> str:
 
     if not statements:  # not the paper's kind of level
         return ""
-    ids = [sid for sid, pas in S3_LEVELS.items() if any(abs(pa - p) <= 1e-6 for p in pas)]
+    ids = [sid for sid, pas in S3_LEVELS.items() if matching_level(pas, pa) is not None]
     return " ".join(f"Kostek 2013, {sid}: {statements.get(sid, '')}" for sid in ids)
 
 
@@ -115,19 +95,19 @@ class FilmResult:
     stages: dict
 
 
-def _frames(source: LevelSource, size):
+def _frames(source: ResonanceData, size):
     """Yield ``(P_a, stages, frame)`` level by level."""
     from contactvib.interrupts import check_interrupt
     from contactvib.plotting.film import FrameText, film_frame
     from contactvib.sweeps.facts import level_stages
     from contactvib.sweeps.paper_index import paper_statements
 
-    limits = film_limits(source.ds)
-    kind = str(source.ds.attrs.get("excitation", "force"))
+    ds = source.ds
+    limits = film_limits(ds)
+    kind = source.kind
     statements = paper_statements() if kind == "force" else {}  # the paper's levels are forces
     lo, hi = source.levels[0], source.levels[-1]
     for i, pa in enumerate(source.levels):
-        ds = source.level(pa)
         stages = level_stages(ds, pa)
         text = FrameText(i, len(source.levels), (lo, hi), stages, _statement(pa, statements), source.levels,
                          kind)
@@ -170,12 +150,12 @@ def _write_gif(frames, path: Path, fps: float) -> dict:
 
 
 def animate(dataset, out, fps: float = 2.0, size=(1600, 800), gif: bool | None = None) -> FilmResult:
-    """Write the film of ``dataset`` (a path for :func:`open_levels`, or a ``LevelSource``)
+    """Write the film of ``dataset`` (a path for :func:`open_levels`, or a ``ResonanceData``)
     to ``out``: MP4 (H.264) or, with ``gif`` (default: from the suffix of ``out``), GIF; one frame
     of ``size = (width, height)`` pixels per level at ``fps`` frames per second. Returns a
     :class:`FilmResult`."""
     fps, width, height = check_film(fps, *size)
-    source = dataset if isinstance(dataset, LevelSource) else open_levels(dataset)
+    source = dataset if isinstance(dataset, ResonanceData) else open_levels(dataset)
     out = Path(out)
     gif = out.suffix.lower() == ".gif" if gif is None else bool(gif)
     fmt = "gif" if gif else "mp4"

@@ -15,7 +15,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from contactvib.model import ContactModel
-    from contactvib.sweeps.sweep import LevelState
+    from contactvib.sweeps.level_state import LevelState
 
 __all__ = ["NEWTON_MIN_RATIO", "NEWTON_SEEDS", "newton_seeds", "late_newton_seeds"]
 

@@ -26,6 +26,7 @@ import numpy as np
 from contactvib.labels import resonance_order
 from contactvib.model import ContactModel
 from contactvib.sweeps.paper_index import write_index
+from contactvib.sweeps.stored import ResonanceData, matching_level
 from contactvib.sweeps.sweep import SweepSettings
 
 __all__ = ["PAPER_LEVELS", "PAPER_TIME_FIGURES", "TimeFigure", "write_level_figures",
@@ -109,7 +110,7 @@ class _LevelProducts:
         st = self.settings
         rows = []
         for tf in self.time_figures:
-            if abs(tf.pa_over_q - pa) > 1e-6:
+            if matching_level([pa], tf.pa_over_q) is None:  # another level's figure
                 continue
             if not (st.fmin_hz - 0.5 * st.df_hz <= tf.fe_hz <= st.fmax_hz + 0.5 * st.df_hz):
                 continue
@@ -129,9 +130,7 @@ def _time_figure(ds, model: ContactModel, tf: TimeFigure, out: Path):
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.paper import TimeRow, time_figure
     from contactvib.steady.simulate import simulate
-    from contactvib.sweeps.stored import attractors_at
-
-    res = attractors_at(ds, tf.pa_over_q, tf.fe_hz)
+    res = ResonanceData(ds).attractors_at(tf.pa_over_q, tf.fe_hz)
     exc = model.excitation(tf.pa_over_q, res["fe_hz"])
     # the paper's resonances first (by amplitude), then the orbits the paper does not draw
     atts = sorted(res["attractors"], key=lambda a: (not _in_paper(a), -a["app_um"]))

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.labels import LYAPUNOV_ZERO, resonance_order
+from contactvib.sweeps.stored import ResonanceData
 
 __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves_dataset", "curve_crossings",
            "count_changes", "MAP_VARIABLES", "FRICTION_MAPS"]
@@ -65,7 +66,7 @@ def _grid(ds):
     """(levels [Q], frequencies [Hz], df [Hz]) of the dataset: the sweep's grid from its settings
     (every stored f_e must lie on it), else the stored values."""
     fe = ds["fe_hz"].values
-    levels = np.unique(ds["pa_over_q"].values)
+    levels = np.asarray(ResonanceData(ds).levels, float)
     try:
         s = json.loads(ds.attrs["settings"])
         fmin, fmax, df = float(s["fmin_hz"]), float(s["fmax_hz"]), float(s["df_hz"])

@@ -162,7 +162,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     st = SweepSettings(**settings)
     level = trace_level(model, pa, st)
     ds = level_dataset(model, level, settings)
-    if st.friction is not None:  # issue 26: the tangential motion under every periodic point
+    if st.friction is not None:  # the tangential motion under every periodic point
         from contactvib.friction.columns import with_friction
 
         ds = with_friction(ds, model, level, st)
@@ -181,9 +181,9 @@ def _compile_late_first(model_params: dict, settings: dict) -> None:
 def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -> bool:
     """Whether the chunk at ``path`` is the finished level ``pa`` of this model and settings.
 
-    False for an unreadable or foreign file, another layout version or another level (these are
-    recomputed); ``ResumeMismatch`` naming the first difference for another model or
-    other settings.
+    False for an unreadable or foreign file, another layout version, a chunk without the
+    ``dof``/``contact`` variables or another level (these are recomputed); ``ResumeMismatch``
+    naming the first difference for another model or other settings.
     """
     import xarray as xr
 
@@ -192,7 +192,9 @@ def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -
     try:
         with xr.open_dataset(path) as ds:
             attrs = dict(ds.attrs)
-        if attrs.get("format") != FORMAT or float(attrs.get(_LEVEL_ATTR, "nan")) != float(pa):
+            has_dofs = "contact_mean_force_n" in ds  # chunks written before the dof/contact variables
+        if (attrs.get("format") != FORMAT or float(attrs.get(_LEVEL_ATTR, "nan")) != float(pa)
+                or not has_dofs):
             return False
         stored_settings = json.loads(attrs["settings"])
         stored_model = json.loads(attrs["model"])

@@ -105,11 +105,11 @@ class SweepSettings:
     def to_dict(self) -> dict:
         """The settings as keyword arguments (``excitation`` only when it is not the force and
         ``friction``, the FrictionModel's parameters, only when given, so that a force sweep's
-        record is the one it always was)."""
+        record holds the paper's fields only)."""
         d = asdict(self)
         if d["excitation"] == "force":
             del d["excitation"]
-        if d["friction"] is None:  # a sweep without friction: the record it always was
+        if d["friction"] is None:  # a sweep without friction: no friction field
             del d["friction"]
         return d
 

@@ -1,8 +1,21 @@
-"""Stored resonance datasets: where a dataset is found and how it is opened (one place for every
-command that reads one: ``query``, ``map``, ``animate``, ``explore``, ``continue --dataset``:
-:func:`find_dataset`, :func:`open_dataset`), the attractors stored at one (level, f_e), and the
-checks that refuse a damaged dataset in one line (``contactvib query``, the paper's time
-figures, the explorer)."""
+"""Stored resonance datasets, read through one accessor (one place for every reader: the commands
+``query``, ``map``, ``animate``, ``explore`` and ``continue --dataset``, the paper's figures, its
+index page and the film): :func:`open_resonance` finds a dataset (:func:`find_dataset`: a file, or
+the first of :data:`DATASET_NAMES` in a folder), opens it and refuses an unusable one in one line
+(:class:`DatasetError`); :class:`ResonanceData` wraps it with its ``levels``, the points of one
+level (:meth:`ResonanceData.level`, matched by the one tolerance rule :data:`LEVEL_TOL`,
+:func:`matching_level`) and the attractors stored at one (level, f_e)
+(:meth:`ResonanceData.attractors_at`); :func:`check_damage` says where a dataset is damaged.
+
+Example (``paper.nc`` of ``contactvib paper``)::
+
+    from contactvib import open_resonance
+
+    with open_resonance("paper/") as data:
+        data.levels                     # (0.5, 0.6, ..., 0.9): the P_a levels [Q], increasing
+        one = data.level(0.65)          # the points of 0.65 Q (an xarray Dataset)
+        data.attractors_at(0.65, 360.0)["attractors"]   # what ``contactvib query`` prints
+"""
 
 from __future__ import annotations
 
@@ -13,14 +26,27 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.errors import ContactvibError
+from contactvib.steady.results import dofs_and_contacts
 from contactvib.sweeps.dataset import FORMAT
 
-__all__ = ["DATASET_NAMES", "find_dataset", "open_dataset", "attractors_at", "check_damage", "DatasetError",
-           "DamagedDataset"]
+__all__ = ["DATASET_NAMES", "LEVEL_TOL", "find_dataset", "open_resonance", "ResonanceData", "matching_level",
+           "attractors_at", "check_damage", "DatasetError", "DamagedDataset", "MissingLevel"]
 
 #: The dataset files a folder (an atlas, paper or resonance output folder) may hold, in the order
 #: they are looked for: the first one found is the folder's dataset.
 DATASET_NAMES = ("atlas.nc", "paper.nc", "resonance.nc")
+#: The dof/contact variables of a point and their names, from which ``dofs`` and ``contacts`` are rebuilt.
+_DOF_POINT = ("dof_min", "dof_max", "dof_app", "dof_h1", "contact_loses_contact", "contact_loss_frac",
+              "contact_mean_force_n")
+_DOF_NAMES = ("dof_name", "dof_unit", "contact_name")
+#: Attributes every reader of a dataset may need (the model, the sweep's grid, f_n0).
+_ATTRIBUTES = ("model", "settings", "fn0_hz")
+#: Variables that must be finite everywhere (the others may hold NaN: basin, Lyapunov, ...).
+_FINITE = ("pa_over_q", "fe_hz", "app_um", "ymin_um", "ymax_um", "contact_loss_fraction",
+           "extremum_t_ms", "extremum_y_um", "strobe_y_um", "strobe_ydot_mm_s")
+#: A requested level matches the stored level nearest it when they differ by at most this much
+#: (in the level's unit: Q, µm or g): the one rule for finding a level (:func:`matching_level`).
+LEVEL_TOL = 1e-6
 
 
 class DatasetError(ContactvibError, ValueError):
@@ -31,6 +57,19 @@ class DatasetError(ContactvibError, ValueError):
 class DamagedDataset(ContactvibError, LookupError):
     """A resonance dataset whose variables are missing, not finite where they must be, or
     refer outside their arrays; the message says where (one line)."""
+
+
+class MissingLevel(DatasetError, LookupError):
+    """A level that a resonance dataset does not hold (none within ``LEVEL_TOL``). The message
+    is one line naming the stored levels; ``level`` is the requested one, ``levels`` the stored
+    ones (increasing). A ``DatasetError``, a ``ValueError`` and a ``LookupError``."""
+
+    def __init__(self, message: str, level: float = math.nan, levels: tuple = ()):
+        super().__init__(message)
+        self.level, self.levels = level, tuple(levels)
+
+    def __reduce__(self):  # raised in a pool worker, it comes back whole
+        return type(self), (str(self), self.level, self.levels)
 
 
 #: Per-point variables :func:`attractors_at` reads, the ragged arrays and the branch table.
@@ -50,7 +89,7 @@ _FINITE = ("pa_over_q", "fe_hz", "app_um", "ymin_um", "ymax_um", "contact_loss_f
 
 def find_dataset(path) -> Path:
     """The dataset file of ``path``: the file itself, or in a folder the first of
-    :data:`DATASET_NAMES` it holds. Raises :class:`DatasetError` (one line) otherwise."""
+    :data:`DATASET_NAMES` it holds. Raises ``DatasetError`` (one line) otherwise."""
     p = Path(path)
     if p.is_file():
         return p
@@ -62,14 +101,25 @@ def find_dataset(path) -> Path:
     raise DatasetError(f"{path}: no such file or folder")
 
 
-def open_dataset(path, load: bool = False):
-    """``(file, dataset)``: the resonance dataset of ``path`` (:func:`find_dataset`) opened with
-    xarray (read into memory with ``load``; else lazily, to be closed by the caller).
+def matching_level(levels, level: float) -> float | None:
+    """The value of ``levels`` nearest ``level`` when it lies within ``LEVEL_TOL`` of it,
+    else None: how a requested level is found among stored ones, everywhere."""
+    lv = np.asarray(levels, float).reshape(-1)
+    if lv.size == 0:
+        return None
+    j = int(np.argmin(np.abs(lv - level)))
+    return float(lv[j]) if abs(lv[j] - level) <= LEVEL_TOL else None
 
-    Raises :class:`DatasetError` with a one-line message naming the file when it is not NetCDF,
-    not a contactvib resonance dataset, of another layout version (:data:`.dataset.FORMAT`),
+
+def open_resonance(path, load: bool = False) -> ResonanceData:
+    """The resonance dataset of ``path`` (a file, or a folder: ``find_dataset``) as a
+    :class:`ResonanceData`, opened with xarray: read into memory with ``load``, else lazily
+    (close it, or use it in a ``with`` block).
+
+    Raises ``DatasetError`` with a one-line message naming the file when it is not NetCDF,
+    not a contactvib resonance dataset, of another layout version (``contactvib.sweeps.dataset.FORMAT``),
     without one of the variables or attributes of the layout, or without a level. The values
-    themselves are checked where they are read (:func:`check_damage`)."""
+    themselves are checked where they are read (``check_damage``)."""
     import xarray as xr
 
     file = find_dataset(path)
@@ -92,7 +142,156 @@ def open_dataset(path, load: bool = False):
     except BaseException:
         ds.close()
         raise
-    return file, ds
+    return ResonanceData(ds, file)
+
+
+class ResonanceData:
+    """A resonance dataset (``contactvib.sweeps.dataset`` layout) read by level.
+
+    ``ResonanceData(ds, path=None)`` wraps an xarray Dataset (a file opened by
+    :func:`open_resonance`, or a sweep's dataset in memory); nothing is read until asked for, and
+    ``pa_over_q`` is read once. ``ds`` is the Dataset, ``path`` its file (or None).
+
+    A level is a value of the variable ``pa_over_q``: P_a/Q [Q] for a force, U [µm] or A [g] for
+    base motion (``kind``, ``level_symbol``, ``level_unit``). A requested level ``p`` is the
+    stored level nearest it within ``LEVEL_TOL`` (``matching_level``); otherwise
+    :class:`MissingLevel` names the stored levels.
+    """
+
+    def __init__(self, ds, path=None):
+        self.ds = ds
+        self.path = None if path is None else Path(path)
+        self._pa = None
+        self._levels = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self) -> None:
+        """Close the file (a lazily opened dataset)."""
+        self.ds.close()
+
+    @property
+    def kind(self) -> str:
+        """What a level holds: "force", "base-um" or "base-g" (:data:`contactvib.model.LEVEL_KINDS`)."""
+        return str(self.ds.attrs.get("excitation", "force"))
+
+    @property
+    def level_symbol(self) -> str:
+        """The levels' symbol: "P_a/Q", "U" or "A"."""
+        return self._kind_entry()[0]
+
+    @property
+    def level_unit(self) -> str:
+        """The levels' unit: "Q", "um" or "g"."""
+        return self._kind_entry()[1]
+
+    def _kind_entry(self):
+        from contactvib.model import LEVEL_KINDS
+
+        return LEVEL_KINDS.get(self.kind, LEVEL_KINDS["force"])
+
+    @property
+    def pa_over_q(self) -> np.ndarray:
+        """The level of every point (the variable ``pa_over_q``), float, read once."""
+        if self._pa is None:
+            self._pa = np.asarray(self.ds["pa_over_q"].values, float)
+        return self._pa
+
+    @property
+    def levels(self) -> tuple:
+        """The distinct stored levels, increasing (floats, in ``level_unit``)."""
+        if self._levels is None:
+            self._levels = tuple(float(v) for v in np.unique(self.pa_over_q))
+        return self._levels
+
+    def levels_text(self) -> str:
+        """The stored levels as messages list them: "0.5, 0.65, 0.7"."""
+        return ", ".join(f"{v:g}" for v in self.levels)
+
+    def match(self, level: float) -> float | None:
+        """The stored level that ``level`` designates (``matching_level``), or None."""
+        return matching_level(self.levels, level)
+
+    def stored_level(self, level: float) -> float:
+        """The stored level that ``level`` designates; :class:`MissingLevel` when there is none."""
+        found = self.match(level)
+        if found is None:
+            sym, unit = self.level_symbol, self.level_unit
+            sym, unit = ("P_a" if sym == "P_a/Q" else sym), ("µm" if unit == "um" else unit)
+            where = self.path.name if self.path is not None else "the dataset"
+            raise MissingLevel(f"{sym} = {level:g} {unit} is not a level of {where} "
+                               f"(levels: {self.levels_text()} {unit})", level, self.levels)
+        return found
+
+    def points(self, level: float) -> np.ndarray:
+        """The indices (increasing, along ``point``) of the points of the stored level that
+        ``level`` designates; :class:`MissingLevel` when there is none. Reads only
+        ``pa_over_q`` (kept) and costs one pass over it."""
+        pa = self.pa_over_q
+        near = np.flatnonzero(np.abs(pa - level) <= LEVEL_TOL)  # the candidates of matching_level
+        found = matching_level(pa[near], level)
+        if found is None:
+            self.stored_level(level)  # raises, naming the levels
+        return near[pa[near] == found]
+
+    def level(self, level: float):
+        """The points of the stored level that ``level`` designates, as an xarray Dataset: the
+        dataset with ``point`` restricted to them (its other dimensions — extrema, strobe
+        points, branches — whole, so the points' indices into them stay valid; a level's points
+        are contiguous, so a lazily opened file reads only their part). :class:`MissingLevel`
+        when there is none."""
+        idx = self.points(level)
+        if idx.size and idx[-1] - idx[0] + 1 == idx.size:
+            return self.ds.isel(point=slice(int(idx[0]), int(idx[-1]) + 1))
+        return self.ds.isel(point=idx)
+
+    def attractors_at(self, level: float, fe_hz: float) -> dict:
+        """The attractors stored at the grid point nearest (level, f_e [Hz]), in the attractors
+        JSON contract (what ``contactvib query`` prints).
+
+        The level must designate a stored one (:meth:`match`), f_e the nearest grid frequency
+        within half a grid step. Raises ``LookupError`` with a one-line message otherwise
+        (:class:`MissingLevel` for the level), ``DamagedDataset`` if the dataset is damaged
+        (``check_damage``).
+        """
+        ds = self.ds
+        _refuse_damaged(ds)
+        pa = self.match(level)
+        if pa is None:
+            raise MissingLevel(f"--pa (P_a/Q) = {level:g}: not in the dataset; stored levels: "
+                               + self.levels_text(), level, self.levels)
+        df, fmin, fmax = _grid_settings(ds)
+        sel = self.points(pa)
+        fes = ds["fe_hz"].values[sel]
+        grid = np.unique(fes)
+        g = grid[int(np.argmin(np.abs(grid - fe_hz)))]
+        if abs(g - fe_hz) > 0.5 * df + 1e-9 or fe_hz < fmin - 0.5 * df or fe_hz > fmax + 0.5 * df:
+            raise LookupError(f"--fe (f_e) = {fe_hz:g}: no grid point within half a step ({0.5 * df:g} Hz); "
+                              f"grid {fmin:g}..{fmax:g} Hz step {df:g} Hz")
+        idx = sel[np.abs(fes - g) <= 1e-9]
+        atts = _attractor_records(ds, idx)
+        atts.sort(key=lambda a: -a["app_um"])
+        return {
+            "fn0_hz": float(ds.attrs["fn0_hz"]),
+            "y0_um": float(ds.attrs["y0_um"]),
+            "pa_over_q": float(pa),
+            "fe_hz": float(g),
+            "requested": {"pa_over_q": float(level), "fe_hz": float(fe_hz)},
+            "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
+                      "f": "Hz", "P_a": "Q = M g"},
+            "attractors": atts,
+            **_level_kind_record(ds, idx),
+        }
+
+
+def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
+    """The attractors stored in the resonance dataset ``ds`` (an xarray Dataset) at the grid
+    point nearest (P_a [Q], f_e [Hz]): :meth:`ResonanceData.attractors_at`."""
+    return ResonanceData(ds).attractors_at(pa_over_q, fe_hz)
 
 
 def check_damage(ds) -> str | None:
@@ -135,34 +334,19 @@ def _refuse_damaged(ds) -> None:
         raise DamagedDataset(f"damaged: {damage}: recompute it")
 
 
-def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
-    """The attractors stored at the grid point nearest (P_a, f_e), in the attractors JSON contract.
-
-    P_a must match a stored level within 1e-6, f_e the nearest grid frequency within half a
-    grid step. Raises ``LookupError`` with a one-line message otherwise, ``DamagedDataset``
-    if the dataset is damaged (``check_damage``).
-    """
-    _refuse_damaged(ds)
-    levels = np.unique(ds["pa_over_q"].values)
-    j = int(np.argmin(np.abs(levels - pa_over_q)))
-    if abs(levels[j] - pa_over_q) > 1e-6:
-        raise LookupError(f"--pa (P_a/Q) = {pa_over_q:g}: not in the dataset; stored levels: "
-                          + ", ".join(f"{v:g}" for v in levels))
-    pa = levels[j]
-    try:  # the sweep's grid, stored as JSON: a damaged attribute is one line, not a traceback
+def _grid_settings(ds) -> tuple:
+    """(df, fmin, fmax) [Hz] of the sweep's grid, from the settings stored as JSON: a damaged
+    attribute is one line (LookupError), not a traceback."""
+    try:
         settings = json.loads(ds.attrs["settings"])
-        df, fmin, fmax = (float(settings[k]) for k in ("df_hz", "fmin_hz", "fmax_hz"))
+        return tuple(float(settings[k]) for k in ("df_hz", "fmin_hz", "fmax_hz"))
     except (KeyError, TypeError, ValueError) as e:  # JSONDecodeError is a ValueError
         raise LookupError(f"dataset attribute 'settings' is missing or damaged ({type(e).__name__}): "
                           "recompute it") from None
-    sel = np.nonzero(np.abs(ds["pa_over_q"].values - pa) <= 1e-9)[0]
-    fes = ds["fe_hz"].values[sel]
-    grid = np.unique(fes)
-    g = grid[int(np.argmin(np.abs(grid - fe_hz)))]
-    if abs(g - fe_hz) > 0.5 * df + 1e-9 or fe_hz < fmin - 0.5 * df or fe_hz > fmax + 0.5 * df:
-        raise LookupError(f"--fe (f_e) = {fe_hz:g}: no grid point within half a step ({0.5 * df:g} Hz); "
-                          f"grid {fmin:g}..{fmax:g} Hz step {df:g} Hz")
-    idx = sel[np.abs(fes - g) <= 1e-9]
+
+
+def _attractor_records(ds, idx) -> list:
+    """The attractors JSON contract's records of the points ``idx`` of ``ds``."""
     v = {name: ds[name].values for name in (
         "period", "kind", "minima_per_period", "app_um", "ymin_um", "ymax_um", "loses_contact",
         "contact_loss_fraction", "basin_fraction", "floquet_abs_max", "floquet_re", "floquet_im",
@@ -171,6 +355,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
     e_t, e_y, e_m = (ds[x].values for x in ("extremum_t_ms", "extremum_y_um", "extremum_is_min"))
     s_y, s_v = ds["strobe_y_um"].values, ds["strobe_ydot_mm_s"].values
     b_id, b_lab = ds["branch_id"].values, ds["branch_label"].values
+    n_mult, dofs = int(ds.sizes["multiplier"]), _dofs_and_contacts_of(ds)  # 2n multipliers: two for y
 
     def num(x):
         x = float(x)
@@ -195,7 +380,7 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
             "basin_fraction": num(v["basin_fraction"][p]),
             "floquet_abs_max": num(v["floquet_abs_max"][p]) if periodic else None,
             "floquet_multipliers": ([[float(v["floquet_re"][p, q]), float(v["floquet_im"][p, q])]
-                                     for q in range(2)] if periodic else []),
+                                     for q in range(n_mult)] if periodic else []),
             "closure": num(v["closure"][p]),
             "lyapunov_per_period": num(v["lyapunov_per_period"][p]),
             "resonance": str(v["resonance"][p]),
@@ -210,20 +395,20 @@ def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
                               for q in range(s0, s0 + ns)],
             "extrema": [{"t_ms": float(e_t[q]), "y_um": float(e_y[q]),
                          "type": "min" if e_m[q] else "max"} for q in range(e0, e0 + ne)],
+            **dofs(p),
         }
         atts.append(d)
-    atts.sort(key=lambda a: -a["app_um"])
-    return {
-        "fn0_hz": float(ds.attrs["fn0_hz"]),
-        "y0_um": float(ds.attrs["y0_um"]),
-        "pa_over_q": float(pa),
-        "fe_hz": float(g),
-        "requested": {"pa_over_q": float(pa_over_q), "fe_hz": float(fe_hz)},
-        "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
-                  "f": "Hz", "P_a": "Q = M g"},
-        "attractors": atts,
-        **_level_kind_record(ds, idx),
-    }
+    return atts
+
+def _dofs_and_contacts_of(ds):
+    """A function of the point index: the point's ``dofs`` and ``contacts``, rebuilt from the
+    dataset's dof/contact variables by :func:`contactvib.steady.results.dofs_and_contacts` (an
+    empty dict for a dataset written before these variables)."""
+    if not all(name in ds.variables for name in _DOF_POINT + _DOF_NAMES):
+        return lambda p: {}
+    cols = {name: ds[name].values for name in _DOF_POINT + _DOF_NAMES}
+    return lambda p: dofs_and_contacts(**{name: cols[name][p] for name in _DOF_POINT},
+                                       **{name: cols[name] for name in _DOF_NAMES})
 
 
 def _level_kind_record(ds, idx) -> dict:

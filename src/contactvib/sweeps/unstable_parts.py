@@ -47,11 +47,8 @@ def _jump_ends(lv) -> list:
 
 def _continue(lv, model, pa_over_q, z, k, i, direction):
     """The branch through the periodic orbit (z, k) at grid index i, continued one way."""
-    from contactvib.continuation.shooting import (
-        ContinuationError,
-        ContinuationSettings,
-        continue_orbit,
-    )
+    from contactvib.continuation.shooting import ContinuationSettings, continue_orbit
+    from contactvib.errors import ComputationError
     from contactvib.model import ParameterError
 
     f0 = float(lv.f[i])
@@ -66,7 +63,7 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     try:
         return continue_orbit(model, lv.st.excitation_at(model, pa_over_q, f0), z, k, "f_e",
                               "up" if direction > 0 else "down", settings)
-    except (ContinuationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
+    except (ComputationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         return None
 
 
@@ -119,7 +116,7 @@ def continue_unstable_parts(lv, model, pa_over_q: float) -> int:
 
     Parameters
     ----------
-    lv : contactvib.sweeps.sweep.LevelState
+    lv : contactvib.sweeps.level_state.LevelState
         The level's shared table and rows after the sweeps and multi-start.
     model : ContactModel
     pa_over_q : float

@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, excitation_at
-from contactvib.steady.orbits import OrbitError, strobe_points
+from contactvib.steady.orbits import strobe_points
 from contactvib.steady.transients import WINDOW, cloud_verdict
 
 __all__ = ["settled_nonperiodic", "drop_unsettled"]
@@ -38,7 +39,7 @@ def settled_nonperiodic(model: ContactModel, pa_over_q: float, f_hz: float, z, l
         if ok or why == "still converging" or settle_periods <= 0:
             return ok
         tail = strobe_points(exc, tail[-1], settle_periods + 2 * WINDOW, rtol)[-2 * WINDOW:]
-    except OrbitError:
+    except ComputationError:
         return False
     return cloud_verdict(tail, float(lyapunov))[0]
 

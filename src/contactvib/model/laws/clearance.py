@@ -36,7 +36,7 @@ class ClearanceLaw(SpringLaw):
     Examples
     --------
     >>> law = ClearanceLaw(c_lin=2e10, gap_um=1.0)
-    >>> float(law.force(1.5e-6, 1e-3))  # 0.5 µm into the contact on 1e-3 m²  [N]
+    >>> float(law.force(0.5e-6, 1e-3))  # δ = y − gap = 0.5 µm, on 1e-3 m²  [N]
     10.0
     """
 

@@ -18,6 +18,7 @@ import pkgutil
 import re
 import threading
 import warnings
+from pathlib import Path
 
 from contactvib.model.checks import ParameterError
 from contactvib.model.laws.contract import SpringLaw
@@ -72,11 +73,9 @@ def _load() -> None:
         if _loaded:
             return
         _loaded = True
-        import contactvib.model.laws as package
-
-        for info in pkgutil.iter_modules(package.__path__):
+        for info in pkgutil.iter_modules([str(Path(__file__).parent)]):  # this package's law modules
             if not info.name.startswith("_") and info.name not in _NOT_LAWS:
-                importlib.import_module(f"{package.__name__}.{info.name}")
+                importlib.import_module(f"{__package__}.{info.name}")
         from importlib.metadata import entry_points
 
         for ep in entry_points(group=ENTRY_POINT_GROUP):
