@@ -21,13 +21,13 @@ from contactvib._kernels import system_map as km
 from contactvib._kernels.shooting import is_stable
 from contactvib._kernels.status import STATUS_OK, STATUS_RECORD_FULL, status_message
 from contactvib._kernels.system_flow import rec_width, system_arrays
-from contactvib.errors import ContactvibError
+from contactvib.errors import ComputationError
 from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import MEMORY_MAX, SHOOTING_RTOL_RANGE, check_memory
 from contactvib.model.system import System, check_excitation, check_state
 
 __all__ = ["SystemHistory", "PeriodMap", "SystemOrbit", "simulate_system", "period_map", "periodic_orbit",
-           "mean_contact_forces", "SystemIntegrationError", "DISPLAY_UNITS"]
+           "mean_contact_forces", "DISPLAY_UNITS"]
 
 #: Display units of a coordinate and of its rate, with the factor from SI, by coordinate unit.
 DISPLAY_UNITS = {"m": ("um", 1e6, "mm/s", 1e3), "rad": ("urad", 1e6, "mrad/s", 1e3)}
@@ -36,10 +36,6 @@ NEWTON_MAX_ITER = 40
 NEWTON_TOL = 1e-10
 #: Largest initial step record (rows) per excitation period; doubled while the records overflow.
 _RECORD_ROWS = 2048
-
-
-class SystemIntegrationError(ContactvibError, RuntimeError):
-    """The compiled integration of a system failed (its status message says why)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,7 +132,7 @@ def _rtol(rtol) -> float:
 
 
 def _fail(status: int, what: str):
-    raise SystemIntegrationError(f"{what}: {status_message(status)}")
+    raise ComputationError(f"{what}: {status_message(status)}", stage="integration")
 
 
 def _strobe(sa, form, x, k, rtol, with_jac):
@@ -179,7 +175,7 @@ def periodic_orbit(system: System, pa_newton: float, fe_hz: float, z_guess, k: i
 
     Solves P^k(z) − z = 0 in the scaled state with (Φ − I) dz = −(P^k(z) − z), steps larger than
     0.5 (relative to max(1, |z|∞)) damped to 0.5; converged when the relative closure ≤ ``tol``.
-    SystemIntegrationError if Newton's method fails (singular, diverging, no convergence)."""
+    ComputationError (stage "newton") if Newton's method fails (singular, diverging, no convergence)."""
     system = _check_system(system)
     sa, form = _arrays(system, pa_newton, fe_hz)
     k = check_int("k", k, 1, 64)
@@ -202,13 +198,13 @@ def periodic_orbit(system: System, pa_newton: float, fe_hz: float, z_guess, k: i
         try:
             dx = np.linalg.solve(phi - np.eye(n2), -g)
         except np.linalg.LinAlgError:
-            raise SystemIntegrationError("Newton shooting: singular monodromy (a multiplier at 1)") from None
+            raise ComputationError("Newton shooting: singular monodromy (a multiplier at 1)", stage="newton") from None
         step = float(np.max(np.abs(dx))) / scale
         if not math.isfinite(step) or step > 10.0:
-            raise SystemIntegrationError(f"Newton shooting diverged (relative step {step:.3g})")
+            raise ComputationError(f"Newton shooting diverged (relative step {step:.3g})", stage="newton")
         x = x + (dx * (0.5 / step) if step > 0.5 else dx)
-    raise SystemIntegrationError(f"Newton shooting did not converge in {NEWTON_MAX_ITER} iterations "
-                                 f"(relative closure {closure:.3g})")
+    raise ComputationError(f"Newton shooting did not converge in {NEWTON_MAX_ITER} iterations "
+                           f"(relative closure {closure:.3g})", stage="newton")
 
 
 def _records(sa, form, system, x, n_periods, rtol):
