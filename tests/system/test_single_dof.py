@@ -21,7 +21,7 @@ from scipy_system import integrate_system
 
 from contactvib import ContactModel, find_attractors, simulate
 from contactvib._kernels.shooting import strobe_map
-from contactvib.model.system import System
+from contactvib.model.system import ContactElement, System
 from contactvib.steady.system_orbits import mean_contact_forces, period_map, periodic_orbit, simulate_system
 
 PA, FE = 0.65, 360.0
@@ -115,3 +115,28 @@ def test_mean_contact_force_is_the_weight(orbits):
     for a, _z, o in orbits:
         F = mean_contact_forces(s, PA * m.Q, FE, o.z, a.period)
         assert F[0] == pytest.approx(m.Q, rel=1e-8)
+
+
+def test_a_symmetric_slide_unit_is_the_paper_slider():
+    """Two contacts at ±4 cm, half the paper's area each, under a vertical force only: θ stays 0,
+    both contacts switch at the same instants (located as one event, the other at θ = 0 of the
+    next step), and y follows the paper's slider: its map to 1e-9 of y0 [measured ≤ 4e-11], θ zero but
+    for rounding [≤ 4e-12 y0/a]."""
+    m = MODELS["paper"]
+    a = 0.04
+    law = m.spring_law
+    unit = System(M=np.diag([m.M, m.M * a * a / 3.0]), f0=[m.Q, 0.0], b=[1.0, 0.0],
+                  contacts=[ContactElement(name, (1.0, s * a), m.S / 2, law, h_n=m.h_n, l=m.l)
+                            for name, s in (("front", 1), ("rear", -1))],
+                  coordinates=("y", "theta"), units=("m", "rad"))
+    exc = m.excitation(PA, FE)
+    for x0 in [(1.3, 0.2), (-0.5, 1.0)]:
+        oz, oM = np.empty(2), np.empty((2, 2))
+        assert strobe_map(np.array(x0), 2, exc.kernel_parameters(), 1e-12, 1e-12, oz, oM) == 0
+        y = _si(m, x0)
+        pm = period_map(unit, exc.P_a, FE, [y[0], 0.0, y[1], 0.0], 2)
+        D = np.array([m.y0, m.y0 * m.omega_n0])
+        assert np.max(np.abs(pm.z[[0, 2]] - _si(m, oz)) / D) < 1e-9 * max(1.0, np.max(np.abs(oz)))
+        assert abs(pm.z[1]) * a < 1e-9 * m.y0 and abs(pm.z[3]) * a < 1e-9 * m.y0 * m.omega_n0  # rounding only
+        np.testing.assert_allclose(pm.monodromy[np.ix_([0, 2], [0, 2])] * D[None, :] / D[:, None], oM,
+                                   rtol=0, atol=1e-8 * max(1.0, np.abs(oM).max()))

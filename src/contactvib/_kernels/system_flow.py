@@ -219,15 +219,19 @@ def _element_interpolant(sa, i, F, E):
 
 
 @njit(cache=True)
-def _event_fraction(sa, mode, t, y, ynew, h, K, ys, F, E, eo, record, just, Jx, Jv):
+def _event_fraction(sa, mode, t, y, ynew, h, K, ys, F, E, eo, record, fresh, Jx, Jv):
     """(θ, i): the earliest fraction θ ∈ [0, 1] of the step at which an element i switches, or
-    (−1, −1). ``just``: the element switched at the step's start (its ξ taken as exactly 0).
-    Fills ``F`` with the step's interpolant when needed (always when ``record``)."""
+    (−1, −1). ``fresh[i]``: element i switched at the step's start (its ξ taken as exactly 0, no
+    dip through its surface at once). Another element that starts strictly on the far side of
+    its surface (one that switched at the same instant as a fresh one, within rounding) switches
+    at θ = 0. Fills ``F`` with the step's interpolant when needed (always when ``record``)."""
     best = 2.0
     which = -1
     have = False
     for i in range(mode.shape[0]):
         xi0, xv0 = element_state(sa, i, y)
+        if not fresh[i] and ((xi0 < 0.0) if mode[i] else (xi0 > 0.0)):
+            return 0.0, i
         xi1, xv1 = element_state(sa, i, ynew)
         vflip = (xv0 < 0.0) != (xv1 < 0.0)
         cross_end = _crosses(mode[i], xi1)
@@ -237,13 +241,13 @@ def _event_fraction(sa, mode, t, y, ynew, h, K, ys, F, E, eo, record, just, Jx, 
             _dense(sa, mode, t, y, ynew, h, K, ys, F, Jx, Jv)
             have = True
         _element_interpolant(sa, i, F, E)
-        eo[0] = 0.0 if i == just else xi0
+        eo[0] = 0.0 if fresh[i] else xi0
         eo[1] = xv0
         th = -1.0
         lo = 0.0
         if vflip:
             th_v = dense_root(E, eo, 1, 0.0, 0.0, 1.0)
-            if i != just and _crosses(mode[i], dense_value(E, eo, th_v, 0)):
+            if not fresh[i] and _crosses(mode[i], dense_value(E, eo, th_v, 0)):
                 th = dense_root(E, eo, 0, 0.0, 0.0, th_v)
             lo = th_v
         if th < 0.0 and cross_end:
@@ -374,7 +378,7 @@ def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
     n_steps = 0
     n_events = 0
     rejected = False
-    just = -1
+    fresh = np.zeros(mode.shape[0], dtype=np.bool_)
     status = STATUS_OK
     span = abs(t_end) + abs(t) + 1.0
     while t < t_end:
@@ -397,18 +401,20 @@ def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
             continue
         h_next = h_try * _step_factor(err, rejected)
         rejected = False
-        theta, which = _event_fraction(sa, mode, t, y, ynew, h_try, K, ys, F, E, eo, record, just, Jx, Jv)
+        theta, which = _event_fraction(sa, mode, t, y, ynew, h_try, K, ys, F, E, eo, record, fresh, Jx, Jv)
         if which >= 0:
             h_ev = theta * h_try
             _rk_step(sa, mode, t, y, f, h_ev, rtol, atol, K, ys, ynew, fnew, Jx, Jv)
-            if record:
+            if record and h_ev > 0.0:
                 _dense(sa, mode, t, y, ynew, h_ev, K, ys, F, Jx, Jv)
                 irec = _record(rec, irec, t, h_ev, mode, y, F)
             t = t + h_ev
             for i in range(N):
                 y[i] = ynew[i]
             _switch(sa, mode, which, y)
-            just = which
+            if h_ev > 0.0:
+                fresh[:] = False
+            fresh[which] = True
             rhs(sa, mode, t, y, f, nvar, Jx, Jv)
             h = min(h_next, _H_AFTER_EVENT)
             n_events += 1
@@ -417,7 +423,7 @@ def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
                 status = STATUS_TOO_MANY_EVENTS
                 break
             continue
-        just = -1
+        fresh[:] = False
         if record:
             irec = _record(rec, irec, t, h_try, mode, y, F)
         t = t_end if landing else t + h_try
