@@ -42,7 +42,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from .contact import contact_force, contact_partials
+from .contact import P_DAMPING, P_SPRING, contact_force, contact_partials, force, force_partials
 from .flow import E3, E5, A, B, C, dense_root, dense_value, interpolant
 from .status import (
     STATUS_MAX_STEPS,
@@ -53,8 +53,9 @@ from .status import (
     STATUS_TOO_MANY_EVENTS,
 )
 
-#: The scaled system (``contactvib.model.system_kernel.KernelForm``'s arrays), compiled as one record.
-SystemArrays = namedtuple("SystemArrays", ("Kx", "Cx", "g0", "gb", "r", "U", "gam", "Aw", "rows"))
+#: The scaled system (``contactvib.model.system_kernel.KernelForm``'s arrays), compiled as one record;
+#: ``paper[i]``: row i is the power spring with power damping (its scalar path, :func:`.contact.force`).
+SystemArrays = namedtuple("SystemArrays", ("Kx", "Cx", "g0", "gb", "r", "U", "gam", "Aw", "rows", "paper"))
 
 _SAFETY = 0.9
 _MIN_FACTOR = 0.2
@@ -76,7 +77,9 @@ def system_arrays(Kx, Cx, g0, gb, r, U, gam, Aw, rows) -> SystemArrays:
     def c(a):
         return np.ascontiguousarray(a, dtype=np.float64)
 
-    return SystemArrays(c(Kx), c(Cx), c(g0), c(gb), float(r), c(U), c(gam), c(Aw), c(rows))
+    rows = c(rows)
+    paper = (rows[:, P_SPRING] == 0.0) & (rows[:, P_DAMPING] == 0.0)
+    return SystemArrays(c(Kx), c(Cx), c(g0), c(gb), float(r), c(U), c(gam), c(Aw), rows, paper)
 
 
 def rec_width(n, m):
@@ -85,7 +88,7 @@ def rec_width(n, m):
     return 2 + m + 16 * n
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def element_state(sa, i, y):
     """(ξ_i, ξ_i') of element i at the state ``y`` = [x, x', ...]."""
     n = sa.Kx.shape[0]
@@ -98,18 +101,37 @@ def element_state(sa, i, y):
     return xi, xv
 
 
-@njit(cache=True)
-def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
-    """Right-hand side of the state (``nvar`` False) or state and variational equation; ``Jx``,
-    ``Jv`` (n × n) receive ∂x''/∂x and ∂x''/∂x' when ``nvar``."""
+@njit(cache=True, inline="always")
+def element_force(sa, i, xi, xv):
+    """f_i(ξ, ξ') [units of W_i]: :func:`.contact.contact_force` on row i (the power spring with
+    power damping through its scalar path :func:`.contact.force`, the same law without the
+    dispatch: 4x faster here)."""
+    if sa.paper[i]:
+        return force(xi, xv, sa.rows[i, 0], sa.rows[i, 1], sa.rows[i, 2])
+    return contact_force(xi, xv, sa.rows[i])
+
+
+@njit(cache=True, inline="always")
+def element_partials(sa, i, xi, xv):
+    """(∂f_i/∂ξ, ∂f_i/∂ξ') (:func:`.contact.contact_partials`; :func:`.contact.force_partials`)."""
+    if sa.paper[i]:
+        return force_partials(xi, xv, sa.rows[i, 0], sa.rows[i, 1], sa.rows[i, 2])
+    return contact_partials(xi, xv, sa.rows[i])
+
+
+@njit(cache=True, inline="always")
+def rhs_row(sa, mode, t, y, out, row, nvar, Jx, Jv):
+    """Right-hand side of the state (``nvar`` False) or state and variational equation into
+    ``out[row]``; ``Jx``, ``Jv`` (n × n) receive ∂x''/∂x and ∂x''/∂x' when ``nvar``. Inlined into
+    the stage loop: a call per stage with an array view costs more than the stage itself."""
     n = sa.Kx.shape[0]
     cr = math.cos(sa.r * t)
     for j in range(n):
-        out[j] = y[n + j]
+        out[row, j] = y[n + j]
         a = sa.g0[j] + sa.gb[j] * cr
         for k in range(n):
             a -= sa.Kx[j, k] * y[k] + sa.Cx[j, k] * y[n + k]
-        out[n + j] = a
+        out[row, n + j] = a
     if nvar:
         for j in range(n):
             for k in range(n):
@@ -119,12 +141,11 @@ def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
         if not mode[i]:
             continue
         xi, xv = element_state(sa, i, y)
-        row = sa.rows[i]
-        f = contact_force(xi, xv, row)
+        f = element_force(sa, i, xi, xv)
         for j in range(n):
-            out[n + j] -= sa.Aw[i, j] * f
+            out[row, n + j] -= sa.Aw[i, j] * f
         if nvar:
-            fx, fv = contact_partials(xi, xv, row)
+            fx, fv = element_partials(sa, i, xi, xv)
             for j in range(n):
                 a = sa.Aw[i, j]
                 for k in range(n):
@@ -134,13 +155,19 @@ def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
         n2 = 2 * n
         for r in range(n):
             for col in range(n2):
-                out[n2 + r * n2 + col] = y[n2 + (n + r) * n2 + col]
+                out[row, n2 + r * n2 + col] = y[n2 + (n + r) * n2 + col]
         for r in range(n):
             for col in range(n2):
                 s = 0.0
                 for k in range(n):
                     s += Jx[r, k] * y[n2 + k * n2 + col] + Jv[r, k] * y[n2 + (n + k) * n2 + col]
-                out[n2 + (n + r) * n2 + col] = s
+                out[row, n2 + (n + r) * n2 + col] = s
+
+
+@njit(cache=True)
+def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
+    """:func:`rhs_row` into the vector ``out``."""
+    rhs_row(sa, mode, t, y, out.reshape((1, out.shape[0])), 0, nvar, Jx, Jv)
 
 
 @njit(cache=True)
@@ -153,7 +180,7 @@ def _stages(sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv):
             for j in range(s):
                 acc += A[s, j] * K[j, i]
             ys[i] = y[i] + h * acc
-        rhs(sa, mode, t + C[s] * h, ys, K[s], nvar, Jx, Jv)
+        rhs_row(sa, mode, t + C[s] * h, ys, K, s, nvar, Jx, Jv)
 
 
 @njit(cache=True)
@@ -277,7 +304,7 @@ def _switch(sa, mode, i, y):
     _, xv = element_state(sa, i, y)
     entering = not mode[i]
     if y.shape[0] > n2 and xv != 0.0:
-        f = contact_force(0.0, xv, sa.rows[i])
+        f = element_force(sa, i, 0.0, xv)
         if f != 0.0:
             scale = (-f if entering else f) / xv
             for col in range(n2):

@@ -18,9 +18,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact import contact_force
 from .status import STATUS_OK
-from .system_flow import GAUSS_W, GAUSS_X, MAX_STEPS_PER_PERIOD, advance, element_state, initial_modes
+from .system_flow import GAUSS_W, GAUSS_X, MAX_STEPS_PER_PERIOD, advance, element_force, element_state, initial_modes
 
 
 @njit(cache=True)
@@ -140,7 +139,7 @@ def element_forces(sa, ys, modes, out):
         for i in range(out.shape[0]):
             if modes[i, s]:
                 xi, xv = element_state(sa, i, y)
-                out[i, s] = contact_force(xi, xv, sa.rows[i])
+                out[i, s] = element_force(sa, i, xi, xv)
             else:
                 out[i, s] = 0.0
 
@@ -163,4 +162,4 @@ def mean_element_forces(sa, rec, nrec, out):
             for i in range(m):
                 if rec[row, 2 + i] > 0.5:
                     xi, xv = element_state(sa, i, y)
-                    out[i] += GAUSS_W[g] * h * contact_force(xi, xv, sa.rows[i])
+                    out[i] += GAUSS_W[g] * h * element_force(sa, i, xi, xv)

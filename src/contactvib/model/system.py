@@ -408,9 +408,11 @@ class System:
     def kernel_form(self, pa_newton: float, fe_hz: float):
         """The scaled form the compiled integrator runs at P_a = ``pa_newton`` [N], f_e = ``fe_hz``
         [Hz] (:class:`~contactvib.model.system_kernel.KernelForm`)."""
-        from contactvib.model.system_kernel import kernel_form
+        from contactvib.model.system_kernel import kernel_form, unit_form
 
-        return kernel_form(self, pa_newton, fe_hz)
+        if "unit_form" not in self._cache:
+            self._cache["unit_form"] = unit_form(self)
+        return kernel_form(self, pa_newton, fe_hz, self._cache["unit_form"])
 
 
 def check_state(system: System, z, symbol: str = "z0") -> np.ndarray:

@@ -30,11 +30,11 @@ The integrator's tolerances are relative to these: atol = rtol in units of L_j a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["SystemScales", "KernelForm", "system_scales", "kernel_form", "FALLBACK_LENGTH"]
+__all__ = ["SystemScales", "KernelForm", "system_scales", "kernel_form", "unit_form", "FALLBACK_LENGTH"]
 
 #: Length [m] or angle [rad] scale of a coordinate that no contact moves, without another of its unit.
 FALLBACK_LENGTH = 1e-6
@@ -159,8 +159,8 @@ def _row(contact, y0: float, W: float, omega: float, kc) -> np.ndarray:
     return np.concatenate([head, data])
 
 
-def kernel_form(system, pa_newton: float, fe_hz: float) -> KernelForm:
-    """The scaled arrays of ``system`` under P(t) = ``pa_newton`` cos(2π ``fe_hz`` t) [N]."""
+def unit_form(system) -> KernelForm:
+    """The scaled arrays of ``system`` under P_a = 1 N at r = 1: what :func:`kernel_form` scales."""
     from contactvib._kernels import contact as kc
 
     sc = system.scales
@@ -174,9 +174,15 @@ def kernel_form(system, pa_newton: float, fe_hz: float) -> KernelForm:
         R[i, :r.size] = r
     W_dir = system.directions
     return KernelForm(
-        Kx=A @ system.K * L[None, :], Cx=om * (A @ system.C) * L[None, :], g0=A @ system.f0,
-        gb=(A @ system.b) * float(pa_newton), r=2.0 * math.pi * float(fe_hz) / om,
-        U=W_dir * L[None, :] / sc.deflection[:, None] if m else np.zeros((0, system.n)),
+        Kx=A @ system.K * L[None, :], Cx=om * (A @ system.C) * L[None, :], g0=A @ system.f0, gb=A @ system.b,
+        r=1.0, U=W_dir * L[None, :] / sc.deflection[:, None] if m else np.zeros((0, system.n)),
         gam=np.array([c.engagement for c in system.contacts], float) / sc.deflection if m else np.zeros(0),
         Aw=(W_dir @ A.T) * sc.force[:, None] if m else np.zeros((0, system.n)),
         rows=R, scales=sc)
+
+
+def kernel_form(system, pa_newton: float, fe_hz: float, unit: KernelForm | None = None) -> KernelForm:
+    """The scaled arrays of ``system`` under P(t) = ``pa_newton`` cos(2π ``fe_hz`` t) [N]
+    (from ``unit``, its :func:`unit_form`, when given)."""
+    u = unit_form(system) if unit is None else unit
+    return replace(u, gb=u.gb * float(pa_newton), r=2.0 * math.pi * float(fe_hz) / u.scales.omega)
