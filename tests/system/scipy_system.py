@@ -49,8 +49,8 @@ def _element(c):
     return spring, rate
 
 
-def integrate_system(system, pa_newton, fe_hz, z0, t1, rtol=1e-11, atol_q=None, max_switches=10_000):
-    """Integrate from z0 = (q, q̇) [SI] at t = 0 to ``t1`` [s].
+def integrate_system(system, pa_newton, fe_hz, z0, t1, rtol=1e-11, atol_q=None, max_switches=10_000, t0=0.0):
+    """Integrate from z0 = (q, q̇) [SI] at t = ``t0`` (default 0) to ``t1`` [s].
 
     Returns
     -------
@@ -98,7 +98,7 @@ def integrate_system(system, pa_newton, fe_hz, z0, t1, rtol=1e-11, atol_q=None, 
     mode = [bool(w @ z0[:n] - ei > 0.0 or (w @ z0[:n] - ei == 0.0 and w @ z0[n:] > 0.0)) for w, ei in zip(W, e)]
     scale_q = np.full(n, 1e-12) if atol_q is None else np.asarray(atol_q, float)
     atol = np.concatenate([scale_q, scale_q * om, [1e-14]])
-    t, switches = 0.0, 0
+    t, switches = float(t0), 0
     while t < t1:
         sol = solve_ivp(make_rhs(mode), (t, t1), s, method="DOP853", rtol=rtol, atol=atol,
                         events=make_events(mode))

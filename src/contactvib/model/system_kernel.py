@@ -22,7 +22,8 @@ The scales, chosen once per system (:func:`system_scales`):
   open contacts counted with their stiffness at ``y0_i`` (1 rad/s if there is none), so the
   paper's slider runs in its own τ = ω_n0 t;
 * ``L_j = min_i y0_i / |w_ij|`` over the contacts that move coordinate j (the slider: y0);
-  a coordinate no contact moves takes the smallest L of its unit, else 1e-6 (1 µm, 1 µrad).
+  a coordinate no contact moves takes the reference force over its stiffness,
+  ``W_ref / max(K_ω,jj, M_jj ω²)`` (K_ω the stiffness that sets ω).
 
 The integrator's tolerances are relative to these: atol = rtol in units of L_j and L_j ω.
 """
@@ -34,11 +35,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["SystemScales", "KernelForm", "system_scales", "kernel_form", "unit_form", "FALLBACK_LENGTH"]
-
-#: Length [m] or angle [rad] scale of a coordinate that no contact moves, without another of its unit.
-FALLBACK_LENGTH = 1e-6
-
+__all__ = ["SystemScales", "KernelForm", "system_scales", "kernel_form", "unit_form"]
 
 @dataclass(frozen=True, eq=False)
 class SystemScales:
@@ -137,10 +134,9 @@ def system_scales(system) -> SystemScales:
         w = np.abs(c.w)
         moved = w > 0.0
         L[moved] = np.minimum(L[moved], yi / w[moved])
-    for j in range(n):
+    for j in range(n):  # no contact moves it: the static deflection under the reference force
         if not np.isfinite(L[j]):
-            same = [L[i] for i in range(n) if system.units[i] == system.units[j] and np.isfinite(L[i])]
-            L[j] = min(same) if same else FALLBACK_LENGTH
+            L[j] = system.reference_force / max(Kw[j, j], system.M[j, j] * omega * omega)
     return SystemScales(length=L, omega=omega, deflection=y0, force=W)
 
 

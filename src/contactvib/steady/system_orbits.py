@@ -253,6 +253,9 @@ def simulate_system(system: System, pa_newton: float, fe_hz: float, q0=None, qdo
     f = np.empty((m, tau.size))
     km.element_forces(sa, ys, modes, f)
     z = sc.to_si(ys)
+    for i, c in enumerate(system.contacts):  # a table's last row, a tabulated law's extent
+        c.law.check_motion(float(np.max(system.directions[i] @ z[:n])) - c.engagement, sc.deflection[i],
+                           f"the trajectory (contact {c.name})")
     qf = np.array([DISPLAY_UNITS[u][1] for u in system.units])[:, None]
     vf = np.array([DISPLAY_UNITS[u][3] for u in system.units])[:, None]
     return SystemHistory(
