@@ -135,3 +135,19 @@ def test_single_dof_fields_and_a_law_by_name():
     with pytest.raises(ParameterError) as err:
         System.single_dof("paper")
     assert err.value.symbol == "model"
+
+
+def test_a_gap_of_the_element_is_a_gap_of_the_law():
+    """δ = w·q − (gap + the law's engagement point): a clearance of the element and the same
+    clearance in the law give the same system (the same map, to rounding)."""
+    from contactvib.steady.system_orbits import period_map
+
+    def with_gap(law_gap_um, gap):
+        return system(contacts=[element(law=ClearanceLaw(c_lin=100.0, gap_um=law_gap_um), gap=gap, h_n=0.5,
+                                        l=0.0)])
+
+    a, b = with_gap(1e6, 0.0), with_gap(0.0, 1.0)
+    assert a.contacts[0].engagement == b.contacts[0].engagement == 1.0
+    za = period_map(a, 2.0, 0.2, [0.5, 0.0, 0.0, 0.0], 2).z
+    zb = period_map(b, 2.0, 0.2, [0.5, 0.0, 0.0, 0.0], 2).z
+    np.testing.assert_allclose(za, zb, rtol=1e-13, atol=1e-13)

@@ -97,6 +97,9 @@ class ContactElement:
         Hunt–Crossley coefficient [s/m], ≥ 0 (default 34.4 s/m with ``damping="hunt-crossley"``).
     gap : float
         Clearance [m] ≥ 0 added to the law's own engagement point: ``e = gap + law.engagement_m``.
+
+    The fields are checked when a :class:`System` is built (:meth:`check`), where an error names
+    the element by its place: ``contacts[0].S``.
     """
 
     name: str

@@ -23,7 +23,7 @@ from contactvib._kernels.status import STATUS_OK, STATUS_RECORD_FULL, status_mes
 from contactvib._kernels.system_flow import rec_width, system_arrays
 from contactvib.errors import ComputationError
 from contactvib.model import ParameterError, check_int, check_range
-from contactvib.model.checks import MEMORY_MAX, SHOOTING_RTOL_RANGE, check_memory
+from contactvib.model.checks import KMAX_SEARCH_MAX, MEMORY_MAX, SHOOTING_RTOL_RANGE, check_memory
 from contactvib.model.system import System, check_excitation, check_state
 
 __all__ = ["SystemHistory", "PeriodMap", "SystemOrbit", "simulate_system", "period_map", "periodic_orbit",
@@ -157,14 +157,14 @@ def period_map(system: System, pa_newton: float, fe_hz: float, z0, k: int = 1, *
     z0 : array_like (2n,)
         (q, q̇) at phase 0 [m or rad, m/s or rad/s].
     k : int
-        Periods (1..64).
+        Periods (1..64, ``KMAX_SEARCH_MAX``).
     rtol : float
         Integrator tolerance (relative, and absolute in the scales L_j, L_j ω).
     """
     system = _check_system(system)
     sa, form = _arrays(system, pa_newton, fe_hz)
     z0 = check_state(system, z0)
-    k = check_int("k", k, 1, 64)
+    k = check_int("k", k, 1, KMAX_SEARCH_MAX)
     x, phi = _strobe(sa, form, form.scales.to_scaled(z0), k, _rtol(rtol), True)
     return PeriodMap(z=form.scales.to_si(x), monodromy=form.scales.monodromy_to_si(phi), k=k)
 
@@ -178,7 +178,7 @@ def periodic_orbit(system: System, pa_newton: float, fe_hz: float, z_guess, k: i
     ComputationError (stage "newton") if Newton's method fails (singular, diverging, no convergence)."""
     system = _check_system(system)
     sa, form = _arrays(system, pa_newton, fe_hz)
-    k = check_int("k", k, 1, 64)
+    k = check_int("k", k, 1, KMAX_SEARCH_MAX)
     rtol = _rtol(rtol)
     tol = check_range("tol", tol, 0.0, False)
     sc = form.scales
