@@ -102,28 +102,47 @@ def element_state(sa, i, y):
 
 
 @njit(cache=True, inline="always")
-def element_force(sa, i, xi, xv):
-    """f_i(ξ, ξ') [units of W_i]: :func:`.contact.contact_force` on row i (the power spring with
-    power damping through its scalar path :func:`.contact.force`, the same law without the
-    dispatch: 4x faster here)."""
-    if sa.paper[i]:
+def law_force(paper, sa, i, xi, xv):
+    """f_i(ξ, ξ') [units of W_i]: :func:`.contact.contact_force` on row i; the power spring with
+    power damping (``sa.paper[i]``, or every element when ``paper`` is the constant True)
+    through its scalar path :func:`.contact.force`. As :func:`.flow.law_acceleration`'s
+    ``paper``: a caller that passes the constant True compiles no call of the general law into
+    its loop (that call alone, never taken, doubled the cost of a step)."""
+    if paper or sa.paper[i]:
         return force(xi, xv, sa.rows[i, 0], sa.rows[i, 1], sa.rows[i, 2])
     return contact_force(xi, xv, sa.rows[i])
 
 
 @njit(cache=True, inline="always")
-def element_partials(sa, i, xi, xv):
-    """(∂f_i/∂ξ, ∂f_i/∂ξ') (:func:`.contact.contact_partials`; :func:`.contact.force_partials`)."""
-    if sa.paper[i]:
+def law_partials(paper, sa, i, xi, xv):
+    """(∂f_i/∂ξ, ∂f_i/∂ξ') (:func:`.contact.contact_partials`; :func:`.contact.force_partials`),
+    ``paper`` as :func:`law_force`'s."""
+    if paper or sa.paper[i]:
         return force_partials(xi, xv, sa.rows[i, 0], sa.rows[i, 1], sa.rows[i, 2])
     return contact_partials(xi, xv, sa.rows[i])
 
 
+@njit(cache=True)
+def element_force(sa, i, xi, xv):
+    """f_i(ξ, ξ') [units of W_i] of element i (:func:`law_force`)."""
+    return law_force(False, sa, i, xi, xv)
+
+
+@njit(cache=True)
+def all_paper(sa):
+    """True when every element is the power spring with power damping (the scalar path)."""
+    for i in range(sa.paper.shape[0]):
+        if not sa.paper[i]:
+            return False
+    return True
+
+
 @njit(cache=True, inline="always")
-def rhs_row(sa, mode, t, y, out, row, nvar, Jx, Jv):
+def rhs_row(paper, sa, mode, t, y, out, row, nvar, Jx, Jv):
     """Right-hand side of the state (``nvar`` False) or state and variational equation into
-    ``out[row]``; ``Jx``, ``Jv`` (n × n) receive ∂x''/∂x and ∂x''/∂x' when ``nvar``. Inlined into
-    the stage loop: a call per stage with an array view costs more than the stage itself."""
+    ``out[row]``; ``Jx``, ``Jv`` (n × n) receive ∂x''/∂x and ∂x''/∂x' when ``nvar``; ``paper`` as
+    :func:`law_force`'s. Inlined into the stage loop: a call per stage with an array view costs
+    more than the stage itself."""
     n = sa.Kx.shape[0]
     cr = math.cos(sa.r * t)
     for j in range(n):
@@ -141,11 +160,11 @@ def rhs_row(sa, mode, t, y, out, row, nvar, Jx, Jv):
         if not mode[i]:
             continue
         xi, xv = element_state(sa, i, y)
-        f = element_force(sa, i, xi, xv)
+        f = law_force(paper, sa, i, xi, xv)
         for j in range(n):
             out[row, n + j] -= sa.Aw[i, j] * f
         if nvar:
-            fx, fv = element_partials(sa, i, xi, xv)
+            fx, fv = law_partials(paper, sa, i, xi, xv)
             for j in range(n):
                 a = sa.Aw[i, j]
                 for k in range(n):
@@ -167,20 +186,34 @@ def rhs_row(sa, mode, t, y, out, row, nvar, Jx, Jv):
 @njit(cache=True)
 def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
     """:func:`rhs_row` into the vector ``out``."""
-    rhs_row(sa, mode, t, y, out.reshape((1, out.shape[0])), 0, nvar, Jx, Jv)
+    out2 = out.reshape((1, out.shape[0]))
+    if all_paper(sa):
+        rhs_row(True, sa, mode, t, y, out2, 0, nvar, Jx, Jv)
+    else:
+        rhs_row(False, sa, mode, t, y, out2, 0, nvar, Jx, Jv)
 
 
 @njit(cache=True)
 def _stages(sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv):
     """K[s] = f(t + C[s] h, y + h Σ_{j<s} A[s, j] K[j]) for s = s_first..s_last − 1 (the first
-    ``N`` components)."""
+    ``N`` components); the scalar path of the power law compiled alone when every element takes
+    it (:func:`law_force`)."""
+    if all_paper(sa):
+        _stage_loop(True, sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv)
+    else:
+        _stage_loop(False, sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv)
+
+
+@njit(cache=True, inline="always")
+def _stage_loop(paper, sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv):
+    """The stages of :func:`_stages` for ``paper`` (a constant) True or False."""
     for s in range(s_first, s_last):
         for i in range(N):
             acc = 0.0
             for j in range(s):
                 acc += A[s, j] * K[j, i]
             ys[i] = y[i] + h * acc
-        rhs_row(sa, mode, t + C[s] * h, ys, K, s, nvar, Jx, Jv)
+        rhs_row(paper, sa, mode, t + C[s] * h, ys, K, s, nvar, Jx, Jv)
 
 
 @njit(cache=True)
