@@ -65,8 +65,8 @@ _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the cont
 #: Steps allowed per unit of τ·r/2π (one excitation period) by the callers below.
 MAX_STEPS_PER_PERIOD = 2_000_000
 
-#: Gauss–Legendre nodes and weights on [0, 1] (8 points: exact for the interpolant's degree 7
-#: times a smooth law within one step) for the mean forces.
+#: Gauss–Legendre nodes and weights on [0, 1] for the mean forces (8 points: exact to degree 15
+#: in θ, so the paper's law x² + c x x' on the step's 7th-degree interpolant is integrated exactly).
 _GX, _GW = np.polynomial.legendre.leggauss(8)
 GAUSS_X = 0.5 * (_GX + 1.0)
 GAUSS_W = 0.5 * _GW

@@ -247,7 +247,8 @@ class System:
             v = getattr(self, name)
             object.__setattr__(self, name, _vector(name, np.zeros(n) if v is None else v, n))
         self._check_names(n)
-        contacts = tuple(self.contacts) if not isinstance(self.contacts, ContactElement) else (self.contacts,)
+        contacts = self.contacts if self.contacts is not None else ()
+        contacts = (contacts,) if isinstance(contacts, ContactElement) else tuple(contacts)
         for i, c in enumerate(contacts):
             if not isinstance(c, ContactElement):
                 raise ParameterError(f"contacts[{i}]", c, "must be a ContactElement")

@@ -135,7 +135,7 @@ def _fail(status: int, what: str):
     raise ComputationError(f"{what}: {status_message(status)}", stage="integration")
 
 
-def _strobe(sa, form, x, k, rtol, with_jac):
+def _strobe(sa, x, k, rtol, with_jac):
     """k periods of the scaled state x; (x_end, Φ or None)."""
     n2 = x.size
     out_z = np.empty(n2)
@@ -165,7 +165,7 @@ def period_map(system: System, pa_newton: float, fe_hz: float, z0, k: int = 1, *
     sa, form = _arrays(system, pa_newton, fe_hz)
     z0 = check_state(system, z0)
     k = check_int("k", k, 1, KMAX_SEARCH_MAX)
-    x, phi = _strobe(sa, form, form.scales.to_scaled(z0), k, _rtol(rtol), True)
+    x, phi = _strobe(sa, form.scales.to_scaled(z0), k, _rtol(rtol), True)
     return PeriodMap(z=form.scales.to_si(x), monodromy=form.scales.monodromy_to_si(phi), k=k)
 
 
@@ -186,7 +186,7 @@ def periodic_orbit(system: System, pa_newton: float, fe_hz: float, z_guess, k: i
     n2 = x.size
     closure = math.inf
     for it in range(NEWTON_MAX_ITER + 1):
-        px, phi = _strobe(sa, form, x, k, rtol, True)
+        px, phi = _strobe(sa, x, k, rtol, True)
         g = px - x
         scale = max(1.0, float(np.max(np.abs(x))))
         closure = float(np.max(np.abs(g))) / scale
@@ -207,7 +207,7 @@ def periodic_orbit(system: System, pa_newton: float, fe_hz: float, z_guess, k: i
                            f"(relative closure {closure:.3g})", stage="newton")
 
 
-def _records(sa, form, system, x, n_periods, rtol):
+def _records(sa, system, x, n_periods, rtol):
     """Step records of ``n_periods`` from the scaled state x: (rec, rows, x_end)."""
     m = len(system.contacts)
     width = rec_width(system.n, m)
@@ -244,7 +244,7 @@ def simulate_system(system: System, pa_newton: float, fe_hz: float, q0=None, qdo
     check_memory("n_periods", n_periods, 8.0 * n_periods * spp * (4 * n + 3 * len(system.contacts)),
                  int(MEMORY_MAX // (8 * spp * (4 * n + 3 * len(system.contacts)))))
     sc = form.scales
-    rec, nrec, x_end = _records(sa, form, system, sc.to_scaled(z0), n_periods, _rtol(rtol))
+    rec, nrec, x_end = _records(sa, system, sc.to_scaled(z0), n_periods, _rtol(rtol))
     tau = np.linspace(0.0, n_periods * form.tau_period, n_periods * spp + 1)
     m = len(system.contacts)
     ys = np.empty((2 * n, tau.size))
@@ -274,7 +274,7 @@ def mean_contact_forces(system: System, pa_newton: float, fe_hz: float, z0, n_pe
     sa, form = _arrays(system, pa_newton, fe_hz)
     z0 = check_state(system, z0)
     n_periods = check_int("n_periods", n_periods, 1)
-    rec, nrec, _x = _records(sa, form, system, form.scales.to_scaled(z0), n_periods, _rtol(rtol))
+    rec, nrec, _x = _records(sa, system, form.scales.to_scaled(z0), n_periods, _rtol(rtol))
     out = np.empty(len(system.contacts))
     km.mean_element_forces(sa, rec, nrec, out)
     return out * form.scales.force / (n_periods * form.tau_period)
