@@ -377,3 +377,20 @@ def test_isola_closes_after_one_loop():
     step_z = np.abs(np.diff(b.state, axis=0)).max()
     assert abs(b.fe_hz[-1] - b.fe_hz[0]) <= 1.5 * step_f
     assert np.max(np.abs(b.state[-1] - b.state[0])) <= 1.5 * step_z
+
+
+def test_special_points_carry_dofs_and_contacts(tmp_path, capsys):
+    """The JSON of a special point lists the orbit's dofs and contacts: at the grazing point of the
+    1/3 resonance (0.65 Q) y_min = 0, and the mean contact force of a periodic orbit is Q exactly
+    (the equation of motion averaged over a period)."""
+    assert main(["continue", "--pa", "0.65", "--from-fe", "360", "--attractor", "2", "--fmin", "200", "--fmax", "800",
+                 "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    graze = [s for s in out["special_points"] if s["type"] == "grazing"]
+    assert graze
+    for s in graze:
+        (dof,), (contact,) = s["dofs"], s["contacts"]
+        assert set(dof) == {"name", "unit", "min", "max", "app", "h1"} and dof["name"] == "y"
+        assert abs(dof["min"]) < 1e-6 and dof["app"] == pytest.approx(s["app_um"], rel=1e-9)
+        assert set(contact) == {"name", "loses_contact", "contact_loss_fraction", "mean_force_n"}
+        assert contact["mean_force_n"] == pytest.approx(ContactModel().Q, rel=1e-6)

@@ -57,11 +57,15 @@ class SpecialPoint:
     state: np.ndarray = field(repr=False)
     test_value: float = 0.0
     bracket: tuple = (np.nan, np.nan)
+    #: the orbit's ``dofs`` and ``contacts`` (JSON contract) where they were measured, else empty
+    measures: dict = field(default_factory=dict, repr=False, compare=False)
 
     def to_dict(self) -> dict:
-        """The JSON contract entry: type, fe_hz, pa_over_q, app_um, period, branch."""
+        """The JSON contract entry: type, fe_hz, pa_over_q, app_um, period, branch (and the
+        orbit's ``dofs`` and ``contacts`` where measured)."""
         return {"type": self.type, "fe_hz": float(self.fe_hz), "pa_over_q": float(self.pa_over_q),
-                "app_um": float(self.app_um), "period": int(self.period), "branch": self.branch}
+                "app_um": float(self.app_um), "period": int(self.period), "branch": self.branch,
+                **self.measures}
 
 
 @dataclass(frozen=True)

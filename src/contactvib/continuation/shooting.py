@@ -28,7 +28,7 @@ R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer (20
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
@@ -216,6 +216,7 @@ class OrbitProblem:
         self.level = excitation.level[1]  # recorded with each point of a branch in f_e
         self.y_um = model.units.y_um
         self.position_um = model.units.position_um
+        self.model, self.excitation = model, excitation
         self.fn0 = model.f_n0
         if parameter == "f_e":
             lo, hi = settings.fmin_hz / self.fn0, settings.fmax_hz / self.fn0
@@ -340,7 +341,18 @@ class OrbitProblem:
         return SpecialPoint(type=kind, fe_hz=r.fe_hz, pa_over_q=r.pa_over_q,
                             app_um=(r.xmax - r.xmin) * self.y_um, period=self.k, branch=branch_id,
                             floquet_multipliers=r.floquet_multipliers, state=pt.u[:2].copy(),
-                            test_value=float(value), bracket=bracket)
+                            test_value=float(value), bracket=bracket,
+                            measures=self._dofs_and_contacts(r, pt.u[:2].copy()))
+
+    def _dofs_and_contacts(self, r, state) -> dict:
+        """The ``dofs`` and ``contacts`` of the orbit at a special point (its first harmonic and
+        mean contact forces measured along the orbit, :func:`contactvib.steady.orbits.describe_orbit`)."""
+        from contactvib.steady.orbits import describe_orbit
+
+        exc = replace(self.excitation, f_e=r.fe_hz) if self.ip == 4 else \
+            replace(self.excitation, f_e=r.fe_hz, pa_over_q=r.pa_over_q)
+        d = describe_orbit(self.model, exc, state, self.k).to_dict()
+        return {"dofs": d["dofs"], "contacts": d["contacts"]}
 
     def branch(self, points, specials, stops, branch_id, parent=None, settings=None) -> Branch:
         """The points of one or two directions as a :class:`~.branch.Branch`."""
