@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from .dop853 import dense_value, landing_step, next_step, step_factor
-from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_X
+from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_X, dense_root
 from .friction import (
     FREE,
     MAX_EVENTS_PER_STEP,
@@ -95,13 +95,22 @@ def switch(mode, sigma, which, z, r, dr, kt, tpar):
 
 @njit(cache=True)
 def _account(mode, sigma, t, z, h, F, nstep, par, tpar, times, wr, ts, so, jpos):
-    """Time in ``mode``, the range of w (five points of the step) and the samples inside
-    [t, t + h) of a finished step with interpolant F."""
+    """Time in ``mode``, the range of w (at five points of the step and at the extrema of w
+    between them: the roots of w' on the interpolant) and the samples inside [t, t + h) of a
+    finished step with interpolant F."""
     times[mode] += h
+    v_prev = 0.0
     for s in range(5):
-        w = dense_value(F, z, s / 4.0, Z_W)
+        th = s / 4.0
+        v = dense_value(F, z, th, Z_V)
+        w = dense_value(F, z, th, Z_W)
         wr[0] = min(wr[0], w)
         wr[1] = max(wr[1], w)
+        if s > 0 and (v_prev < 0.0) != (v < 0.0):  # an extremum of w in between
+            w = dense_value(F, z, dense_root(F, z, Z_V, 0.0, th - 0.25, th), Z_W)
+            wr[0] = min(wr[0], w)
+            wr[1] = max(wr[1], w)
+        v_prev = v
     j = jpos[0]
     Fn, yn, t0, hn, contact = nstep
     while j < ts.shape[0] and ts[j] < t + h:
