@@ -13,6 +13,9 @@ the switching instant, and the monodromy is multiplied by the saltation matrix
 ``S = I + (f⁺ − f⁻) eₓᵀ / v`` (the identity for contact laws whose force is continuous at
 ``x = 0``, i.e. every law with ``l > 0`` or ``h_n = 0``).
 
+The step's system-independent pieces (tableau, solution, error norm, step-size controller,
+dense output) are :mod:`.dop853`'s; the stages here work on scalars (one law evaluation each).
+
 Kernels never raise on the caller's behalf: they return integer status codes (``STATUS_*``).
 
 References
