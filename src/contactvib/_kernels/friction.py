@@ -29,8 +29,11 @@ R(τ) comes from the normal orbit's step records (``_kernels/orbit.record_orbit`
 7th-order interpolant, steps ending exactly on the contact events): the normal motion does not
 depend on the tangential one, so one record of one normal period K serves every tangential
 period, exactly periodic, and the tangential DOP853 steps never straddle a normal step (R is
-smooth inside each). Events are located on the tangential step's 7th-order dense output (sign
-changes at five points of the step, Illinois), and the step is re-taken to end on the event.
+smooth inside each). The step, its error norm, the step-size controller and the dense output are
+the package's (:mod:`.dop853`, as the normal flow's); the right-hand side, its stages (R at each
+stage point), the modes and the events are this module's. Events are located on the tangential
+step's 7th-order dense output (sign changes at five points of the step, Illinois as the normal
+flow's), and the step is re-taken to end on the event.
 
 Quadratures per period (``q``): ∫ f_drive dτ, the damper's dissipation ∫ c_d w'² dτ, the slip
 element's dissipation ∫ f_t s' dτ and the work into the tangential spring ∫ f_t (u' − s') dτ
