@@ -72,8 +72,8 @@ def test_warm_up_compiles_only_what_a_level_uses(tmp_path):
     out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True,
                          timeout=600, check=True).stdout
     counts = {tuple(line.split()[:2]): int(line.split()[2]) for line in out.splitlines()}
-    on_purpose = {("flow", "_stages"), ("flow", "dense_value"), ("flow", "dense_root"),
-                  ("flow", "illinois_update"), ("flow", "_step_factor"), ("series_roots", "poly"),
+    on_purpose = {("flow", "_stages"), ("dop853", "dense_value"), ("flow", "dense_root"),
+                  ("flow", "illinois_update"), ("dop853", "step_factor"), ("series_roots", "poly"),
                   ("series_roots", "poly_root")}
     for root in (("settle", "settle"), ("trace", "trace"), ("describe", "describe_point"),
                  ("shooting", "newton_orbit"), ("describe", "lyapunov_strobe"),

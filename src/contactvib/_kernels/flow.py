@@ -13,6 +13,9 @@ the switching instant, and the monodromy is multiplied by the saltation matrix
 ``S = I + (f⁺ − f⁻) eₓᵀ / v`` (the identity for contact laws whose force is continuous at
 ``x = 0``, i.e. every law with ``l > 0`` or ``h_n = 0``).
 
+The step's system-independent pieces (tableau, solution, error norm, step-size controller,
+dense output) are :mod:`.dop853`'s; the stages here work on scalars (one law evaluation each).
+
 Kernels never raise on the caller's behalf: they return integer status codes (``STATUS_*``).
 
 References
@@ -30,8 +33,18 @@ import math
 import numpy as np
 from numba import njit
 
-from . import _dop853_coefficients as _co
 from .contact import contact_force, contact_partials, force, force_partials, forcing, is_paper_vector
+from .dop853 import (  # noqa: F401  (dense_value, interpolant: also the flow's names for its callers)
+    A,
+    C,
+    dense_value,
+    error_norm,
+    interpolant,
+    landing_step,
+    next_step,
+    solution,
+    step_factor,
+)
 from .status import (  # noqa: F401
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -41,22 +54,10 @@ from .status import (  # noqa: F401
     STATUS_TOO_MANY_EVENTS,
 )
 
-A = np.ascontiguousarray(_co.A)
-B = np.ascontiguousarray(_co.B)
-C = np.ascontiguousarray(_co.C)
-E3 = np.ascontiguousarray(_co.E3)
-E5 = np.ascontiguousarray(_co.E5)
-D = np.ascontiguousarray(_co.D)
-
-
 #: Columns of a step record: t_old, h, contact flag, x_old, v_old, then F[0..6] for x and v.
 REC_T, REC_H, REC_MODE, REC_X, REC_V, REC_F = 0, 1, 2, 3, 4, 5
 REC_WIDTH = 5 + 14
 
-_SAFETY = 0.9
-_MIN_FACTOR = 0.2
-_MAX_FACTOR = 10.0
-_ERR_EXP = -1.0 / 8.0
 _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the controller adapts
 
 
@@ -171,50 +172,17 @@ def _stage_loop(paper, contact, t, y, h, par, K, s_first, s_last, n):
 
 @njit(cache=True)
 def _rk_step(contact, t, y, f, h, par, rtol, atol, K, ynew, fnew):
-    """One DOP853 step; fills K[0..12], ``ynew``, ``fnew``; returns the error norm (<1: accept)."""
+    """One DOP853 step (:mod:`.dop853`); fills K[0..12], ``ynew``, ``fnew``; returns the error
+    norm (<1: accept)."""
     n = y.shape[0]
     for i in range(n):
         K[0, i] = f[i]
     _stages(contact, t, y, h, par, K, 1, 12, n)
-    for i in range(n):
-        acc = 0.0
-        for j in range(12):
-            acc += B[j] * K[j, i]
-        ynew[i] = y[i] + h * acc
+    solution(K, y, h, n, ynew)
     rhs(contact, t + h, ynew, par, fnew)
     for i in range(n):
         K[12, i] = fnew[i]
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(n):
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(13):
-            a5 += E5[j] * K[j, i]
-            a3 += E3[j] * K[j, i]
-        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
-
-
-@njit(cache=True)
-def interpolant(K, y, ynew, h, n, F):
-    """F[0..6, :n]: the coefficients of DOP853's 7th-order dense output over the last step from
-    ``y`` to ``ynew`` (Hairer's CONTD8), from its 16 stages ``K`` (the last three the extra ones).
-    Every DOP853 of the package (this flow, the friction kernel) fills its interpolant here."""
-    for i in range(n):
-        dy = ynew[i] - y[i]
-        F[0, i] = dy
-        F[1, i] = h * K[0, i] - dy
-        F[2, i] = 2.0 * dy - h * (K[12, i] + K[0, i])
-        for q in range(4):
-            acc = 0.0
-            for j in range(16):
-                acc += D[q, j] * K[j, i]
-            F[3 + q, i] = h * acc
+    return error_norm(K, y, ynew, h, n, atol, rtol)
 
 
 @njit(cache=True)
@@ -222,19 +190,6 @@ def _dense(contact, t, y, ynew, h, par, K, F):
     """Fill F[7, 2] with the 7th-order interpolant of x and v over the last step."""
     _stages(contact, t, y, h, par, K, 13, 16, 2)  # the interpolant needs x and v only
     interpolant(K, y, ynew, h, 2, F)
-
-
-@njit(cache=True)
-def dense_value(F, y_old, theta, comp):
-    """Interpolated component ``comp`` (0: x, 1: v) at fraction ``theta`` of a step."""
-    acc = 0.0
-    for q in range(6, -1, -1):
-        acc += F[q, comp]
-        if (6 - q) % 2 == 0:
-            acc *= theta
-        else:
-            acc *= 1.0 - theta
-    return y_old[comp] + acc
 
 
 @njit(cache=True)
@@ -306,24 +261,6 @@ def _record(rec, irec, t, h, contact, y_old, F):
         rec[irec, REC_F + 2 * q] = F[q, 0]
         rec[irec, REC_F + 2 * q + 1] = F[q, 1]
     return irec + 1
-
-
-@njit(cache=True)
-def _step_factor(err, rejected):
-    """Step-size factor of the controller after a step with error norm ``err``: shrink after a
-    rejected step (err ≥ 1, or not finite), grow at most by _MAX_FACTOR after an accepted one
-    (not at all right after a rejection)."""
-    if not (err < 1.0):
-        if not math.isfinite(err):
-            return _MIN_FACTOR
-        return max(_MIN_FACTOR, _SAFETY * err**_ERR_EXP)
-    if err == 0.0:
-        factor = _MAX_FACTOR
-    else:
-        factor = min(_MAX_FACTOR, _SAFETY * err**_ERR_EXP)
-    if rejected:
-        factor = min(1.0, factor)
-    return factor
 
 
 @njit(cache=True)
@@ -432,8 +369,7 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
             status = STATUS_MAX_STEPS
             break
         remaining = t_end - t
-        landing = h >= remaining * (1.0 - 1e-12)
-        h_try = remaining if landing else h
+        h_try, landing = landing_step(h, remaining)
         if h_try < 1e-15 * span:
             if landing:
                 t = t_end
@@ -442,10 +378,10 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
             break
         err = _rk_step(contact, t, y, f, h_try, par, rtol, atol, K, ynew, fnew)
         if not (err < 1.0):
-            h = h_try * _step_factor(err, rejected)
+            h = h_try * step_factor(err, rejected)
             rejected = True
             continue
-        h_next = h_try * _step_factor(err, rejected)
+        h_next = h_try * step_factor(err, rejected)
         rejected = False
         theta_ev = _event_fraction(contact, t, y, ynew, h_try, par, K, F, record)
         if theta_ev >= 0.0:
@@ -476,7 +412,7 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
             y[i] = ynew[i]
             f[i] = fnew[i]
         # a step shortened to land on t_end says nothing against the longer proposal
-        h = max(h_next, h) if landing else h_next
+        h = next_step(h, h_next, landing)
         n_steps += 1
         if not (math.isfinite(y[0]) and math.isfinite(y[1])):
             status = STATUS_NONFINITE

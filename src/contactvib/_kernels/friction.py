@@ -29,8 +29,11 @@ R(τ) comes from the normal orbit's step records (``_kernels/orbit.record_orbit`
 7th-order interpolant, steps ending exactly on the contact events): the normal motion does not
 depend on the tangential one, so one record of one normal period K serves every tangential
 period, exactly periodic, and the tangential DOP853 steps never straddle a normal step (R is
-smooth inside each). Events are located on the tangential step's 7th-order dense output (sign
-changes at five points of the step, Illinois), and the step is re-taken to end on the event.
+smooth inside each). The step, its error norm, the step-size controller and the dense output are
+the package's (:mod:`.dop853`, as the normal flow's); the right-hand side, its stages (R at each
+stage point), the modes and the events are this module's. Events are located on the tangential
+step's 7th-order dense output (sign changes at five points of the step, Illinois as the normal
+flow's), and the step is re-taken to end on the event.
 
 Quadratures per period (``q``): ∫ f_drive dτ, the damper's dissipation ∫ c_d w'² dτ, the slip
 element's dissipation ∫ f_t s' dτ and the work into the tangential spring ∫ f_t (u' − s') dτ
@@ -47,12 +50,11 @@ D. P. Hess, A. Soom, "Normal vibrations and friction under harmonic loads", J. T
 
 from __future__ import annotations
 
-import math
-
 from numba import njit
 
 from .contact import contact_force, contact_partials, spring
-from .flow import E3, E5, A, B, C, acceleration, dense_value, interpolant
+from .dop853 import C, dense_value, error_norm, interpolant, solution, stage_state
+from .flow import acceleration, illinois_trial, illinois_update
 
 #: Slots of the tangential parameter vector ``tpar`` (T_FT: a constant drive force [W]).
 T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA, T_FT = range(9)
@@ -64,7 +66,6 @@ N_STATE = 7
 _N_DYN = 3
 _SAMPLES = 4  # sub-intervals of a step searched for events
 MAX_EVENTS_PER_STEP = 64  # events within one normal step before the run is called chattering
-_SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
 
 
 @njit(cache=True)
@@ -137,11 +138,7 @@ def _stages(mode, sigma, t, z, h, nstep, par, tpar, K, s_first, s_last):
     zs = K[16]
     r = dr = kt = 0.0
     for s in range(s_first, s_last):
-        for i in range(N_STATE):
-            acc = 0.0
-            for j in range(s):
-                acc += A[s, j] * K[j, i]
-            zs[i] = z[i] + h * acc
+        stage_state(K, z, h, s, N_STATE, zs)
         ts = t + C[s] * h
         r, dr, kt = normal_at(Fn, yn, t0, hn, contact, ts, par, tpar)
         rhs(mode, sigma, zs, r, dr, kt, tpar, K[s])
@@ -149,31 +146,15 @@ def _stages(mode, sigma, t, z, h, nstep, par, tpar, K, s_first, s_last):
 
 
 @njit(cache=True)
-def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, scale, K, znew):
-    """One DOP853 step (K[0] must hold f(t, z); K has 17 rows, the last a work row); fills
-    K[0..12] and ``znew``; returns the error norm of the dynamic components (< 1: accept) and
-    (r, r', k_t) at t + h (stage 11's: c₁₁ = 1)."""
+def rk_step(mode, sigma, t, z, h, nstep, par, tpar, rtol, atol, K, znew):
+    """One DOP853 step (:mod:`.dop853`; K[0] must hold f(t, z); K has 17 rows, the last a work
+    row); fills K[0..12] and ``znew``; returns the error norm of the dynamic components w, w',
+    f_t (absolute tolerances ``atol``: float64[3]; < 1: accept) and (r, r', k_t) at t + h
+    (stage 11's: c₁₁ = 1)."""
     re, dre, kte = _stages(mode, sigma, t, z, h, nstep, par, tpar, K, 1, 12)
-    for i in range(N_STATE):
-        acc = 0.0
-        for j in range(12):
-            acc += B[j] * K[j, i]
-        znew[i] = z[i] + h * acc
+    solution(K, z, h, N_STATE, znew)
     rhs(mode, sigma, znew, re, dre, kte, tpar, K[12])
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(_N_DYN):
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(13):
-            a5 += E5[j] * K[j, i]
-            a3 += E3[j] * K[j, i]
-        sc = rtol * (scale[i] + max(abs(z[i]), abs(znew[i])))
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0, re, dre, kte
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _N_DYN), re, dre, kte
+    return error_norm(K, z, znew, h, _N_DYN, atol, rtol), re, dre, kte
 
 
 @njit(cache=True)
@@ -260,20 +241,12 @@ def _root(mode, sigma, which, F, z, a, b, ga, gb, t, h, nstep, par, tpar):
     for _ in range(200):
         if b - a < 1e-15:
             break
-        c = (a * gb - b * ga) / (gb - ga) if gb != ga else 0.5 * (a + b)
-        if not (c > a and c < b):
-            c = 0.5 * (a + b)
+        c = illinois_trial(a, b, ga, gb)  # ga is inside, gb outside: never equal
         gc = _g_at(mode, sigma, which, F, z, c, t, h, nstep, par, tpar)
-        if _outside(mode, gc):
-            b, gb = c, gc
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            a, ga = c, gc
-            if side == 1:
-                gb *= 0.5
-            side = 1
-        if gc == 0.0:
+        if gc == 0.0:  # on the surface: outside or not as the mode says (free: not yet)
+            if _outside(mode, gc):
+                b = c
             break
+        # a nonzero gc is outside exactly where it has gb's sign
+        a, b, ga, gb, side = illinois_update(a, b, ga, gb, c, gc, side)
     return b

@@ -3,7 +3,7 @@
 
 The period map P over one normal period of the phase-0 state z = (w, w', f_t) is
 :func:`.friction_period.run_period` from z with its quadratures zeroed. Newton steps
-z ← z + (I − J)⁻¹ (P(z) − z) (a 3 × 3 system, Cramer's rule), J carried in (``has_jac``) or by
+z ← z + (I − J)⁻¹ (P(z) − z) (a 3 × 3 system: :func:`.linalg.solve3`), J carried in (``has_jac``) or by
 forward differences, improved by Broyden's update after each step and recomputed where a step
 does not halve the relative distance of z and P(z).
 """
@@ -17,6 +17,7 @@ from numba import njit
 
 from .friction import N_STATE, SLIP
 from .friction_period import S_WIDTH, run_period, state_distance
+from .linalg import solve3
 from .status import STATUS_OK
 
 #: Outcomes of :func:`newton_period_map`.
@@ -54,22 +55,6 @@ def fd_jacobian(rec, par, tpar, rtol, scale, z, mode, sigma, pz, fd_step, jac):
         for r in range(3):
             jac[r, i] = (out[r] - pz[r]) / dz
     return STATUS_OK
-
-
-@njit(cache=True)
-def _solve3(a, b, x):
-    """x = a⁻¹ b (3 × 3, Cramer's rule); False where a is singular or x not finite."""
-    det = (a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1]) - a[0, 1] * (a[1, 0] * a[2, 2] - a[1, 2] * a[2, 0])
-           + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]))
-    if not math.isfinite(det) or abs(det) < 1e-300:
-        return False
-    m = np.empty((3, 3))
-    for c in range(3):
-        m[:, :] = a
-        m[:, c] = b
-        x[c] = (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]) - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
-                + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0])) / det
-    return math.isfinite(x[0]) and math.isfinite(x[1]) and math.isfinite(x[2])
 
 
 @njit(cache=True)
@@ -131,7 +116,7 @@ def newton_period_map(rec, par, tpar, rtol, scale, z0, mode, sigma, jac, has_jac
             for c in range(3):
                 a[i, c] = (1.0 if i == c else 0.0) - jac[i, c]
         have_last = True
-        if not _solve3(a, rhs, step):
+        if not solve3(a, rhs, step):
             return NEWTON_FAILED, z, mode, sigma, has_jac, pz, m1, s1, times, wr, runs
         for i in range(3):
             z[i] += step[i]

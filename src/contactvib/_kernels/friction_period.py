@@ -15,7 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_X, dense_value
+from .dop853 import dense_value, landing_step, next_step, step_factor
+from .flow import REC_F, REC_H, REC_MODE, REC_T, REC_X, dense_root
 from .friction import (
     FREE,
     MAX_EVENTS_PER_STEP,
@@ -94,13 +95,22 @@ def switch(mode, sigma, which, z, r, dr, kt, tpar):
 
 @njit(cache=True)
 def _account(mode, sigma, t, z, h, F, nstep, par, tpar, times, wr, ts, so, jpos):
-    """Time in ``mode``, the range of w (five points of the step) and the samples inside
-    [t, t + h) of a finished step with interpolant F."""
+    """Time in ``mode``, the range of w (at five points of the step and at the extrema of w
+    between them: the roots of w' on the interpolant) and the samples inside [t, t + h) of a
+    finished step with interpolant F."""
     times[mode] += h
+    v_prev = 0.0
     for s in range(5):
-        w = dense_value(F, z, s / 4.0, Z_W)
+        th = s / 4.0
+        v = dense_value(F, z, th, Z_V)
+        w = dense_value(F, z, th, Z_W)
         wr[0] = min(wr[0], w)
         wr[1] = max(wr[1], w)
+        if s > 0 and (v_prev < 0.0) != (v < 0.0):  # an extremum of w in between
+            w = dense_value(F, z, dense_root(F, z, Z_V, 0.0, th - 0.25, th), Z_W)
+            wr[0] = min(wr[0], w)
+            wr[1] = max(wr[1], w)
+        v_prev = v
     j = jpos[0]
     Fn, yn, t0, hn, contact = nstep
     while j < ts.shape[0] and ts[j] < t + h:
@@ -126,12 +136,14 @@ def _account(mode, sigma, t, z, h, F, nstep, par, tpar, times, wr, ts, so, jpos)
 
 
 @njit(cache=True)
-def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos, work):
+def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, times, wr, ts, so, jpos, work):
     """Integrate the tangential state ``z`` across normal step ``i`` (shifted by ``off`` [τ]);
-    ``work``: the arrays of :func:`_work` (no allocation per step).
+    ``work``: the arrays of :func:`_work` (no allocation per step). The DOP853 steps, their
+    controller and landing on the normal step's end are :mod:`.dop853`'s; an event re-takes the
+    step to end on it and switches the mode (:func:`switch`).
 
     Returns (status, mode, σ, h) with h the step size proposed for the next step."""
-    K, znew, F, f0, Fn, yn, G, E = work
+    K, znew, F, f0, Fn, yn, G, E, atol = work
     for q in range(7):
         Fn[q, 0] = rec[i, REC_F + 2 * q]
         Fn[q, 1] = rec[i, REC_F + 2 * q + 1]
@@ -144,6 +156,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
     t_end = t0 + hn
     tc = math.nan  # the instant of the normal values E[3:] (a step's end: the next one's start)
     fresh = False
+    rejected = False
     n_events = 0
     while t < t_end:
         if t == tc:
@@ -155,18 +168,20 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
             mode, sigma = consistent(mode, sigma, z, r, dr, kt, tpar)
         fresh = False
         rhs(mode, sigma, z, r, dr, kt, tpar, f0)
-        last = h >= t_end - t
-        hh = t_end - t if last else h
+        hh, last = landing_step(h, t_end - t)
         K[0, :] = f0
-        err, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, hh, nstep, par, tpar, rtol, scale, K, znew)
+        err, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, hh, nstep, par, tpar, rtol, atol, K, znew)
         tc = t + hh
         if not math.isfinite(err):
             return STATUS_NONFINITE, mode, sigma, h
-        if err > 1.0:
-            h = hh * max(_MIN, 0.9 * err ** (-1.0 / 8.0))
+        if not (err < 1.0):
+            h = hh * step_factor(err, rejected)
+            rejected = True
             if h < 1e-13 * (1.0 + abs(t)):
                 return STATUS_STEP_TOO_SMALL, mode, sigma, h
             continue
+        h_next = hh * step_factor(err, rejected)
+        rejected = False
         dense(mode, sigma, t, z, znew, hh, nstep, par, tpar, K, F)
         which, th = find_event(mode, sigma, F, z, t, hh, nstep, par, tpar, G, E)
         if which >= 0:
@@ -177,7 +192,7 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
             he = th * hh
             if he > 0.0:  # re-take the step to end on the event
                 K[0, :] = f0
-                _e, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, he, nstep, par, tpar, rtol, scale, K, znew)
+                _e, E[3], E[4], E[5] = rk_step(mode, sigma, t, z, he, nstep, par, tpar, rtol, atol, K, znew)
                 tc = t + he
                 dense(mode, sigma, t, z, znew, he, nstep, par, tpar, K, F)
                 _account(mode, sigma, t, z, he, F, nstep, par, tpar, times, wr, ts, so, jpos)
@@ -193,29 +208,31 @@ def through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale, times, 
         _account(mode, sigma, t, z, hh, F, nstep, par, tpar, times, wr, ts, so, jpos)
         z[:] = znew
         t = t_end if last else t + hh
-        h = hh * (_MAX if err == 0.0 else min(_MAX, 0.9 * err ** (-1.0 / 8.0)))
+        h = next_step(h, h_next, last)
     return STATUS_OK, mode, sigma, h
 
 
-_MIN, _MAX = 0.2, 10.0
-
-
 @njit(cache=True)
-def _work():
+def _work(rtol, scale):
     """Work arrays of :func:`through_step`, made once a period: the stages K (16 and a work
     row), the new state, the tangential interpolant, f at the step's start and the normal
     step's interpolant and start (Fn, yn), the event functions' samples (G), the normal
-    values at a step's start and end (E)."""
+    values at a step's start and end (E), and the absolute tolerances of w, w', f_t
+    (``rtol`` times their scales)."""
+    atol = np.empty(3)
+    for i in range(3):
+        atol[i] = rtol * scale[i]
     return (np.empty((17, N_STATE)), np.empty(N_STATE), np.empty((7, 3)), np.empty(N_STATE), np.empty((7, 2)),
-            np.empty(2), np.empty((2, 5)), np.empty(6))
+            np.empty(2), np.empty((2, 5)), np.empty(6), atol)
 
 
 @njit(cache=True)
 def run_period(rec, off, z, mode, sigma, h, par, tpar, rtol, scale, times, wr, ts, so, jpos):
-    """One normal period of the record, starting at ``off`` [τ]. Returns (status, mode, σ, h)."""
-    work = _work()
+    """One normal period of the record, starting at ``off`` [τ]; the local error of w, w', f_t
+    is held to ``rtol`` (their ``scale`` + magnitude). Returns (status, mode, σ, h)."""
+    work = _work(rtol, scale)
     for i in range(rec.shape[0]):
-        st, mode, sigma, h = through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol, scale,
+        st, mode, sigma, h = through_step(rec, i, off, z, mode, sigma, h, par, tpar, rtol,
                                           times, wr, ts, so, jpos, work)
         if st != STATUS_OK:
             return st, mode, sigma, h
