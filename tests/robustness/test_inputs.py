@@ -364,7 +364,7 @@ def test_simulation_start_accepts_or_names_the_parameter(y, ydot, n, samples):
 
 
 @API
-@given(kw=st.dictionaries(st.sampled_from(["ds", "ds_min", "ds_max", "df_max", "max_points", "energy_tol", "tol"]),
+@given(kw=st.dictionaries(st.sampled_from(["ds", "ds_min", "ds_max", "df_max_hz", "max_points", "energy_tol", "tol"]),
                           SETTING, max_size=4))
 def test_harmonic_balance_settings_accept_or_name_the_parameter(kw):
     from contactvib.frequency.harmonic_balance import HBSettings
