@@ -310,7 +310,7 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     from contactvib.plotting.figures import save_figure
 
     msgs = []
-    res = run(model, m, pa_min=lo, pa_max=hi, n_levels=n, log=msgs.append)
+    res = run(model, order=m, pa_min=lo, pa_max=hi, n_levels=n, log=msgs.append)
     (outp / f"evolution_order{m}.json").write_text(res.to_json(indent=1))
     save_figure(evolution_figure(res, f"evolution of the 1/{m} resonance: folds and period doublings"),
                 outp / f"evolution_order{m}.png")

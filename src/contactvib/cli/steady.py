@@ -289,7 +289,7 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     out = checked_output_folder(out)
     tag = f"{LEVEL_TAGS[exc.level_kind]}{exc.level[1]:g}_fe{exc.f_e:g}"
     if from_state is not None:
-        h = mapped_options({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
+        h = mapped_options({"n_periods": "--periods", "f_e": "--fe"}, run, exc, y_um=y, ydot_mm_s=yd, n_periods=n)
         sym, rest = h.level.split(" = ", 1)
         fig = history_figure(h, f"${sym}$ = {rest}{' (base motion)' if h.base_um is not None else ''}, "
                                 f"$f_e$ = {exc.f_e:g} Hz, from y = {y:g} µm, ẏ = {yd:g} mm/s")
