@@ -79,6 +79,9 @@ def old_form(*old: str, renamed: dict | None = None):
         def wrapper(*args, **kwargs):
             if not _is_old(params, positional, old, renamed, args, kwargs):
                 return fn(*args, **kwargs)
+            if len(args) > len(positional) and old[0] != positional[0] and _first_is_new(positional[0], args[0]):
+                raise TypeError(f"{fn.__name__}() takes {len(positional)} positional argument(s); its options "
+                                f"are keyword-only: {new_form_text(fn)}")
             if len(args) > len(old):
                 raise TypeError(f"{fn.__name__}() takes at most {len(old)} positional arguments "
                                 f"({len(args)} given)")

@@ -82,6 +82,8 @@ def test_the_new_form_does_not_warn_and_positional_options_are_refused():
         perturbation_series(EXC, terms=4)
     with pytest.raises(TypeError):  # beyond the old form's arguments too
         perturbation_series(MODEL, EXC, 4, "plain", "extra")
+    with pytest.raises(TypeError, match="keyword-only"):  # the new form with an option by position
+        perturbation_series(EXC, 4)
     with pytest.raises(TypeError):  # an argument given twice
         perturbation_series(MODEL, EXC, 4, terms=5)
 
