@@ -34,7 +34,7 @@ CONTRACT = {"period", "minima_per_period", "app_um", "ymin_um", "ymax_um", "lose
 @pytest.fixture(scope="module")
 def paper(tmp_path_factory):
     out = tmp_path_factory.mktemp("paper")
-    return reproduce_paper(out, settings=SweepSettings(df_hz=4.0), workers=2, progress=False)
+    return reproduce_paper(out=out, settings=SweepSettings(df_hz=4.0), workers=2, progress=False)
 
 
 @pytest.fixture(scope="module")
@@ -447,7 +447,7 @@ def test_sweep_settings_validate():
 @pytest.mark.slow
 def test_full_paper_run(tmp_path):
     """`contactvib paper` at 1 Hz: every reference orbit, the 1/5 with two minima at 287 Hz."""
-    res = reproduce_paper(tmp_path, workers=2, progress=False)
+    res = reproduce_paper(out=tmp_path, workers=2, progress=False)
     d = res.dataset
     assert check_consistency(d) == []  # no row contradicts itself (issue 13)
     for orbit in REF["orbits"]:
