@@ -33,14 +33,16 @@ def new_form_text(fn) -> str:
            f"{', ...' if len(kw) > 3 else ''})"
 
 
-def _first_is_new(first: str, value) -> bool:
-    """Whether ``value`` fits the new first parameter (an Excitation, or a model or None)."""
+def _first_is_new(first: str, value, strict: bool = False) -> bool:
+    """Whether ``value`` fits the new first parameter (an Excitation, or a model or None); not
+    ``strict``: anything but a model may be an excitation, for the new form to check."""
+    from contactvib.model.excitation import Excitation
     from contactvib.model.oscillator import ContactModel
 
     if first == "excitation":
-        return not isinstance(value, ContactModel)  # anything else is the new form's to check
+        return isinstance(value, Excitation) if strict else not isinstance(value, ContactModel)
     if first == "model":
-        return value is None or isinstance(value, ContactModel)
+        return isinstance(value, ContactModel) or (value is None and not strict)
     return True
 
 
@@ -79,7 +81,8 @@ def old_form(*old: str, renamed: dict | None = None):
         def wrapper(*args, **kwargs):
             if not _is_old(params, positional, old, renamed, args, kwargs):
                 return fn(*args, **kwargs)
-            if len(args) > len(positional) and old[0] != positional[0] and _first_is_new(positional[0], args[0]):
+            if len(args) > len(positional) and old[0] != positional[0] and _first_is_new(positional[0], args[0],
+                                                                                        strict=True):
                 raise TypeError(f"{fn.__name__}() takes {len(positional)} positional argument(s); its options "
                                 f"are keyword-only: {new_form_text(fn)}")
             if len(args) > len(old):
