@@ -182,11 +182,16 @@ def benchmarks_markdown(folder: Path) -> str:
     return "\n".join(out)
 
 
-def write_benchmarks_page(folder: Path, page: Path) -> Path:
-    text = benchmarks_markdown(folder)
+def _write_if_changed(page: Path, text: str) -> Path:
+    """Write a build-time page only when its text changed (Sphinx rebuilds what changed)."""
+    page.parent.mkdir(parents=True, exist_ok=True)
     if not page.is_file() or page.read_text() != text:
         page.write_text(text)
     return page
+
+
+def write_benchmarks_page(folder: Path, page: Path) -> Path:
+    return _write_if_changed(page, benchmarks_markdown(folder))
 
 
 def statements(path: Path) -> dict[str, str]:
@@ -233,11 +238,7 @@ def statements_markdown(src: Path, tests: Path) -> str:
 
 
 def write_statements_page(root: Path, page: Path) -> Path:
-    page.parent.mkdir(parents=True, exist_ok=True)
-    text = statements_markdown(root / "src" / "contactvib", root / "tests")
-    if not page.is_file() or page.read_text() != text:
-        page.write_text(text)
-    return page
+    return _write_if_changed(page, statements_markdown(root / "src" / "contactvib", root / "tests"))
 
 
 def dataset_variables_markdown() -> str:
@@ -258,11 +259,7 @@ def dataset_variables_markdown() -> str:
 
 
 def write_dataset_page(page: Path) -> Path:
-    page.parent.mkdir(parents=True, exist_ok=True)
-    text = dataset_variables_markdown()
-    if not page.is_file() or page.read_text() != text:
-        page.write_text(text)
-    return page
+    return _write_if_changed(page, dataset_variables_markdown())
 
 
 def laws_markdown() -> str:
@@ -283,8 +280,4 @@ def laws_markdown() -> str:
 
 
 def write_laws_page(page: Path) -> Path:
-    page.parent.mkdir(parents=True, exist_ok=True)
-    text = laws_markdown()
-    if not page.is_file() or page.read_text() != text:
-        page.write_text(text)
-    return page
+    return _write_if_changed(page, laws_markdown())

@@ -359,3 +359,13 @@ def test_checks_used_by_the_cli_are_the_librarys():
         check_int("kmax", 20, 1, 16)
     with pytest.raises(ParameterError, match=r"must be in \[1e-15, 1e-6\]"):
         check_range("rtol", 1e-3, 1e-15, True, upper=1e-6)
+
+
+def test_a_failed_computation_is_one_line_exit_1(tmp_path):
+    """Harmonic balance from a linear guess at 0.3 Q, 1000 Hz (on the bent main resonance) does not
+    converge: one line naming the stage, exit 1 (not a traceback; not exit 2, which is bad input)."""
+    r = subprocess.run([sys.executable, "-m", "contactvib", "hbm", "--pa", "0.3", "--fmin", "1000", "--fmax", "1400",
+                        "--out", str(tmp_path)], capture_output=True, text=True)
+    assert r.returncode == 1
+    assert r.stderr.startswith("contactvib: error: harmonic-balance failed: harmonic-balance Newton did not converge")
+    assert len(r.stderr.strip().splitlines()) == 1

@@ -425,7 +425,7 @@ def test_readme_commands_are_found():
     assert "contactvib paper" in cmds  # from `pip install . && contactvib paper`
     assert len(cmds) >= 15
     # each tutorial page is read: its commands are among the tested lines
-    tutorials = [p for p in PAGES if p.parent.name == "tutorials"]
+    tutorials = [p for p in PAGES if p.parent.name == "tutorials" and p.name != "index.md"]  # the index lists them
     assert len(tutorials) >= 9
     for page in tutorials:
         own = readme_commands(page.read_text())

@@ -73,21 +73,41 @@ def test_every_law_fulfils_the_contract(name):
     assert m.kappa == pytest.approx(m.k_lin * m.y0 / m.W, rel=1e-14)
 
 
-class _Hardening(SpringLaw):
-    """F_s = S (k1 δ + k3 δ³): a law that maps onto no compiled family (tabulated form)."""
+PLUGIN = '''
+import numpy as np
+from contactvib.model.laws import LawParameter, SpringLaw
 
-    name = "test-hardening"
-    formula = "S (k1 y + k3 y^3)"
-    parameters = (LawParameter("k1", "N/m^3", 1e10, "linear part"),
-                  LawParameter("k3", "N/m^5", 1e22, "cubic part", 0.0, True))
+
+class CubicLaw(SpringLaw):
+    """F_s = S (k1 d + k3 d^3)."""
+
+    name = "demo-cubic"
+    formula = "S (k1 y + k3 y^3) (a hardening spring)"
+    parameters = (LawParameter("k1", "N/m^3", 1.0e10, "linear part"),
+                  LawParameter("k3", "N/m^5", 1.0e22, "cubic part", 0.0, True))
 
     def force(self, delta, S):
-        d = np.maximum(np.asarray(delta, float), 0.0)
-        return np.where(np.asarray(delta) > 0.0, S * (self.k1 * d + self.k3 * d**3), 0.0)
+        d = np.asarray(delta, float)
+        return np.where(d > 0.0, S * (self.k1 * d + self.k3 * d ** 3), 0.0)
 
     def stiffness(self, delta, S):
-        d = np.maximum(np.asarray(delta, float), 0.0)
-        return np.where(np.asarray(delta) > 0.0, S * (self.k1 + 3.0 * self.k3 * d**2), 0.0)
+        d = np.asarray(delta, float)
+        return np.where(d > 0.0, S * (self.k1 + 3.0 * self.k3 * d ** 2), 0.0)
+'''
+
+
+def _plugin_law():
+    """The plug-in's law class, from its source (the same code the installed package holds)."""
+    namespace: dict = {}
+    exec(PLUGIN, namespace)
+    return namespace["CubicLaw"]
+
+
+class _Hardening(_plugin_law()):
+    """F_s = S (k1 δ + k3 δ³) registered under another name: a law that maps onto no compiled
+    family (its tabulated form)."""
+
+    name = "test-hardening"
 
 
 @pytest.fixture
@@ -137,27 +157,6 @@ def test_parameters_are_checked_against_their_bounds():
         cls().c_lin = 3.0
 
 
-PLUGIN = '''
-import numpy as np
-from contactvib.model.laws import LawParameter, SpringLaw
-
-
-class CubicLaw(SpringLaw):
-    """F_s = S (k1 d + k3 d^3)."""
-
-    name = "demo-cubic"
-    formula = "S (k1 y + k3 y^3) (a hardening spring)"
-    parameters = (LawParameter("k1", "N/m^3", 1.0e10, "linear part"),
-                  LawParameter("k3", "N/m^5", 1.0e22, "cubic part", 0.0, True))
-
-    def force(self, delta, S):
-        d = np.asarray(delta, float)
-        return np.where(d > 0.0, S * (self.k1 * d + self.k3 * d ** 3), 0.0)
-
-    def stiffness(self, delta, S):
-        d = np.asarray(delta, float)
-        return np.where(d > 0.0, S * (self.k1 + 3.0 * self.k3 * d ** 2), 0.0)
-'''
 
 
 def _install(site: Path, dist: str, module: str, code: str, entry: str) -> None:

@@ -1,7 +1,8 @@
 """Command-line interface (thin: parse, validate, call the public API, print, write).
 
 Bad input stops before any computation with one line on stderr,
-``contactvib: error: --fe (f_e) = -5: must be > 0 Hz``, and exit status 2.
+``contactvib: error: --fe (f_e) = -5: must be > 0 Hz``, and exit status 2. A computation that
+cannot finish (:class:`~contactvib.ComputationError`) is one line naming its stage, exit status 1.
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from contactvib.cli.friction import friction
 from contactvib.cli.regimes import map_
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
+from contactvib.errors import ComputationError
 
 
 class _Group(click.Group):
@@ -63,6 +65,9 @@ def main(argv=None) -> int:
         return rv if isinstance(rv, int) else 0
     except InputError as e:
         click.echo(f"contactvib: error: {e}", err=True)
+    except ComputationError as e:
+        click.echo(f"contactvib: error: {e.stage} failed: {one_line(str(e))}", err=True)
+        return 1
     except RunInterrupted as e:
         click.echo(f"contactvib: {e}", err=True)
         return 130
