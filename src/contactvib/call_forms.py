@@ -70,6 +70,18 @@ def old_form(*old: str, renamed: dict | None = None):
         The previous signature's parameter names in order (positional options included).
     renamed : dict, optional
         Old keyword -> new keyword.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from contactvib import ContactModel, perturbation_series
+    >>> exc = ContactModel().excitation(0.3, 600.0)
+    >>> new = perturbation_series(exc, terms=8)               # the operating point, then keywords
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     old = perturbation_series(exc.model, exc, 8)      # the form of 0.1
+    >>> old.app_um == new.app_um, caught[0].category.__name__
+    (True, 'DeprecationWarning')
     """
     renamed = dict(renamed or {})
 
