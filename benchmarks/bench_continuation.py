@@ -67,15 +67,15 @@ def main(argv=None):
 
     # seeds (not timed: AUTO also starts from a computed solution)
     e_hi = model.excitation(0.65, 1930.0)
-    seed_hi = [a for a in find_attractors(model, e_hi) if a.period == 1][0]
+    seed_hi = [a for a in find_attractors(e_hi) if a.period == 1][0]
     e_lo = model.excitation(0.65, 297.0)
-    lows = [a for a in find_attractors(model, e_lo) if a.period == 1]
+    lows = [a for a in find_attractors(e_lo) if a.period == 1]
 
     # ---------------------------------------------------------------- 1. upper branch
     res["upper"] = {}
     for rtol in (1e-10, 1e-12):
         s = ContinuationSettings(fmin_hz=297.0, fmax_hz=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-11))
-        run = lambda s=s: continue_orbit(model, e_hi, seed_hi.state, 1, direction="down", settings=s)  # noqa: E731
+        run = lambda s=s: continue_orbit(e_hi, seed_hi.state, 1, direction="down", settings=s)  # noqa: E731
         run()  # compile / warm
         b, tmin, tmed = timed(run, args.repeat)
         ref = app_reference(model, b)
@@ -96,7 +96,7 @@ def main(argv=None):
     res["lower"] = {}
     seed_lo = None
     for a in sorted(lows, key=lambda a: a.app_um):
-        b = continue_orbit(model, e_lo, a.state, 1, direction="up",
+        b = continue_orbit(e_lo, a.state, 1, direction="up",
                            settings=ContinuationSettings(fmin_hz=297.0, fmax_hz=2000.0))
         if any(sp.type == "fold" and sp.fe_hz > 900 for sp in b.special):
             seed_lo = a
@@ -106,7 +106,7 @@ def main(argv=None):
     ref_fold = None
     for rtol in (1e-14, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13):
         s = ContinuationSettings(fmin_hz=297.0, fmax_hz=2000.0, rtol=rtol, tol=max(100 * rtol, 1e-12))
-        run = lambda s=s: continue_orbit(model, e_lo, seed_lo.state, 1, direction="up", settings=s)  # noqa: E731
+        run = lambda s=s: continue_orbit(e_lo, seed_lo.state, 1, direction="up", settings=s)  # noqa: E731
         b, tmin, tmed = timed(run, 1 if rtol == 1e-14 else args.repeat)
         folds = [sp for sp in b.special if sp.type == "fold" and sp.fe_hz > 900]
         f = folds[0].fe_hz

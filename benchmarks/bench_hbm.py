@@ -43,11 +43,11 @@ def main(argv=None):
     ap.add_argument("--out", default=str(result_path(__name__)))
     a = ap.parse_args(argv)
     model = ContactModel()
-    hb_continuation(model, a.pa, a.fmin, a.fmin + 5, harmonics=a.harmonics)  # JIT warm-up
-    t_hb, br = _best(lambda: hb_continuation(model, a.pa, a.fmin, a.fmax, harmonics=a.harmonics))
-    t_hb_ns, br_ns = _best(lambda: hb_continuation(model, a.pa, a.fmin, a.fmax,
-                                                    harmonics=a.harmonics,
-                                                    settings=HBSettings(stability=False)))
+    hb_continuation(model, pa_over_q=a.pa, fmin_hz=a.fmin, fmax_hz=a.fmin + 5, harmonics=a.harmonics)  # JIT warm-up
+    t_hb, br = _best(lambda: hb_continuation(model, pa_over_q=a.pa, fmin_hz=a.fmin, fmax_hz=a.fmax,
+                                             harmonics=a.harmonics))
+    t_hb_ns, br_ns = _best(lambda: hb_continuation(model, pa_over_q=a.pa, fmin_hz=a.fmin, fmax_hz=a.fmax,
+                                                   harmonics=a.harmonics, settings=HBSettings(stability=False)))
     sol0 = br.solutions[0]
     r0 = sol0.fe_hz / model.f_n0
     X = sol0.coefficients
@@ -59,7 +59,7 @@ def main(argv=None):
         for f in br.fe_hz:
             exc = model.excitation(a.pa, float(f))
             z, M, res = refine_orbit(exc, z, 1)
-            apps.append(describe_orbit(model, exc, z, 1, M, res).app_um)
+            apps.append(describe_orbit(exc, z, 1, monodromy=M, closure=res).app_um)
         return apps
 
     t_sh, apps = _best(shoot)

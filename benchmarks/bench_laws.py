@@ -107,7 +107,7 @@ def bench(model, n_starts=16, periods=20, tol=1e-8, seed=0, passes=3):
         return max(float(np.max(np.abs(x - r)) / max(1.0, float(np.max(np.abs(r))))) for x, r in zip(a, ref))
 
     t = time.perf_counter()
-    found = find_attractors(model, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     t_search = time.perf_counter() - t
     return {"f_n0_hz": model.f_n0, "contactvib_s": t_cv, "scipy_s": t_sp, "ratio": t_sp / t_cv,
             "threads": numba.get_num_threads(), "contactvib_threads_s": t_cv_threads,

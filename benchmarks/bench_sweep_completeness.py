@@ -41,7 +41,7 @@ def missing_at(ds: xr.Dataset, model: ContactModel, pa: float, fe: float, n_star
     """The full search's attractors at (pa, fe) and those the dataset lacks."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnsettledWarning)
-        res = find_attractors(model, model.excitation(pa, fe), n_starts=n_starts)
+        res = find_attractors(model.excitation(pa, fe), n_starts=n_starts)
     sel = (np.abs(ds["pa_over_q"].values - pa) < 1e-12) & (np.abs(ds["fe_hz"].values - fe) < 1e-9)
     kind = ds["kind"].values[sel]
     period = ds["period"].values[sel]

@@ -17,5 +17,5 @@ def small_dataset(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("res")
     st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=2.0, multistart_per_octave=0)
-    resonance_dataset(ContactModel(), [0.65], st, out=out, workers=1, progress=False)
+    resonance_dataset(ContactModel(), levels=[0.65], settings=st, out=out, workers=1, progress=False)
     return out / "resonance.nc"

@@ -248,7 +248,7 @@ def dataset_variables_markdown() -> str:
     from contactvib import ContactModel, SweepSettings, resonance_dataset
 
     settings = SweepSettings(fmin_hz=355.0, fmax_hz=365.0, df_hz=5.0, multistart_per_octave=0)
-    ds = resonance_dataset(ContactModel(), [0.65], settings, workers=1, progress=False)
+    ds = resonance_dataset(ContactModel(), levels=[0.65], settings=settings, workers=1, progress=False)
     rows = ["| variable | dimensions | type | units | description |", "|---|---|---|---|---|"]
     for name, var in ds.variables.items():
         text = " ".join(str(var.attrs[k]) for k in ("long_name", "comment") if k in var.attrs)

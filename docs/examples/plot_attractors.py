@@ -11,9 +11,9 @@ from contactvib.plotting import attractor_figure
 
 model = ContactModel()
 exc = model.excitation(0.65, 360.0)
-found = find_attractors(model, exc, n_starts=64)
+found = find_attractors(exc, n_starts=64)
 for a in found:
     print(a.period, a.minima_per_period, round(a.app_um, 3), a.loses_contact)
 
 main = max(found, key=lambda a: a.app_um if a.period == 1 else 0.0)
-fig = attractor_figure(attractor_history(model, exc, main), main)
+fig = attractor_figure(attractor_history(exc, main), main)

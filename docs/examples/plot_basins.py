@@ -11,6 +11,6 @@ from contactvib import ContactModel, basins
 from contactvib.plotting import basins_figure
 
 model = ContactModel()
-bmap = basins(model, model.excitation(0.65, 360.0), grid=(40, 30), n_starts=32)
+bmap = basins(model.excitation(0.65, 360.0), grid=(40, 30), n_starts=32)
 print(bmap.fractions())
 fig = basins_figure(bmap)

@@ -13,9 +13,9 @@ from contactvib import ContactModel, hb_continuation, perturbation_curve
 from contactvib.plotting import plot_branch
 
 model = ContactModel()
-branch = hb_continuation(model, 0.65, 300.0, 340.0, harmonics=16)
+branch = hb_continuation(model, pa_over_q=0.65, fmin_hz=300.0, fmax_hz=340.0, harmonics=16)
 ax = plot_branch(branch, label="harmonic balance (H = 16)")
-fe, app, valid = perturbation_curve(model, 0.65, np.arange(300.0, 341.0, 5.0), terms=16)
+fe, app, valid = perturbation_curve(model, pa_over_q=0.65, fe_hz=np.arange(300.0, 341.0, 5.0), terms=16)
 ax.plot(fe[valid], app[valid], "rx", label="perturbation series (N = 16 terms)")
 ax.legend()
 ax.figure.tight_layout()

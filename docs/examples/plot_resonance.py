@@ -15,7 +15,7 @@ from contactvib import ContactModel, SweepSettings, resonance_dataset
 from contactvib.plotting import extrema_diagram, resonance_graph
 
 settings = SweepSettings(fmin_hz=250.0, fmax_hz=450.0, df_hz=10.0, multistart_per_octave=1)
-ds = resonance_dataset(ContactModel(), [0.65], settings, workers=1, progress=False)
+ds = resonance_dataset(ContactModel(), levels=[0.65], settings=settings, workers=1, progress=False)
 print(ds.sizes["point"], "attractor points,", ds.sizes["branch"], "branches")
 
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))

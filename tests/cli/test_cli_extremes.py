@@ -229,16 +229,16 @@ def test_library_search_and_simulation_refuse_extremes():
     exc = m.excitation(0.65, 360.0)
     for kw, symbol in [({"n_starts": 10**9}, "n_starts"), ({"max_periods": 10**9}, "max_periods")]:
         with pytest.raises(ParameterError) as e:
-            find_attractors(m, exc, **kw)
+            find_attractors(exc, **kw)
         assert e.value.symbol == symbol and "GB of memory" in e.value.allowed
     with pytest.raises(ParameterError) as e:
-        simulate(m, exc, 1e308, 0.0)
+        simulate(exc, y_um=1e308, ydot_mm_s=0.0)
     assert e.value.symbol == "y"
     with pytest.raises(ParameterError) as e:
-        simulate(m, exc, 0.0, -1e308)
+        simulate(exc, y_um=0.0, ydot_mm_s=-1e308)
     assert e.value.symbol == "ydot"
     with pytest.raises(ParameterError) as e:
-        simulate(m, exc, 0.0, 0.0, n_periods=100000)
+        simulate(exc, y_um=0.0, ydot_mm_s=0.0, n_periods=100000)
     assert e.value.symbol == "n_periods"
     # the largest values named in the messages are accepted by the checks
     n = int(str(e.value.allowed).split("<= ")[1].split(" ")[0])

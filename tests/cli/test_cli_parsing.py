@@ -60,7 +60,7 @@ def test_levels_reach_the_command(monkeypatch, tmp_path):
     """`--pa 0.5 0.6 0.65` gives three levels, in order; `--pa A --pa B` too."""
     seen = []
 
-    def stop(model, levels, *a, **k):
+    def stop(model, *, levels, **k):
         seen.append(list(levels))
         raise InputError("stop")
 
@@ -165,19 +165,20 @@ def test_query_on_damaged_settings_is_one_line(small_dataset, tmp_path, capsys, 
 # ------------------------------------------------------------------ Python API: types
 
 def test_api_refuses_wrong_model_types():
-    from contactvib import find_attractors, simulate
+    from contactvib import Excitation, find_attractors, simulate
 
     model = ContactModel()
     exc = model.excitation(0.65, 360)
     with pytest.raises(ParameterError, match="seed = -1: must be an integer >= 0"):
-        find_attractors(model, exc, seed=-1)
-    for call in (lambda: find_attractors("paper", exc), lambda: ContactModel.excitation("paper", 0.6, 360),
-                 lambda: simulate("x", exc)):
+        find_attractors(exc, seed=-1)
+    for call in (lambda: ContactModel.excitation("paper", 0.6, 360), lambda: Excitation("x", 0.6, 360)):
         with pytest.raises(ParameterError, match="model = 'x'|model = 'paper'") as e:
             call()
         assert e.value.symbol == "model" and "must be a ContactModel" in str(e.value)
     with pytest.raises(ParameterError, match="must be an Excitation"):
-        simulate(model, "x")
+        simulate("x")
+    with pytest.raises(ParameterError, match="model = 'paper'"), pytest.warns(DeprecationWarning):
+        find_attractors("paper", exc)  # the deprecated form: its model is checked too
 
 
 # ------------------------------------------------------------------ equilibrium
@@ -187,7 +188,7 @@ def test_rest_state_is_an_equilibrium_without_minima():
 
     model = ContactModel()
     exc = model.excitation(0.0, 360)
-    a = describe_orbit(model, exc, np.array(model.units.state(model.units.y_um, 0.0)), 1)
+    a = describe_orbit(exc, np.array(model.units.state(model.units.y_um, 0.0)), 1)
     assert a.app_um < 1e-9 * model.units.y_um
     assert a.minima_per_period == 0 and a.extrema_y_um.size == 0 and a.extrema_is_min.size == 0
 

@@ -45,7 +45,7 @@ def _iterate(exc, z, n, rtol=1e-13):
 def primary_1930():
     """The period-1 orbit at 1930 Hz, 0.65 Q (small amplitude, above the resonance)."""
     exc = MODEL.excitation(0.65, 1930.0)
-    found = find_attractors(MODEL, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     a = [a for a in found if a.period == 1][0]
     return exc, a
 
@@ -53,7 +53,7 @@ def primary_1930():
 def test_shooting_matches_long_time_integration(primary_1930):
     """The converged first point equals the end of 600 periods of plain time integration."""
     exc, a = primary_1930
-    b = continue_orbit(MODEL, exc, a.state * 1.001, 1, direction="up",
+    b = continue_orbit(exc, a.state * 1.001, 1, direction="up",
                        settings=ContinuationSettings(fmin_hz=1900, fmax_hz=1940, max_points=3))
     z_shoot = b.state[0]
     assert b.fe_hz[0] == pytest.approx(1930.0, rel=1e-14)
@@ -65,9 +65,9 @@ def test_shooting_matches_long_time_integration(primary_1930):
 def test_multipliers_match_finite_difference_monodromy():
     """On the unstable middle branch (multiplier > 1) with contact loss: variational vs FD."""
     exc = MODEL.excitation(0.65, 1000.0)
-    found = find_attractors(MODEL, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     seed = min((a for a in found if a.period == 1), key=lambda a: a.app_um)
-    b = continue_orbit(MODEL, exc, seed.state, 1, direction="up",
+    b = continue_orbit(exc, seed.state, 1, direction="up",
                        settings=ContinuationSettings(fmin_hz=990, fmax_hz=1100, max_points=60))
     unstable = np.nonzero(~b.stable & (b.ymin_um < 0))[0]
     assert unstable.size > 0, "the branch should pass the fold onto its unstable part"
@@ -95,7 +95,7 @@ def test_linear_limit_resonance_curve_and_multipliers():
     """Tiny P_a: A_pp = 2 (p/m2) y0 / sqrt((1 − r²)² + (2ζr)²) and μ = exp(λT)."""
     p = 1e-5
     exc = MODEL.excitation(p, 1800.0)
-    b = continue_orbit(MODEL, exc, [1.0, 0.0], 1, direction="down",
+    b = continue_orbit(exc, [1.0, 0.0], 1, direction="down",
                        settings=ContinuationSettings(fmin_hz=1000, fmax_hz=2000, ds_max=0.05))
     assert "range reached" in b.stops[0].reason
     assert b.fe_hz.min() == pytest.approx(1000.0)
@@ -116,14 +116,14 @@ def test_linear_limit_resonance_curve_and_multipliers():
 def lower_branch_065():
     """The lower branch of the primary resonance at 0.65 Q through its jump-up fold."""
     exc = MODEL.excitation(0.65, 1000.0)
-    found = find_attractors(MODEL, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     seed = min((a for a in found if a.period == 1), key=lambda a: a.app_um)
     return exc, seed
 
 
 def _fold(exc, seed, rtol):
     s = ContinuationSettings(fmin_hz=990, fmax_hz=1100, rtol=rtol, tol=max(100 * rtol, 1e-11), max_points=80)
-    b = continue_orbit(MODEL, exc, seed.state, 1, direction="up", settings=s)
+    b = continue_orbit(exc, seed.state, 1, direction="up", settings=s)
     folds = [sp for sp in b.special if sp.type == "fold"]
     assert len(folds) == 1
     return b, folds[0]
@@ -173,10 +173,10 @@ def test_period_doubling_of_the_half_resonance_at_070():
     branch of the 1/2 resonance at period doublings; above the upper one the attractor search
     finds the period-1 orbit (two minima) of that branch."""
     known = []
-    found470 = find_attractors(MODEL, MODEL.excitation(0.70, 470.0), n_starts=128)
+    found470 = find_attractors(MODEL.excitation(0.70, 470.0), n_starts=128)
     assert any(a.period == 2 for a in found470)
     s = ContinuationSettings(fmin_hz=100, fmax_hz=1200)
-    bs = continue_attractors(MODEL, 0.70, 470.0, settings=s, known=known, attractors=found470)
+    bs = continue_attractors(MODEL, pa_over_q=0.70, fe_hz=470.0, settings=s, known=known, attractors=found470)
     pds = [sp for sp in bs.special_points if sp.type == "period-doubling" and sp.period == 1]
     assert pds, "period doubling of the 1/2 resonance not found"
     upper = max(pds, key=lambda sp: sp.fe_hz)
@@ -185,7 +185,7 @@ def test_period_doubling_of_the_half_resonance_at_070():
     parent = [b for b in bs if b.branch == upper.branch][0]
     f1 = upper.fe_hz + 15.0
     e1 = MODEL.excitation(0.70, f1)
-    above = find_attractors(MODEL, e1, n_starts=128)
+    above = find_attractors(e1, n_starts=128)
     p1 = [a for a in above if a.period == 1 and a.minima_per_period == 2]
     assert any(on_branch(MODEL, parent, e1, a.state, 1) for a in p1)
     # branch switching at the point lands on the branch of the period-2 attractor at 470 Hz
@@ -216,8 +216,7 @@ def test_branch_netcdf_roundtrip(tmp_path, primary_1930):
     import xarray as xr
 
     exc, a = primary_1930
-    b = continue_orbit(MODEL, exc, a.state, 1, direction="down",
-                       settings=ContinuationSettings(fmin_hz=1500, fmax_hz=2000))
+    b = continue_orbit(exc, a.state, 1, direction="down", settings=ContinuationSettings(fmin_hz=1500, fmax_hz=2000))
     assert isinstance(b, Branch) and len(b) > 3
     p = tmp_path / "b.nc"
     b.to_netcdf(p)
@@ -237,9 +236,8 @@ def test_locate_off_changes_no_branch_point(lower_branch_065):
     the same points, multipliers and stability, bit for bit."""
     exc, seed = lower_branch_065
     kw = dict(fmin_hz=990, fmax_hz=1100, rtol=1e-10, tol=1e-9, max_points=80)
-    on = continue_orbit(MODEL, exc, seed.state, 1, direction="up", settings=ContinuationSettings(**kw))
-    off = continue_orbit(MODEL, exc, seed.state, 1, direction="up",
-                         settings=ContinuationSettings(**kw, locate=False))
+    on = continue_orbit(exc, seed.state, 1, direction="up", settings=ContinuationSettings(**kw))
+    off = continue_orbit(exc, seed.state, 1, direction="up", settings=ContinuationSettings(**kw, locate=False))
     assert {sp.type for sp in on.special} >= {"fold"} and off.special == []
     for name in ("fe_hz", "state", "floquet_multipliers", "stable", "app_um"):
         np.testing.assert_array_equal(getattr(on, name), getattr(off, name), err_msg=name)
@@ -260,18 +258,18 @@ def test_bad_settings(kwargs, symbol):
 def test_bad_continuation_input(primary_1930):
     exc, a = primary_1930
     with pytest.raises(ParameterError, match="period"):
-        continue_orbit(MODEL, exc, a.state, 0)
+        continue_orbit(exc, a.state, 0)
     with pytest.raises(ParameterError, match="state"):
-        continue_orbit(MODEL, exc, [np.nan, 0.0], 1)
+        continue_orbit(exc, [np.nan, 0.0], 1)
     with pytest.raises(ParameterError, match="parameter"):
-        continue_orbit(MODEL, exc, a.state, 1, parameter="c_n")
+        continue_orbit(exc, a.state, 1, parameter="c_n")
     with pytest.raises(ParameterError, match="continuation range"):
-        continue_orbit(MODEL, exc, a.state, 1, settings=ContinuationSettings(fmin_hz=30, fmax_hz=1000))
+        continue_orbit(exc, a.state, 1, settings=ContinuationSettings(fmin_hz=30, fmax_hz=1000))
     with pytest.raises(ComputationError) as failed:
-        continue_orbit(MODEL, exc, [1e4, 1e4], 1, settings=ContinuationSettings(max_iter=2))
+        continue_orbit(exc, [1e4, 1e4], 1, settings=ContinuationSettings(max_iter=2))
     assert failed.value.stage == "continuation"
     with pytest.raises(ParameterError, match="attractor"):
-        continue_attractors(MODEL, 0.65, 1930.0, attractor=3, attractors=[])
+        continue_attractors(MODEL, pa_over_q=0.65, fe_hz=1930.0, attractor=3, attractors=[])
 
 
 def test_cli_continue_json_contract(tmp_path, capsys):
@@ -295,7 +293,7 @@ def test_cli_continue_json_contract(tmp_path, capsys):
 
 @pytest.fixture(scope="module")
 def attractors_360():
-    return find_attractors(MODEL, MODEL.excitation(0.65, 360.0))
+    return find_attractors(MODEL.excitation(0.65, 360.0))
 
 
 def test_continuation_in_pa_meets_the_attractors_and_the_fe_period_doubling(attractors_360):
@@ -304,24 +302,21 @@ def test_continuation_in_pa_meets_the_attractors_and_the_fe_period_doubling(attr
     period doubling of the f_e continuation at P_a* exactly at 360 Hz (1e-6 Hz)."""
     exc = MODEL.excitation(0.65, 360.0)
     a4 = [a for a in attractors_360 if a.period == 1 and a.minima_per_period == 4][0]
-    b4 = continue_orbit(MODEL, exc, a4.state, 1, parameter="P_a",
-                        settings=ContinuationSettings(pa_min=0.05, pa_max=0.9))
+    b4 = continue_orbit(exc, a4.state, 1, parameter="P_a", settings=ContinuationSettings(pa_min=0.05, pa_max=0.9))
     assert b4.pa_over_q.min() == pytest.approx(0.05) and b4.pa_over_q.max() == pytest.approx(0.9)
     assert np.all(b4.stable) and np.all(b4.fe_hz == 360.0)
     for pa, minima in ((0.30, 1), (0.80, 4)):
         e = MODEL.excitation(pa, 360.0)
-        found = [a for a in find_attractors(MODEL, e, n_starts=128) if a.period == 1]
+        found = [a for a in find_attractors(e, n_starts=128) if a.period == 1]
         on = [a for a in found if on_branch(MODEL, b4, e, a.state, 1, parameter="P_a")]
         assert len(on) == 1 and on[0].minima_per_period == minima
     a2 = [a for a in attractors_360 if a.period == 1 and a.minima_per_period == 2][0]
-    b2 = continue_orbit(MODEL, exc, a2.state, 1, parameter="P_a",
-                        settings=ContinuationSettings(pa_min=0.3, pa_max=0.9))
+    b2 = continue_orbit(exc, a2.state, 1, parameter="P_a", settings=ContinuationSettings(pa_min=0.3, pa_max=0.9))
     assert [sp.type for sp in b2.special] == ["fold", "period-doubling"]
     fold, pd = b2.special
     assert 0.40 < fold.pa_over_q < 0.50 < 0.65 < pd.pa_over_q < 0.70  # born, then doubles (S3.3)
     e = MODEL.excitation(pd.pa_over_q, 360.0)
-    bf = continue_orbit(MODEL, e, pd.state, 1,
-                        settings=ContinuationSettings(fmin_hz=350, fmax_hz=370, ds=0.005, ds_max=0.01))
+    bf = continue_orbit(e, pd.state, 1, settings=ContinuationSettings(fmin_hz=350, fmax_hz=370, ds=0.005, ds_max=0.01))
     pds = [sp.fe_hz for sp in bf.special if sp.type == "period-doubling"]
     assert len(pds) == 1 and abs(pds[0] - 360.0) < 1e-6
 
@@ -345,7 +340,7 @@ def test_fold_curve_passes_through_one_parameter_folds():
 
     def fold_at(pa):
         exc = MODEL.excitation(pa, 1000.0)
-        found = find_attractors(MODEL, exc, n_starts=64)
+        found = find_attractors(exc, n_starts=64)
         seed = min((a for a in found if a.period == 1), key=lambda a: a.app_um)
         return _fold(exc, seed, 1e-12)[1]
 
@@ -364,9 +359,9 @@ def test_isola_closes_after_one_loop():
     from contactvib.continuation.shooting import ISOLA_STOP
 
     exc = MODEL.excitation(0.65, 1500.0)
-    found = find_attractors(MODEL, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     seed = min((a for a in found if a.period == 3), key=lambda a: a.app_um)
-    b = continue_orbit(MODEL, exc, seed.state, 3, settings=ContinuationSettings(fmin_hz=30, fmax_hz=2000))
+    b = continue_orbit(exc, seed.state, 3, settings=ContinuationSettings(fmin_hz=30, fmax_hz=2000))
     assert [s.reason for s in b.stops] == [ISOLA_STOP]
     assert 850 < b.fe_hz.min() < 950 and 1900 < b.fe_hz.max() < 2000
     assert len(b) < 500

@@ -222,9 +222,8 @@ def test_branch_file_roundtrip_new_and_old_names(tmp_path):
     from contactvib.continuation.branch import _OLD_NAMES, Branch
 
     exc = MODEL.excitation(0.65, 1930.0)
-    a = [a for a in find_attractors(MODEL, exc) if a.period == 1][0]
-    b = continue_orbit(MODEL, exc, a.state, 1, direction="down",
-                       settings=ContinuationSettings(fmin_hz=1500, fmax_hz=2000))
+    a = [a for a in find_attractors(exc) if a.period == 1][0]
+    b = continue_orbit(exc, a.state, 1, direction="down", settings=ContinuationSettings(fmin_hz=1500, fmax_hz=2000))
     ds = b.to_xarray()
     assert set(_OLD_NAMES) <= set(ds.data_vars) and not set(_OLD_NAMES.values()) & set(ds.data_vars)
     b.to_netcdf(tmp_path / "new.nc")

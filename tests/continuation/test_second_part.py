@@ -23,7 +23,7 @@ def test_the_1_5_at_090q_has_a_second_stable_part(tmp_path, capsys):
     assert pd_low["app_um"] == pytest.approx(5.44, abs=0.01)
     assert fold_low["app_um"] == pytest.approx(6.90, abs=0.01)
     model = ContactModel()
-    found = find_attractors(model, model.excitation(0.9, 108.0))
+    found = find_attractors(model.excitation(0.9, 108.0))
     five = [a for a in found if a.period == 1 and a.minima_per_period == 5]
     assert len(five) == 1
     assert pd_low["app_um"] < five[0].app_um < fold_low["app_um"]

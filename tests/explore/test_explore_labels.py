@@ -19,12 +19,12 @@ def _labels(pa: str, fe: str):
     point.fields.update(pa=pa, fe=fe)
     model, exc = _check(point)
     result = _find(model, exc)
-    return result, [resonance_of(a, attractor_history(model, exc, a), model.f_n0) for a in result]
+    return result, [resonance_of(a, attractor_history(exc, a), model.f_n0) for a in result]
 
 
 def test_labels_equal_the_datasets(small_dataset):
     result, labels = _labels("0.65", "360")
-    stored = attractors_at(xr.load_dataset(small_dataset), 0.65, 360.0)["attractors"]
+    stored = attractors_at(xr.load_dataset(small_dataset), pa_over_q=0.65, fe_hz=360.0)["attractors"]
     matched = 0
     for s in stored:
         for a, label in zip(result, labels):

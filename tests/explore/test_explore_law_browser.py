@@ -42,7 +42,7 @@ def test_law_chooser_changes_the_model_and_the_table(server, browser, tmp_path):
     assert page.locator(".field-c_e input").is_visible() and page.locator(".field-lam input").is_visible()
     assert not page.locator(".field-c_n input").is_visible() and not page.locator(".field-m2 input").is_visible()
     rows = _table(page)
-    want = find_attractors(ref, Excitation(ref, 0.3, 900.0))
+    want = find_attractors(Excitation(ref, 0.3, 900.0))
     assert rows != power and len(rows) == len(want)
     for r, a in zip(rows, want):
         assert r["A_pp [µm]"] == pytest.approx(a.app_um, abs=1e-6)

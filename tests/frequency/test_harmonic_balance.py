@@ -22,7 +22,7 @@ MODEL = ContactModel()
 
 def _shooting(exc, z):
     z, M, res = refine_orbit(exc, z, 1)
-    return describe_orbit(MODEL, exc, z, 1, M, res)
+    return describe_orbit(exc, z, 1, monodromy=M, closure=res)
 
 
 @pytest.mark.parametrize("fe,minima", [(287.0, 2), (360.0, 4), (371.0, 3)])
@@ -30,9 +30,9 @@ def test_hb_equals_shooting_where_contact_is_kept(fe, minima):
     """0.65 Q, H = 32: A_pp and |multipliers| equal the shooting orbit's to 1e-6 relative
     (measured ≤ 1.2e-11)."""
     exc = MODEL.excitation(0.65, fe)
-    ref = _shooting(exc, perturbation_series(MODEL, exc, 80).state)
+    ref = _shooting(exc, perturbation_series(exc, terms=80).state)
     assert ref.minima_per_period == minima and not ref.loses_contact
-    sol = hb_solve(MODEL, exc, 32)
+    sol = hb_solve(exc, harmonics=32)
     assert not sol.loses_contact and sol.residual <= 1e-12
     assert sol.app_um == pytest.approx(ref.app_um, rel=1e-6)
     assert sol.ymin_um == pytest.approx(ref.ymin_um, rel=1e-6)
@@ -50,8 +50,7 @@ def test_hb_converges_with_harmonics_where_contact_is_lost():
     assert ref.loses_contact and ref.contact_loss_fraction > 0.9
     err = {}
     for H in (16, 32, 64, 128):
-        sol = hb_solve(MODEL, exc, H, start=coefficients_from_orbit(exc, ref.state, H),
-                       stability=False)
+        sol = hb_solve(exc, harmonics=H, start=coefficients_from_orbit(exc, ref.state, harmonics=H), stability=False)
         assert sol.loses_contact
         err[H] = abs(sol.app_um - ref.app_um) / ref.app_um
     assert err[16] > 1e-4 and err[128] < 1e-6
@@ -81,7 +80,7 @@ def test_aft_jacobian_matches_finite_differences():
 def test_continuation_passes_the_one_third_fold_and_stability_changes_there():
     """0.65 Q from 430 Hz up: the 1/3 resonance bends left; the branch turns at its largest
     f_e (≈ 461 Hz), comes back unstable (a real multiplier through +1) and leaves at 430 Hz."""
-    b = hb_continuation(MODEL, 0.65, 430.0, 470.0, harmonics=24)
+    b = hb_continuation(MODEL, pa_over_q=0.65, fmin_hz=430.0, fmax_hz=470.0, harmonics=24)
     assert "430" in b.stop_reason
     i = int(np.argmax(b.fe_hz))
     assert 455.0 < b.fe_hz[i] < 468.0
@@ -98,16 +97,16 @@ def test_continuation_passes_the_one_third_fold_and_stability_changes_there():
 
 
 def test_branch_stops_when_top_harmonics_hold_the_energy():
-    b = hb_continuation(MODEL, 0.65, 900.0, 2000.0, harmonics=8, from_fmax=True)
+    b = hb_continuation(MODEL, pa_over_q=0.65, fmin_hz=900.0, fmax_hz=2000.0, harmonics=8, from_fmax=True)
     assert "harmonics" in b.stop_reason and b.loses_contact[-1]
     assert b.top_energy_fraction[-1] > 1e-8 and b.fe_hz.min() > 900.0
 
 
 def test_bad_input(capsys, tmp_path):
     with pytest.raises(ParameterError, match="harmonics"):
-        hb_solve(MODEL, MODEL.excitation(0.5, 300.0), 0)
+        hb_solve(MODEL.excitation(0.5, 300.0), harmonics=0)
     with pytest.raises(ParameterError, match="fmax"):
-        hb_continuation(MODEL, 0.5, 500.0, 400.0)
+        hb_continuation(MODEL, pa_over_q=0.5, fmin_hz=500.0, fmax_hz=400.0)
     for argv, msg in [(["--harmonics", "0"], "--harmonics (harmonics) = 0"),
                       (["--fmin", "2000", "--fmax", "300"], "--fmax (f_max) = 300: must be > --fmin"),
                       (["--fmin", "-1"], "--fmin (f_min) = -1"), (["--pa", "-0.5"], "--pa"),

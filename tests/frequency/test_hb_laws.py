@@ -41,7 +41,7 @@ CASES = _cases()
 def test_hb_orbit_is_the_scipy_orbit_and_the_attractor(name):
     m, make = CASES[name]
     exc = make(m)
-    sol = hb_solve(m, exc, 32)
+    sol = hb_solve(exc, harmonics=32)
     assert not sol.loses_contact and sol.residual <= 1e-11
     X = sol.coefficients
     k = np.arange(1, 33)
@@ -53,7 +53,7 @@ def test_hb_orbit_is_the_scipy_orbit_and_the_attractor(name):
     assert max(abs(tr.y - y) / sy, abs(tr.ydot - v) / sv) <= 1e-9 * max(1.0, abs(x0))
     assert sol.app_um == pytest.approx((tr.ymax - tr.ymin) * 1e6, rel=1e-7)
     assert sol.closure <= 1e-10
-    found = [a for a in find_attractors(m, exc, n_starts=16) if a.period == 1
+    found = [a for a in find_attractors(exc, n_starts=16) if a.period == 1
              and abs(a.app_um - sol.app_um) <= 1e-3 * sol.app_um]
     assert len(found) == 1 and found[0].app_um == pytest.approx(sol.app_um, rel=1e-7)
     assert np.max(np.abs(sol.floquet_multipliers)) == pytest.approx(found[0].floquet_abs_max, rel=1e-6)
@@ -72,7 +72,7 @@ def test_paper_residual_equals_the_generic_one():
     full[3] = 0.3
     assert kc.is_paper_family(full[:5]) and full.size > 5
     aft = AFT(16, 128)
-    X = hb_solve(m, exc, 16).coefficients
+    X = hb_solve(exc, harmonics=16).coefficients
     for a, b in zip(_residual(X, exc.r, short, aft), _residual(X, exc.r, full, aft)):
         np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-13)
 
@@ -82,8 +82,8 @@ def test_base_continuation_points_close_under_scipy():
     the base-excited oscillator (scipy closure rel 1e-8 where the truncation is fine)."""
     m = ContactModel()
     U = 0.03
-    b = hb_continuation(m, U, 900.0, 1400.0, harmonics=32, settings=HBSettings(stability=False),
-                        level_kind="base-um")
+    b = hb_continuation(m, pa_over_q=U, fmin_hz=900.0, fmax_hz=1400.0, harmonics=32,
+                        settings=HBSettings(stability=False), excitation="base-um")
     assert b.pa_over_q == U and len(b) > 50
     sy, sv = m.y0, m.y0 * m.omega_n0
     checked = 0
@@ -106,9 +106,10 @@ def test_base_continuation_points_close_under_scipy():
 def test_force_harmonic_beyond_the_truncation_is_refused():
     m = ContactModel()
     with pytest.raises(ParameterError, match="harmonic 5"):
-        hb_solve(m, m.excitation(0.1, F_E, harmonics=((5, 0.01, 0.0),)), 4)
+        hb_solve(m.excitation(0.1, F_E, harmonics=((5, 0.01, 0.0),)), harmonics=4)
     with pytest.raises(ParameterError, match="base motion"):
-        hb_continuation(m, 0.03, 900.0, 1000.0, harmonics=8, level_kind="base-um", force_harmonics=((2, 0.1, 0.0),))
+        hb_continuation(m, pa_over_q=0.03, fmin_hz=900.0, fmax_hz=1000.0, harmonics=8, excitation="base-um",
+                        force_harmonics=((2, 0.1, 0.0),))
 
 
 def test_table_law_sampled_from_the_power_law_gives_its_hb_orbit():
@@ -121,6 +122,6 @@ def test_table_law_sampled_from_the_power_law_gives_its_hb_orbit():
     csv = Path(__file__).resolve().parents[2] / "examples" / "power_law_table.csv"
     table = ContactModel(law=TableLaw.from_csv(csv))
     power = ContactModel()
-    a = hb_solve(table, table.excitation(0.3, 900.0), 32)
-    b = hb_solve(power, power.excitation(0.3, 900.0), 32)
+    a = hb_solve(table.excitation(0.3, 900.0), harmonics=32)
+    b = hb_solve(power.excitation(0.3, 900.0), harmonics=32)
     assert a.app_um == pytest.approx(b.app_um, rel=1e-4)

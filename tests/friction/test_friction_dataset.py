@@ -27,7 +27,7 @@ def _settings(friction=FM, **kw):
 @pytest.fixture(scope="module")
 def swept(tmp_path_factory):
     out = tmp_path_factory.mktemp("fr_ds")
-    ds = resonance_dataset(ContactModel(), [0.65], _settings(), out=out, workers=1, progress=False)
+    ds = resonance_dataset(ContactModel(), levels=[0.65], settings=_settings(), out=out, workers=1, progress=False)
     return out, ds
 
 
@@ -71,7 +71,7 @@ def test_values_are_friction_at_of_the_stored_point(swept):
         state, period = z, int(ds["period"].values[j])
         contact_loss_fraction = float(ds["contact_loss_fraction"].values[j])
 
-    res = friction_at(model, exc, Orbit, FM)
+    res = friction_at(exc, Orbit, friction=FM)
     # the columns: Newton on the period map to WARM_TOL = 1e-6 (the one-point run: to the noise floor)
     assert ds["friction_ratio"].values[j] == pytest.approx(res.friction_ratio, rel=1e-5)
     assert ds["friction_stick_fraction"].values[j] == pytest.approx(res.stick_fraction, abs=1e-5)
@@ -86,12 +86,12 @@ def test_warm_newton_start_agrees_with_the_transient():
     model, ws = ContactModel(), WarmStart()
     for fe in (356.0, 358.0, 360.0, 362.0):
         exc = model.excitation(0.65, fe)
-        a = max((a for a in find_attractors(model, exc, n_starts=64) if a.period == 1), key=lambda a: a.app_um)
+        a = max((a for a in find_attractors(exc, n_starts=64) if a.period == 1), key=lambda a: a.app_um)
         if fe == 362.0:
             predicted = ws.predict(1, fe)
-        warm = friction_at(model, exc, a, FM, warm=ws)
+        warm = friction_at(exc, a, friction=FM, warm=ws)
         assert warm.n_periods == 1 and warm.settled
-    cold = friction_at(model, exc, a, FM)
+    cold = friction_at(exc, a, friction=FM)
     assert warm.friction_ratio == pytest.approx(cold.friction_ratio, rel=1e-5)
     assert warm.stick_fraction == pytest.approx(cold.stick_fraction, abs=1e-5)
     assert np.max(np.abs(predicted - ws.z) / (FM.scales(model) + np.abs(ws.z))) < 1e-3
@@ -101,14 +101,16 @@ def test_resume_refuses_other_friction_settings(swept):
     out, _ds = swept
     model = ContactModel()
     with pytest.raises(ResumeMismatch, match=r"friction\.mu = 0\.3, not 0\.4"):
-        resonance_dataset(model, [0.65], _settings(FrictionModel(mu=0.4, vd=0.5)), out=out, resume=True,
+        resonance_dataset(model, levels=[0.65], settings=_settings(FrictionModel(mu=0.4, vd=0.5)), out=out, resume=True,
                           workers=1, progress=False)
     with pytest.raises(ResumeMismatch, match="made with friction = mu=0.3"):
-        resonance_dataset(model, [0.65], _settings(None), out=out, resume=True, workers=1, progress=False)
+        resonance_dataset(model, levels=[0.65], settings=_settings(None), out=out, resume=True, workers=1,
+                          progress=False)
 
 
 def test_without_friction_no_columns():
-    ds = resonance_dataset(ContactModel(), [0.65], _settings(None, fmax_hz=350.0), workers=1, progress=False)
+    ds = resonance_dataset(ContactModel(), levels=[0.65], settings=_settings(None, fmax_hz=350.0), workers=1,
+                           progress=False)
     assert not set(FRICTION_VARIABLES) & set(ds.variables)
     assert "friction" not in ds.attrs and "friction" not in json.loads(ds.attrs["settings"])
 

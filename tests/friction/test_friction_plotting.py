@@ -11,7 +11,7 @@ from contactvib.plotting.friction import friction_history_figure, friction_sweep
 def _point():
     m = ContactModel()
     exc = m.excitation(0.65, 360.0)
-    return m, exc, list(find_attractors(m, exc, n_starts=16))
+    return m, exc, list(find_attractors(exc, n_starts=16))
 
 
 def test_sweep_axes_against_velocity():
@@ -32,7 +32,7 @@ def test_sweep_axes_against_velocity():
 
 def test_history_figure_has_the_three_panels():
     m, exc, found = _point()
-    r = friction_at(m, exc, found[3])
+    r = friction_at(exc, found[3])
     h = r.history(500)
     fig = friction_history_figure(h, r, "#3: ")
     axes = fig.axes

@@ -22,9 +22,9 @@ POINTS = [
 def test_friction_ratio_against_scipy(preload, pa, fe, rank, kw):
     m = ContactModel(preload=preload)
     exc = m.excitation(pa, fe)
-    a = list(find_attractors(m, exc, n_starts=32))[rank]
+    a = list(find_attractors(exc, n_starts=32))[rank]
     fm = FrictionModel(**kw)
-    r = friction_at(m, exc, a, fm)
+    r = friction_at(exc, a, friction=fm)
     assert r.settled
     ode = FrictionODE(m, exc.P_a, fe, fm.mu, fm.kt_ratio, fm.kt_law, fm.kd, fm.cd, fm.vd * 1e-3, fm.beta)
     K = a.period / fe

@@ -19,7 +19,7 @@ def paper_360():
     orbit), by A_pp, largest first."""
     m = ContactModel()
     exc = m.excitation(0.65, 360.0)
-    found = find_attractors(m, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     assert len(found) == 5
     return m, exc, list(found)
 
@@ -27,9 +27,9 @@ def paper_360():
 def test_no_normal_vibration_gives_ratio_one():
     m = ContactModel()
     exc = m.excitation(0.0, 360.0)
-    (rest,) = find_attractors(m, exc, n_starts=8, seeds=False)
+    (rest,) = find_attractors(exc, n_starts=8, seeds=False)
     for fm in (FrictionModel(), FrictionModel(kt_law="constant", vd=0.01), FrictionModel(beta=0.6, cd=0.0)):
-        r = friction_at(m, exc, rest, fm)
+        r = friction_at(exc, rest, friction=fm)
         assert r.settled and r.tangential_period == 1
         assert r.friction_ratio == pytest.approx(1.0, abs=1e-12)
         assert r.stick_fraction == 0.0 and r.free_fraction == 0.0 and r.slip_fraction == pytest.approx(1.0)
@@ -42,8 +42,8 @@ def test_small_normal_vibration_keeps_sliding_and_ratio_one():
     ⟨F_t⟩ = μ ⟨R⟩ = μ W exactly."""
     m = ContactModel()
     exc = m.excitation(0.01, 360.0)
-    (a,) = find_attractors(m, exc, n_starts=8, seeds=False)
-    r = friction_at(m, exc, a, FrictionModel(vd=1.0))
+    (a,) = find_attractors(exc, n_starts=8, seeds=False)
+    r = friction_at(exc, a, friction=FrictionModel(vd=1.0))
     assert r.stick_fraction == 0.0 and r.free_fraction == 0.0
     assert r.friction_ratio == pytest.approx(1.0, abs=1e-9)
 
@@ -54,7 +54,7 @@ def test_fast_drive_always_slips_forward(paper_360):
     at touchdown) a stick after each touchdown shrinks as 1/v_d."""
     m, exc, found = paper_360
     for a in found:
-        r = friction_at(m, exc, a, FrictionModel(kt_law="constant", vd=200.0))
+        r = friction_at(exc, a, friction=FrictionModel(kt_law="constant", vd=200.0))
         assert r.stick_fraction < 1e-12  # touchdown: stick (F_t = 0) for an instant, then slip
         assert r.friction_ratio == pytest.approx(r.limit_mean, rel=1e-8)
         if not a.loses_contact:
@@ -62,7 +62,7 @@ def test_fast_drive_always_slips_forward(paper_360):
         else:  # R < 0 just before each separation (the damper pulls): ⟨R⁺⟩ slightly above W
             assert 1.0 < r.limit_mean < 1.001
     a = found[3]  # 1/3 resonance, loses contact
-    runs = [friction_at(m, exc, a, FrictionModel(vd=vd)) for vd in (20.0, 200.0)]
+    runs = [friction_at(exc, a, friction=FrictionModel(vd=vd)) for vd in (20.0, 200.0)]
     assert runs[0].stick_fraction > runs[1].stick_fraction > 0.0
     for r in runs:
         assert r.friction_ratio == pytest.approx(mean_limit(m, exc, a), rel=1e-7)
@@ -82,8 +82,8 @@ def test_hess_soom_harmonic_normal_force(beta):
     a fast drive's friction ratio equals it."""
     m = _linear_model()
     exc = m.excitation(0.3, 700.0)
-    a = next(a for a in find_attractors(m, exc, n_starts=8, seeds=False) if not a.loses_contact)
-    hist = friction_at(m, exc, a, FrictionModel(kt_law="constant", vd=500.0, beta=beta))
+    a = next(a for a in find_attractors(exc, n_starts=8, seeds=False) if not a.loses_contact)
+    hist = friction_at(exc, a, friction=FrictionModel(kt_law="constant", vd=500.0, beta=beta))
     h = hist.history(400)
     rr = h.normal_force_n / m.W
     amp = 0.5 * (rr.max() - rr.min())
@@ -101,7 +101,7 @@ def test_energy_balance(paper_360, kt_law):
     over a period for a constant one), per steady period, to 1e-8."""
     m, exc, found = paper_360
     for a in found:
-        r = friction_at(m, exc, a, FrictionModel(kt_law=kt_law))
+        r = friction_at(exc, a, friction=FrictionModel(kt_law=kt_law))
         assert r.settled
         assert abs(r.energy_residual) < 1e-8
         if kt_law == "constant":
@@ -115,7 +115,7 @@ def test_energy_balance(paper_360, kt_law):
 def test_history_over_one_steady_period(paper_360):
     m, exc, found = paper_360
     a = found[3]
-    r = friction_at(m, exc, a)
+    r = friction_at(exc, a)
     h = r.history(1000)
     n = r.tangential_period * a.period * 1000
     assert h.t_ms.shape == (n,) and np.all(np.isfinite(h.friction_force_n))
@@ -145,11 +145,11 @@ def test_switches_are_located_events(paper_360):
     touchdown → stick → slip (→ stick → slip) → free at each of its three contacts, the same count
     in the samples of its history; the orbit without loss of contact 2 (stick ↔ slip)."""
     m, exc, found = paper_360
-    r = friction_at(m, exc, found[3])
+    r = friction_at(exc, found[3])
     assert r.switches_per_period == 11.0
     h = r.history(200000)  # a stick of 1e-5 of the period before the third separation
     assert int((h.mode[1:] != h.mode[:-1]).sum()) + int(h.mode[0] != h.mode[-1]) == 11
-    r4 = friction_at(m, exc, found[4])
+    r4 = friction_at(exc, found[4])
     assert r4.switches_per_period == 2.0 and r4.free_fraction == 0.0
 
 
@@ -160,7 +160,7 @@ def test_non_periodic_attractor_is_refused(paper_360):
 
     m, exc, found = paper_360
     with pytest.raises(ComputationError, match="non-periodic") as failed:
-        friction_at(m, exc, dataclasses.replace(found[3], period=None))
+        friction_at(exc, dataclasses.replace(found[3], period=None))
     assert failed.value.stage == "friction"
 
 
@@ -174,10 +174,10 @@ def test_table_law_gives_the_power_laws_friction(paper_360):
     m, exc, found = paper_360
     table = ContactModel(law=TableLaw.from_csv(Path(__file__).parents[2] / "examples" / "power_law_table.csv"))
     t_exc = table.excitation(0.65, 360.0)
-    t_found = list(find_attractors(table, t_exc, n_starts=32))
+    t_found = list(find_attractors(t_exc, n_starts=32))
     for a in found[2:]:
         b = min(t_found, key=lambda b: abs(b.app_um - a.app_um))
-        assert friction_at(table, t_exc, b).friction_ratio == pytest.approx(friction_at(m, exc, a).friction_ratio,
+        assert friction_at(t_exc, b).friction_ratio == pytest.approx(friction_at(exc, a).friction_ratio,
                                                                             rel=1e-4)
 
 
@@ -186,11 +186,11 @@ def test_constant_force_without_vibration_sticks_or_slides():
     (F_T − μ W)/c_d, the damper to the ground taking the rest."""
     m = ContactModel()
     exc = m.excitation(0.0, 360.0)
-    (rest,) = find_attractors(m, exc, n_starts=8, seeds=False)
+    (rest,) = find_attractors(exc, n_starts=8, seeds=False)
     mu_w = 0.3 * m.W
-    stuck = friction_at(m, exc, rest, FrictionModel(drive="force", ft=0.5 * mu_w))
+    stuck = friction_at(exc, rest, friction=FrictionModel(drive="force", ft=0.5 * mu_w))
     assert stuck.mean_velocity_mm_s == 0.0 and stuck.stick_fraction == 1.0
-    slide = friction_at(m, exc, rest, FrictionModel(drive="force", ft=1.5 * mu_w))
+    slide = friction_at(exc, rest, friction=FrictionModel(drive="force", ft=1.5 * mu_w))
     assert slide.mean_velocity_mm_s == pytest.approx(0.5 * mu_w / 30.0 * 1e3, rel=1e-9)
     assert slide.friction_ratio == pytest.approx(1.0, abs=1e-9)
 
@@ -201,11 +201,11 @@ def test_constant_force_creep_under_vibration(paper_360):
     m, exc, found = paper_360
     mu_w = 0.3 * m.W
     for a in found[2:]:
-        creep = friction_at(m, exc, a, FrictionModel(drive="force", ft=0.5 * mu_w))
+        creep = friction_at(exc, a, friction=FrictionModel(drive="force", ft=0.5 * mu_w))
         assert creep.settled and creep.mean_velocity_mm_s > 0.01
         assert creep.friction_ratio == pytest.approx(0.5 - 30.0 * creep.mean_velocity_mm_s * 1e-3 / mu_w, rel=1e-6)
         assert abs(creep.energy_residual) < 1e-8
-        fast = friction_at(m, exc, a, FrictionModel(drive="force", ft=1.2 * mu_w, kt_law="constant"))
+        fast = friction_at(exc, a, friction=FrictionModel(drive="force", ft=1.2 * mu_w, kt_law="constant"))
         v = (1.2 * mu_w - mu_w * mean_limit(m, exc, a)) / 30.0 * 1e3
         assert fast.mean_velocity_mm_s == pytest.approx(v, rel=1e-8) and fast.stick_fraction < 1e-12
 
@@ -220,14 +220,14 @@ def test_spring_at_rest_holds_what_the_vibrating_contact_can():
     model = ContactModel()
     fm = FrictionModel(vd=0.0)
     exc = model.excitation(0.2, 360.0)
-    found = {a.contact_loss_fraction > 0.5: a for a in find_attractors(model, exc, n_starts=64)}
-    held = friction_at(model, exc, found[False], fm)
+    found = {a.contact_loss_fraction > 0.5: a for a in find_attractors(exc, n_starts=64)}
+    held = friction_at(exc, found[False], friction=fm)
     assert held.settled and held.friction_ratio == pytest.approx(0.784686, abs=1e-5)
     assert abs(held.mean_velocity_mm_s) < 1e-9 and math.isnan(held.energy_residual)
-    flying = friction_at(model, exc, found[True], fm)
+    flying = friction_at(exc, found[True], friction=fm)
     assert flying.settled and abs(flying.friction_ratio) < 1e-6
     tiny = model.excitation(0.01, 360.0)
-    small = friction_at(model, tiny, find_attractors(model, tiny, n_starts=8)[0], fm)
+    small = friction_at(tiny, find_attractors(tiny, n_starts=8)[0], friction=fm)
     assert 0.97 < small.friction_ratio <= 1.0
 
 
@@ -244,12 +244,12 @@ def test_the_tangential_transient_stops_on_its_flag():
 
     model = ContactModel()
     exc = model.excitation(0.65, 360.0)
-    a = find_attractors(model, exc, n_starts=8)[0]
+    a = find_attractors(exc, n_starts=8)[0]
     with stop_scope(np.ones(1, np.int64)), pytest.raises(KeyboardInterrupt):
-        friction_at(model, exc, a, FrictionModel())
+        friction_at(exc, a, friction=FrictionModel())
     fm = FrictionModel(vd=0.0, cd=1e-3)  # a slow creep: thousands of periods
     threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
     t = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        friction_at(model, exc, a, fm, max_periods=10**6)
+        friction_at(exc, a, friction=fm, max_periods=10**6)
     assert time.perf_counter() - t < 5.0

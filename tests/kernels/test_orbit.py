@@ -135,7 +135,7 @@ def test_tracer_continuation_and_describe_orbit_measure_alike(o):
     assert (rows.xmin[0], rows.xmax[0], rows.flight[0], rows.n_min[0]) == (xmin, xmax, flight,
                                                                           n_min)
     exc = MODEL.excitation(o["pa_over_q"], o["f_e"])
-    att = describe_orbit(MODEL, exc, z, k, M)
+    att = describe_orbit(exc, z, k, monodromy=M)
     y_um = MODEL.y0 * 1e6
     assert att.ymin_um == xmin * y_um and att.ymax_um == xmax * y_um
     assert att.contact_loss_fraction == flight and att.minima_per_period == n_min

@@ -60,8 +60,7 @@ def test_undamped_bounce_period_matches_the_closed_form():
     assert len(flights) >= 15
     np.testing.assert_allclose(np.diff(flights), T, rtol=1e-10)
     # contactvib: the contact losses where y crosses the engagement point y = gap downwards
-    h = simulate(m, exc, y_um=GAP_UM + (m.y0 + A) * 1e6, ydot_mm_s=0.0, n_periods=4,
-                 samples_per_period=20000, rtol=1e-12)
+    h = simulate(exc, y_um=GAP_UM + (m.y0 + A) * 1e6, ydot_mm_s=0.0, n_periods=4, samples_per_period=20000, rtol=1e-12)
     d = h.y_um - GAP_UM
     i = np.flatnonzero((d[:-1] > 0.0) & (d[1:] <= 0.0))
     t = (h.t_ms[i] + (h.t_ms[i + 1] - h.t_ms[i]) * d[i] / (d[i] - d[i + 1])) * 1e-3
@@ -76,8 +75,8 @@ def test_undamped_bounce_period_matches_the_closed_form():
 def test_forced_attractors_are_the_shifted_power_law_and_periodic_under_scipy():
     clear = ContactModel(law="clearance", law_params={"c_lin": C_LIN, "gap_um": GAP_UM})
     power = ContactModel(c_n=C_LIN, m2=1.0)
-    a = find_attractors(clear, clear.excitation(0.65, 360.0))
-    b = find_attractors(power, power.excitation(0.65, 360.0))
+    a = find_attractors(clear.excitation(0.65, 360.0))
+    b = find_attractors(power.excitation(0.65, 360.0))
     assert len(a) == len(b) >= 3
     for x, y in zip(a, b):
         assert (x.period, x.minima_per_period) == (y.period, y.minima_per_period)

@@ -149,10 +149,10 @@ def test_hb_perturbation_and_flow_agree_with_scipy(m2, l):
     model = _model(m2, l)
     exc = model.excitation(0.1, 0.7 * model.f_n0)
     r = exc.r
-    sol = hb_solve(model, exc, harmonics=24, stability=False)
+    sol = hb_solve(exc, harmonics=24, stability=False)
     assert sol.residual < 1e-11 and not sol.loses_contact
     z_hb = _hb_point(sol, r)
-    pert = perturbation_series(model, exc, terms=30, summation="plain")
+    pert = perturbation_series(exc, terms=30, summation="plain")
     assert pert.valid
     z_ps = pert.state
     assert np.allclose(z_ps, z_hb, rtol=0.0, atol=1e-9)

@@ -29,9 +29,9 @@ def model():
 def main_resonance(model):
     """The main resonance at 360 Hz, 0.65 Q (loses contact) and its history."""
     exc = model.excitation(0.65, 360.0)
-    found = find_attractors(model, exc, n_starts=64)
+    found = find_attractors(exc, n_starts=64)
     att = max((a for a in found if a.period == 1), key=lambda a: a.app_um)
-    return att, attractor_history(model, exc, att)
+    return att, attractor_history(exc, att)
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +40,7 @@ def level(model):
     from contactvib import resonance_dataset
 
     st = SweepSettings(fmin_hz=300.0, fmax_hz=420.0, df_hz=4.0, multistart_per_octave=4.0)
-    return resonance_dataset(model, [0.65], st, workers=1, progress=False)
+    return resonance_dataset(model, levels=[0.65], settings=st, workers=1, progress=False)
 
 
 def _axes():
@@ -161,8 +161,8 @@ def test_branches_stable_solid_unstable_dashed(model):
     from contactvib.continuation.shooting import ContinuationSettings
 
     exc = model.excitation(0.65, 1100.0)
-    att = [a for a in find_attractors(model, exc, n_starts=32) if a.period == 1][0]
-    b = continue_orbit(model, exc, att.state, 1, direction="down",
+    att = [a for a in find_attractors(exc, n_starts=32) if a.period == 1][0]
+    b = continue_orbit(exc, att.state, 1, direction="down",
                        settings=ContinuationSettings(fmin_hz=900.0, fmax_hz=1100.0, max_points=80))
     ax = plot_branches([b], _axes())
     styles = {ln.get_linestyle() for ln in ax.lines if len(ln.get_xdata()) > 1}

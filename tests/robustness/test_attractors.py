@@ -46,7 +46,7 @@ def _signature(result):
 def _quiet_search(exc, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnsettledWarning)
-        return find_attractors(MODEL, exc, **kw)
+        return find_attractors(exc, **kw)
 
 
 # --- the issue's operating points against a 20,000-period integration -----------------------
@@ -57,7 +57,7 @@ def test_default_search_reports_only_what_20000_periods_confirm(fe):
     10000 Hz: the period-1 orbit over the whole box (22 spurious groups and the real one missed
     before, with a fixed 400-period limit)."""
     exc = MODEL.excitation(0.65, fe)
-    long = find_attractors(MODEL, exc, max_periods=20000)
+    long = find_attractors(exc, max_periods=20000)
     assert long.n_unsettled == 0 and long.n_failed == 0
     assert all(a.period is not None for a in long)
     default = _quiet_search(exc)
@@ -75,7 +75,7 @@ def test_default_search_reports_only_what_20000_periods_confirm(fe):
 def test_too_short_a_limit_reports_unsettled_not_attractors():
     exc = MODEL.excitation(0.65, 10000.0)
     with pytest.warns(UnsettledWarning, match=r"did not settle within 400 periods.*--max-periods"):
-        res = find_attractors(MODEL, exc, max_periods=400)
+        res = find_attractors(exc, max_periods=400)
     assert len(res) == 0
     assert res.n_unsettled == res.n_box + res.n_seeds
     assert res.unsettled_fraction == 1.0
@@ -159,7 +159,7 @@ def test_transient_periods_is_twice_the_decay_time_of_the_orbit():
 def test_work_beyond_reach_is_refused_naming_f_n0():
     stiff = ContactModel(m2=1.0)  # f_n0 = 2.2 MHz with the paper's c_n
     with pytest.raises(ParameterError, match=r"f_n0 = 2\.21198e\+06 Hz") as e:
-        find_attractors(stiff, stiff.excitation(0.65, 360.0))
+        find_attractors(stiff.excitation(0.65, 360.0))
     assert e.value.symbol == "f_e"
     exc = MODEL.excitation(0.65, 360.0)
     assert check_work(exc, 536, 400) < WORK_MAX_STEPS
@@ -296,7 +296,7 @@ def test_sigint_while_the_commands_load_is_one_line():
 def test_undamped_model_is_refused_for_attractors_but_simulates(capsys, tmp_path):
     undamped = MODEL.replace(h_n=0.0)
     with pytest.raises(ParameterError, match="conservative") as e:
-        find_attractors(undamped, undamped.excitation(0.65, 360.0))
+        find_attractors(undamped.excitation(0.65, 360.0))
     assert e.value.symbol == "h_n"
     for argv in (["attractors", "--set", "h_n=0"],
                  ["resonance", "--set", "h_n=0", "--pa", "0.5", "--out", str(tmp_path / "r")]):
@@ -321,7 +321,7 @@ def test_rows_never_contradict_themselves_even_far_from_rest():
     x0, v0 = -2.0e6, -200.0
     rest = MODEL.excitation(0.0, 360.0)  # no harmonic force: gravity alone in flight
     span = 32 * rest.tau_period
-    a = describe_orbit(MODEL, rest, np.array([x0, v0]), None)
+    a = describe_orbit(rest, np.array([x0, v0]), None)
     m2 = MODEL.m2
     apex = x0 - m2 * v0 ** 2 / 2
     end = x0 + v0 * span + span ** 2 / (2 * m2)

@@ -364,7 +364,7 @@ def test_simulation_start_accepts_or_names_the_parameter(y, ydot, n, samples):
 
 
 @API
-@given(kw=st.dictionaries(st.sampled_from(["ds", "ds_min", "ds_max", "df_max", "max_points", "energy_tol", "tol"]),
+@given(kw=st.dictionaries(st.sampled_from(["ds", "ds_min", "ds_max", "df_max_hz", "max_points", "energy_tol", "tol"]),
                           SETTING, max_size=4))
 def test_harmonic_balance_settings_accept_or_name_the_parameter(kw):
     from contactvib.frequency.harmonic_balance import HBSettings
@@ -404,15 +404,16 @@ def _api_calls():
     model = ContactModel()
     exc = model.excitation(0.65, 360)
     return {  # values that raised TypeError, ValueError, ZeroDivisionError or AttributeError
-        "simulate rtol text": (lambda: simulate(model, exc, rtol="a"), "rtol"),
-        "simulate rtol 0": (lambda: simulate(model, exc, rtol=0), "rtol"),
-        "hb_solve start text": (lambda: hb_solve(model, exc, 4, start="abc"), "start"),
-        "hb_solve start nan": (lambda: hb_solve(model, exc, 4, start=[np.nan, 0.0]), "start"),
-        "hb_solve tol text": (lambda: hb_solve(model, exc, 4, tol="x"), "tol"),
-        "hb_solve max_iter text": (lambda: hb_solve(model, exc, 4, max_iter="x"), "max_iter"),
-        "hb_continuation settings": (lambda: hb_continuation(model, 0.65, 300, 400, settings="x"), "settings"),
-        "continue_orbit state text": (lambda: continue_orbit(model, exc, "ab", 1), "state"),
-        "continue_orbit settings": (lambda: continue_orbit(model, exc, [1.0, 0.0], 1, settings="x"), "settings"),
+        "simulate rtol text": (lambda: simulate(exc, rtol="a"), "rtol"),
+        "simulate rtol 0": (lambda: simulate(exc, rtol=0), "rtol"),
+        "hb_solve start text": (lambda: hb_solve(exc, harmonics=4, start="abc"), "start"),
+        "hb_solve start nan": (lambda: hb_solve(exc, harmonics=4, start=[np.nan, 0.0]), "start"),
+        "hb_solve tol text": (lambda: hb_solve(exc, harmonics=4, tol="x"), "tol"),
+        "hb_solve max_iter text": (lambda: hb_solve(exc, harmonics=4, max_iter="x"), "max_iter"),
+        "hb_continuation settings": (lambda: hb_continuation(model, pa_over_q=0.65, fmin_hz=300, fmax_hz=400,
+                                                             settings="x"), "settings"),
+        "continue_orbit state text": (lambda: continue_orbit(exc, "ab", 1), "state"),
+        "continue_orbit settings": (lambda: continue_orbit(exc, [1.0, 0.0], 1, settings="x"), "settings"),
     }
 
 

@@ -79,7 +79,7 @@ def reference(tmp_path_factory):
     from contactvib.sweeps.sweep import SweepSettings
 
     out = tmp_path_factory.mktemp("reference")
-    resonance_dataset(ContactModel(), LEVELS, SweepSettings(**GRID), out=out, workers=1, progress=False)
+    resonance_dataset(ContactModel(), levels=LEVELS, settings=SweepSettings(**GRID), out=out, workers=1, progress=False)
     return xr.load_dataset(out / "resonance.nc")
 
 
@@ -198,7 +198,7 @@ def test_library_interrupted_keeps_finished_levels_and_releases_lock(tmp_path):
             os.kill(os.getpid(), signal.SIGINT)
 
     with pytest.raises(Interrupted) as e:
-        resonance_dataset(ContactModel(), LEVELS, SweepSettings(**GRID), out=tmp_path, workers=1,
+        resonance_dataset(ContactModel(), levels=LEVELS, settings=SweepSettings(**GRID), out=tmp_path, workers=1,
                           progress=False, on_level=first_level_done, level_results={})
     assert isinstance(e.value, KeyboardInterrupt)
     assert e.value.chunks == tmp_path / ".chunks"
@@ -235,7 +235,7 @@ def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
     st = SweepSettings(fmin_hz=300.0, fmax_hz=340.0, df_hz=20.0, multistart_per_octave=40.0,
                        multistart_starts=600)
     with pytest.raises(Interrupted) as e:
-        resonance_dataset(ContactModel(), [0.9], st, workers=1, progress=False)
+        resonance_dataset(ContactModel(), levels=[0.9], settings=st, workers=1, progress=False)
     t_end = time.monotonic()
     assert e.value.chunks is None and str(e.value) == "interrupted"
     # raised as the first call returned, or (numba was on the stack) at the next check after it

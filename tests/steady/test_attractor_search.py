@@ -30,8 +30,8 @@ def _key(a):
 @pytest.mark.parametrize("pa,fe", [(0.65, 360.0), (0.85, 234.0)])
 def test_capture_finds_the_same_attractors_and_basins(pa, fe):
     exc = MODEL.excitation(pa, fe)
-    full = find_attractors(MODEL, exc, n_starts=256, capture_tol=0.0)
-    fast = find_attractors(MODEL, exc, n_starts=256)
+    full = find_attractors(exc, n_starts=256, capture_tol=0.0)
+    fast = find_attractors(exc, n_starts=256)
     assert fast.settings["capture_tol"] > 0 and fast.settings["first_wave"] == 64
     assert sorted(_key(a) for a in fast) == sorted(_key(a) for a in full)
     basin_full = {_key(a): a.basin_fraction for a in full}
@@ -43,7 +43,7 @@ def test_capture_finds_the_same_attractors_and_basins(pa, fe):
 @pytest.mark.parametrize("bad", [-1e-3, 0.5, float("nan")])
 def test_capture_tol_out_of_range_is_refused(bad):
     with pytest.raises(ParameterError, match="capture_tol"):
-        find_attractors(MODEL, MODEL.excitation(0.65, 360.0), capture_tol=bad)
+        find_attractors(MODEL.excitation(0.65, 360.0), capture_tol=bad)
 
 
 def _orbit(f_e, z):

@@ -19,7 +19,7 @@ REFERENCE = json.loads((Path(__file__).parents[1] / "data" / "reference.json").r
 
 @cache
 def attractors(pa_over_q, f_e):
-    return find_attractors(MODEL, MODEL.excitation(pa_over_q, f_e))
+    return find_attractors(MODEL.excitation(pa_over_q, f_e))
 
 
 def periodic(pa_over_q, f_e, period=None, minima=None):

@@ -31,7 +31,7 @@ def exc(model):
 @pytest.fixture(scope="module")
 def bmap(model, exc):
     """The paper's Fig. 4 point on a 40 × 40 grid over the search's box."""
-    return basins(model, exc, grid=GRID)
+    return basins(exc, grid=GRID)
 
 
 def test_fractions_agree_with_the_search(bmap):
@@ -77,7 +77,7 @@ def test_row_blocks_are_independent(bmap, model, exc):
     joined = merge_blocks(model, exc, bmap.search, grid, box, blocks)
     np.testing.assert_array_equal(joined.labels, bmap.labels)
     assert [r["fraction"] for r in joined.fractions()] == [r["fraction"] for r in bmap.fractions()]
-    again = basins(model, exc, grid=GRID, block_starts=7 * GRID[0])  # 6 blocks of 7 rows
+    again = basins(exc, grid=GRID, block_starts=7 * GRID[0])  # 6 blocks of 7 rows
     np.testing.assert_array_equal(again.labels, bmap.labels)
     with pytest.raises(ValueError, match="do not cover"):
         merge_blocks(model, exc, bmap.search, grid, box, blocks[:1])
@@ -93,7 +93,7 @@ def test_row_blocks_are_independent(bmap, model, exc):
 def test_library_refuses_bad_input(model, exc, kwargs, symbol):
     t = time.perf_counter()
     with pytest.raises(ParameterError) as e:
-        basins(model, exc, **kwargs)
+        basins(exc, **kwargs)
     assert e.value.symbol == symbol
     assert time.perf_counter() - t < 2.0  # refused before any computation
 
@@ -197,7 +197,7 @@ def test_readme_basins_output_is_the_commands_output(capsys, tmp_path, monkeypat
 def test_a_chaotic_attractor_is_matched_by_its_cloud(model):
     """0.90 Q, 242 Hz: the 1/5's chaotic attractor (README) is one label; the grid's chaotic
     starts join it by cloud overlap instead of making new labels."""
-    b = basins(model, model.excitation(0.9, 242.0), grid=(16, 16), n_starts=128)
+    b = basins(model.excitation(0.9, 242.0), grid=(16, 16), n_starts=128)
     chaotic = [i for i, a in enumerate(b.attractors) if a.kind == "chaotic"]
     assert len(chaotic) == 1 and chaotic[0] < b.n_known
     assert b.fraction(chaotic[0])[0] > 0.01

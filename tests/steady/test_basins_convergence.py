@@ -32,7 +32,7 @@ def maps():
     exc = model.excitation(0.65, 360.0)
     out = {}
     for n in (100, 200):
-        b = basins(model, exc, grid=(n, n))
+        b = basins(exc, grid=(n, n))
         out[n] = {r["label"]: (r["period"], r["fraction"], r["stderr"]) for r in b.fractions()}
         search = b.search
     out[400] = _readme_400()

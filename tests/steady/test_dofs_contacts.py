@@ -22,7 +22,7 @@ MEAN_FORCE_RTOL = 1e-6
 def paper_point():
     model = ContactModel()
     exc = model.excitation(0.65, 360.0)
-    return model, exc, find_attractors(model, exc, n_starts=256)
+    return model, exc, find_attractors(exc, n_starts=256)
 
 
 def test_mean_contact_force_of_every_periodic_attractor_is_q(paper_point):
@@ -60,7 +60,7 @@ def test_h1_is_the_fft_amplitude_at_fe(paper_point):
     for a in result:
         k = a.period
         spp = 1024
-        hist = attractor_history(model, exc, a, n_periods=k, samples_per_period=spp)
+        hist = attractor_history(exc, a, n_periods=k, samples_per_period=spp)
         y = hist.y_um[:-1]  # k whole periods, the endpoint left out
         amp = 2.0 * np.abs(np.fft.rfft(y)[k]) / y.size
         assert a.to_dict()["dofs"][0]["h1"] == pytest.approx(amp, rel=1e-6, abs=1e-9 * a.app_um), k
@@ -72,7 +72,7 @@ def test_mean_contact_force_against_eq_2_3_on_samples(paper_point):
     model, exc, result = paper_point
     for a in result:
         spp = 4000
-        hist = attractor_history(model, exc, a, n_periods=a.period, samples_per_period=spp)
+        hist = attractor_history(exc, a, n_periods=a.period, samples_per_period=spp)
         y, ydot = hist.y_um[:-1] * 1e-6, hist.ydot_mm_s[:-1] * 1e-3
         f = np.where(y > 0, model.S * model.c_n * np.abs(y) ** model.m2
                      + model.S * model.h_n * np.abs(y) ** model.l * ydot, 0.0)
@@ -84,7 +84,7 @@ def test_mean_contact_force_with_a_preload_is_w():
     periodic orbit (the force is evaluated by the compiled law of the model's family)."""
     model = ContactModel(preload=2.0 * ContactModel().Q)
     exc = model.excitation(0.5, 500.0)
-    result = find_attractors(model, exc, n_starts=32)
+    result = find_attractors(exc, n_starts=32)
     periodic = [a for a in result if a.period is not None]
     assert periodic
     for a in periodic:

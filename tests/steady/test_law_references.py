@@ -85,7 +85,7 @@ def searched(tmp_path_factory):
     for name, (m, exc) in cases.items():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UnsettledWarning)  # the exponential law's slow bouncers
-            res = find_attractors(m, exc, n_starts=16, seed=0)
+            res = find_attractors(exc, n_starts=16, seed=0)
         periodic = [a for a in res if a.period is not None]
         assert periodic, name
         out[name] = (m, exc, periodic)
@@ -161,7 +161,7 @@ def test_mean_contact_force_is_the_static_load(searched, name):
         kT = a.period / exc.f_e
         tr = _reference(m, exc, a)
         assert tr.impulse / kT == pytest.approx(W, rel=1e-9)
-        h = attractor_history(m, exc, a, n_periods=a.period, samples_per_period=20000)
+        h = attractor_history(exc, a, n_periods=a.period, samples_per_period=20000)
         y, v, t = h.y_um * 1e-6, h.ydot_mm_s * 1e-3, h.t_ms * 1e-3
         Fs = -m.spring_force(y)  # the package's compiled spring force (0 in flight)
         rate = m.S * m.h_n * np.maximum(y, 0.0) ** m.l if m.damping == "power" else m.alpha * Fs
@@ -214,8 +214,8 @@ def test_base_motion_equals_its_inertial_force(law, f_e, u_um):
     assert base.P_a == pytest.approx(m.M * u_um * 1e-6 * (2.0 * math.pi * f_e) ** 2, rel=1e-14)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnsettledWarning)
-        res_b = find_attractors(m, base, n_starts=16)
-        res_f = find_attractors(m, m.excitation(pa, f_e), n_starts=16)
+        res_b = find_attractors(base, n_starts=16)
+        res_f = find_attractors(m.excitation(pa, f_e), n_starts=16)
     _same_sets(res_b, res_f, 1e-9)
 
 
@@ -228,8 +228,8 @@ def test_base_acceleration_equals_its_inertial_force(law, f_e, a_g):
     assert base.pa_over_q == pytest.approx(pa, rel=1e-14)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnsettledWarning)
-        res_b = find_attractors(m, base, n_starts=16)
-        res_f = find_attractors(m, m.excitation(pa, f_e), n_starts=16)
+        res_b = find_attractors(base, n_starts=16)
+        res_f = find_attractors(m.excitation(pa, f_e), n_starts=16)
     _same_sets(res_b, res_f, 1e-9)
 
 
@@ -247,7 +247,7 @@ def _power_table(n=1000, y_max=4e-6):
 @pytest.fixture(scope="module")
 def readme_power():
     exc = PAPER.excitation(0.65, 360.0)
-    res = find_attractors(PAPER, exc, n_starts=64, seed=0)
+    res = find_attractors(exc, n_starts=64, seed=0)
     assert [(a.period, a.minima_per_period) for a in res] == [(k, n) for k, n, _ in README_ORBITS]
     return res
 
@@ -263,7 +263,7 @@ def test_table_refines_the_readme_orbits(readme_power):
     for a, (k, n_min, app) in zip(readme_power, README_ORBITS):
         z, M, closure = refine_orbit(exc, a.state, a.period)
         assert closure <= 1e-10
-        b = describe_orbit(mt, exc, z, a.period, M, closure)
+        b = describe_orbit(exc, z, a.period, monodromy=M, closure=closure)
         assert (b.period, b.minima_per_period) == (k, n_min)
         assert b.app_um == pytest.approx(app, rel=1e-3)
         assert b.app_um == pytest.approx(a.app_um, rel=1e-5)
@@ -277,7 +277,7 @@ def test_table_search_finds_the_readme_attractors():
     42.19, 19.92, 4.69, 28.32 % (a few of the 512 starts lie on basin boundaries: observed
     differences up to 1 %)."""
     mt = ContactModel(law=_power_table())
-    res = find_attractors(mt, mt.excitation(0.65, 360.0), n_starts=512, seed=0)
+    res = find_attractors(mt.excitation(0.65, 360.0), n_starts=512, seed=0)
     assert res.n_unsettled == 0 and res.n_failed == 0
     assert [(a.period, a.minima_per_period) for a in res] == [(k, n) for k, n, _ in README_ORBITS]
     for a, (_k, _n, app) in zip(res, README_ORBITS):
@@ -292,8 +292,8 @@ def test_motion_beyond_the_table_is_refused():
 
     mt = ContactModel(law=_power_table(200, y_max=0.6e-6))
     exc = mt.excitation(0.3, 1200.0)
-    h = simulate(mt, exc, y_um=0.5, n_periods=5)
+    h = simulate(exc, y_um=0.5, n_periods=5)
     assert h.y_um.max() < 0.6
     with pytest.raises(ParameterError, match="beyond the table's last row") as e:
-        simulate(mt, exc, y_um=0.7, n_periods=5)
+        simulate(exc, y_um=0.7, n_periods=5)
     assert e.value.symbol == "law_file"

@@ -19,7 +19,7 @@ def _search(pa, fe):
     exc = MODEL.excitation(pa, fe)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnsettledWarning)
-        return exc, find_attractors(MODEL, exc)
+        return exc, find_attractors(exc)
 
 
 def test_periodic_lyapunov_equals_floquet_per_period():

@@ -44,7 +44,7 @@ def test_period_is_minimal_and_kmax_bounds_it():
     Lyapunov exponent negative): its starts are unsettled, with a warning naming --kmax; it is
     never listed as a multiple or fraction of its period."""
     exc = MODEL.excitation(0.70, 470.0)
-    full = find_attractors(MODEL, exc, n_starts=256)
+    full = find_attractors(exc, n_starts=256)
     p2 = [a for a in full if a.period == 2 and a.minima_per_period == 4]
     assert len(p2) == 1
     for a in full:  # no attractor is listed at a multiple of its true period
@@ -55,7 +55,7 @@ def test_period_is_minimal_and_kmax_bounds_it():
                 if a.period % d == 0:
                     assert np.max(np.abs(pts[d] - pts[0])) > 1e-6 * scale
     with pytest.warns(UnsettledWarning, match="--kmax"):
-        only1 = find_attractors(MODEL, exc, n_starts=256, kmax=1, max_periods=200)
+        only1 = find_attractors(exc, n_starts=256, kmax=1, max_periods=200)
     assert not [a for a in only1 if a.period is None]
     assert only1.n_unsettled > 0
     longer = sum(a.basin_fraction for a in full if a.period != 1)  # their basins, unsettled now

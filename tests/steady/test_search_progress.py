@@ -63,10 +63,10 @@ def test_duration_text():
 def test_a_chunked_search_finds_what_one_call_finds(monkeypatch, long):
     """Above LONG_SEARCH_S the starts run in chunks, each reported: the same attractors."""
     exc = ContactModel().excitation(0.65, 360.0)
-    plain = find_attractors(exc.model, exc, n_starts=64)
+    plain = find_attractors(exc, n_starts=64)
     calls = []
     monkeypatch.setattr(search, "LONG_SEARCH_S", 0.0 if long else 1e9)
-    chunked = find_attractors(exc.model, exc, n_starts=64, progress=lambda d, t: calls.append((d, t)))
+    chunked = find_attractors(exc, n_starts=64, progress=lambda d, t: calls.append((d, t)))
     assert chunked.to_json() == plain.to_json()
     n = 64 + chunked.n_seeds
     assert calls[0] == (0, n) and calls[-1] == (n, n)

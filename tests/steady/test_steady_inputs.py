@@ -20,13 +20,18 @@ def test_simulate_is_the_function():
 
 
 def test_excitation_of_another_model_is_refused():
+    """The deprecated form find_attractors(model, excitation) refuses an excitation of another
+    model; the new form takes the model from the excitation."""
     other = MODEL.replace(M=0.3)
-    with pytest.raises(ParameterError) as e:
+    with pytest.raises(ParameterError) as e, pytest.warns(DeprecationWarning):
         find_attractors(MODEL, other.excitation(0.65, 360.0), n_starts=4)
     assert e.value.symbol == "excitation" and "another model" in e.value.allowed
     assert "M" in e.value.allowed
     # an equal model (same parameters) is the same model
-    find_attractors(MODEL, ContactModel().excitation(0.65, 1930.0), n_starts=4, seeds=False)
+    with pytest.warns(DeprecationWarning):
+        find_attractors(MODEL, ContactModel().excitation(0.65, 1930.0), n_starts=4, seeds=False)
+    with pytest.raises(ParameterError, match="must be an Excitation"):
+        find_attractors("x")
 
 
 @pytest.mark.parametrize("kw, symbol", [({"n_starts": 16.7}, "n_starts"), ({"kmax": 2.5}, "kmax"),
@@ -35,7 +40,7 @@ def test_excitation_of_another_model_is_refused():
                                         ({"capture_tol": 0.2}, "capture_tol")])
 def test_search_counts_must_be_integers(kw, symbol):
     with pytest.raises(ParameterError) as e:
-        find_attractors(MODEL, MODEL.excitation(0.65, 360.0), **kw)
+        find_attractors(MODEL.excitation(0.65, 360.0), **kw)
     assert e.value.symbol == symbol
 
 
@@ -43,7 +48,7 @@ def test_simulate_counts_must_be_integers():
     from contactvib import simulate
 
     with pytest.raises(ParameterError, match="n_periods"):
-        simulate(MODEL, MODEL.excitation(0.5, 360.0), n_periods=2.5)
+        simulate(MODEL.excitation(0.5, 360.0), n_periods=2.5)
 
 
 def test_stability_rule():
@@ -56,7 +61,7 @@ def test_stability_rule():
 
 def test_attractors_found_are_stable():
     """The search keeps only orbits the stability rule calls stable."""
-    res = find_attractors(MODEL, MODEL.excitation(0.65, 1930.0), n_starts=32)
+    res = find_attractors(MODEL.excitation(0.65, 1930.0), n_starts=32)
     mus = [a.floquet_abs_max for a in res if a.period is not None]
     assert mus and all(is_stable(mu) for mu in mus)
 

@@ -44,8 +44,8 @@ def test_dask_workers_report_points_done_while_running():
 
 def test_bar_counts_points_and_levels(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr("contactvib.sweeps.backends.kernel_cache_cold", lambda: False)
-    resonance_dataset(ContactModel(), list(LEVELS), ST, out=tmp_path, name="atlas", backend=LocalPool(1),
-                      progress=True)
+    resonance_dataset(ContactModel(), levels=list(LEVELS), settings=ST, out=tmp_path, name="atlas",
+                      backend=LocalPool(1), progress=True)
     err = capsys.readouterr().err
     n = frequency_grid(ST).size
     assert "2/2 levels" in err and f"{2 * n}/{2 * n} f_e points" in err

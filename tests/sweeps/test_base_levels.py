@@ -29,7 +29,7 @@ GRID = dict(fmin_hz=600.0, fmax_hz=2000.0, df_hz=20.0, multistart_per_octave=2.0
 
 @pytest.fixture(scope="module")
 def base_sweep():
-    return resonance_dataset(PAPER, [U_UM], SweepSettings(**GRID, excitation="base-um"), workers=1,
+    return resonance_dataset(PAPER, levels=[U_UM], settings=SweepSettings(**GRID, excitation="base-um"), workers=1,
                              progress=False)
 
 
@@ -76,15 +76,16 @@ def test_points_close_under_the_scipy_reference(base_sweep):
 
 def test_resume_refuses_a_force_chunk(tmp_path):
     small = dict(GRID, fmin_hz=1000.0, fmax_hz=1200.0, multistart_per_octave=0.0)
-    resonance_dataset(PAPER, [U_UM], SweepSettings(**small), out=tmp_path, workers=1, progress=False)
+    resonance_dataset(PAPER, levels=[U_UM], settings=SweepSettings(**small), out=tmp_path, workers=1, progress=False)
     with pytest.raises(ResumeMismatch, match="excitation"):
-        resonance_dataset(PAPER, [U_UM], SweepSettings(**small, excitation="base-um"), out=tmp_path,
+        resonance_dataset(PAPER, levels=[U_UM], settings=SweepSettings(**small, excitation="base-um"), out=tmp_path,
                           resume=True, workers=1, progress=False)
 
 
 def test_too_strong_base_level_is_refused_before_computing():
     with pytest.raises(ParameterError, match="U"):
-        resonance_dataset(PAPER, [200.0], SweepSettings(**GRID, excitation="base-um"), workers=1, progress=False)
+        resonance_dataset(PAPER, levels=[200.0], settings=SweepSettings(**GRID, excitation="base-um"), workers=1,
+                          progress=False)
 
 
 def test_level_text():
@@ -130,7 +131,7 @@ def base_branches():
     from contactvib.continuation.shooting import ContinuationSettings
 
     s = ContinuationSettings(fmin_hz=900.0, fmax_hz=1600.0, excitation="base-um", max_points=300)
-    return continue_attractors(PAPER, U_UM, 1200.0, None, s)
+    return continue_attractors(PAPER, pa_over_q=U_UM, fe_hz=1200.0, attractor=None, settings=s)
 
 
 def test_branch_points_close_under_the_scipy_reference(base_branches):
@@ -176,7 +177,8 @@ def test_branches_pass_through_the_sweep(base_branches, base_sweep):
 def test_cli_continuation_refuses_base_in_pa_and_a_force_dataset(tmp_path, base_sweep):
     r = _cli("continue", "--excitation", "base-um", "--pa", "0.05", "--parameter", "pa", "--out", str(tmp_path / "c"))
     assert r.returncode == 2 and "--parameter pa" in r.stderr and len(r.stderr.strip().splitlines()) == 1
-    force = resonance_dataset(PAPER, [0.05], SweepSettings(**dict(GRID, fmin_hz=1000.0, fmax_hz=1100.0,
+    force = resonance_dataset(PAPER, levels=[0.05],
+                              settings=SweepSettings(**dict(GRID, fmin_hz=1000.0, fmax_hz=1100.0,
                                                                    multistart_per_octave=0.0)),
                               out=tmp_path / "f", workers=1, progress=False)
     assert force.attrs.get("excitation") is None
@@ -226,7 +228,7 @@ def test_slider_absolute_motion_against_scipy(kw):
     exc = Excitation.base(PAPER, f, **kw)
     U = kw.get("u_um", kw.get("a_g", 0.0) * 9.80665 / (2 * math.pi * f) ** 2 * 1e6)
     assert exc.base_amplitude_um == pytest.approx(U, rel=1e-14)
-    res = find_attractors(PAPER, exc, n_starts=16)
+    res = find_attractors(exc, n_starts=16)
     periodic = [a for a in res if a.period is not None]
     assert len(periodic) >= 2
     sy, sv = PAPER.y0, PAPER.y0 * PAPER.omega_n0
@@ -237,10 +239,10 @@ def test_slider_absolute_motion_against_scipy(kw):
         s = tr.sample(t)[0] * 1e6 + U * np.cos(2 * math.pi * f * t)
         assert a.slider_app_um == pytest.approx(s.max() - s.min(), rel=1e-5)
         assert a.to_dict()["slider_app_um"] == a.slider_app_um
-        h = attractor_history(PAPER, exc, a)
+        h = attractor_history(exc, a)
         np.testing.assert_allclose(h.slider_um, h.y_um + U * np.cos(2 * math.pi * f * h.t_ms * 1e-3),
                                    rtol=0, atol=1e-12)
-    force = find_attractors(PAPER, PAPER.excitation(0.3, f), n_starts=8)
+    force = find_attractors(PAPER.excitation(0.3, f), n_starts=8)
     assert all(a.slider_app_um is None and "slider_app_um" not in a.to_dict() for a in force)
 
 

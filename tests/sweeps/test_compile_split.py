@@ -60,7 +60,7 @@ def test_warm_up_compiles_only_what_a_level_uses(tmp_path):
         m = ContactModel()
         st = dataclasses.replace(SweepSettings(), fmin_hz=100.0, fmax_hz=130.0, df_hz=1.0)
         compile_late_kernels_first(m, st)
-        level_dataset(m, trace_level(m, 0.9, st), dataclasses.asdict(st))
+        level_dataset(m, trace_level(m, pa_over_q=0.9, settings=st), dataclasses.asdict(st))
         for info in pkgutil.iter_modules(K.__path__):
             mod = importlib.import_module("contactvib._kernels." + info.name)
             for name, obj in vars(mod).items():

@@ -18,7 +18,7 @@ REDUCED = dict(fmin_hz=540.0, fmax_hz=820.0, df_hz=4.0)
 
 @pytest.fixture(scope="module")
 def level():
-    return trace_level(ContactModel(), 0.75, SweepSettings(**REDUCED))
+    return trace_level(ContactModel(), pa_over_q=0.75, settings=SweepSettings(**REDUCED))
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +26,7 @@ def level_without_verdict():
     mp = pytest.MonkeyPatch()
     mp.setattr(verdict, "drop_unsettled", lambda lt, *a: lt)
     try:
-        return trace_level(ContactModel(), 0.75, SweepSettings(**REDUCED))
+        return trace_level(ContactModel(), pa_over_q=0.75, settings=SweepSettings(**REDUCED))
     finally:
         mp.undo()
 
@@ -65,7 +65,7 @@ def test_a_spiral_into_a_periodic_orbit_is_rejected():
     """A point on the way to a stable period-1 orbit (a transient) is not a non-periodic
     attractor, whatever λ is claimed for it, even after settling longer."""
     m = ContactModel()
-    rows = trace_level(m, 0.75, SweepSettings(fmin_hz=600.0, fmax_hz=604.0, df_hz=4.0)).rows
+    rows = trace_level(m, pa_over_q=0.75, settings=SweepSettings(fmin_hz=600.0, fmax_hz=604.0, df_hz=4.0)).rows
     per = np.flatnonzero((rows.kind == 0) & (rows.k == 1))[0]
     z = rows.z[per] * (1.0 + 1e-2)
     assert not verdict.settled_nonperiodic(m, 0.75, 600.0, z, 0.0, 1e-8, 0)
@@ -94,10 +94,10 @@ def test_period2_newton_seeds_find_the_ultrasubharmonic_isola():
     st = SweepSettings(fmin_hz=460.0, fmax_hz=560.0, df_hz=4.0)  # multi-start at 460, 500, 548 Hz
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        full = find_attractors(m, m.excitation(0.60, 500.0))
+        full = find_attractors(m.excitation(0.60, 500.0))
     iso = [a for a in full.attractors if a.period == 2 and a.minima_per_period == 3]
     assert len(iso) == 1 and iso[0].basin_fraction < 0.01
-    lt = trace_level(m, 0.60, st)
+    lt = trace_level(m, pa_over_q=0.60, settings=st)
     for a in full.attractors:
         assert _in_level(lt, 500.0, a), (a.period, a.minima_per_period, a.app_um)
     r = lt.rows
@@ -106,7 +106,7 @@ def test_period2_newton_seeds_find_the_ultrasubharmonic_isola():
     mp = pytest.MonkeyPatch()  # without the period-2 seeds (the period-3–5 ones still run)
     mp.setattr(newton_seeds, "NEWTON_SEEDS", tuple(e for e in newton_seeds.NEWTON_SEEDS if e[0] != 2))
     try:
-        assert not _in_level(trace_level(m, 0.60, st), 500.0, iso[0])  # the test bites
+        assert not _in_level(trace_level(m, pa_over_q=0.60, settings=st), 500.0, iso[0])  # the test bites
     finally:
         mp.undo()
 
@@ -125,10 +125,10 @@ def test_period5_newton_seeds_find_the_bouncing_orbit():
     st = SweepSettings(fmin_hz=1600.0, fmax_hz=1720.0, df_hz=4.0)  # multi-start at 1600 Hz only
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        full = find_attractors(m, m.excitation(0.85, 1700.0))
+        full = find_attractors(m.excitation(0.85, 1700.0))
     p5 = [a for a in full.attractors if a.period == 5]
     assert len(p5) == 1 and p5[0].basin_fraction < 0.01
-    lt = trace_level(m, 0.85, st)
+    lt = trace_level(m, pa_over_q=0.85, settings=st)
     for a in full.attractors:
         assert _in_level(lt, 1700.0, a), (a.period, a.minima_per_period, a.app_um)
     f5 = lt.f_hz[lt.rows.i[lt.rows.k == 5]]
@@ -136,7 +136,7 @@ def test_period5_newton_seeds_find_the_bouncing_orbit():
     mp = pytest.MonkeyPatch()  # with the period-2 seeds only
     mp.setattr(newton_seeds, "NEWTON_SEEDS", tuple(e for e in newton_seeds.NEWTON_SEEDS if e[0] == 2))
     try:
-        assert not _in_level(trace_level(m, 0.85, st), 1700.0, p5[0])  # the test bites
+        assert not _in_level(trace_level(m, pa_over_q=0.85, settings=st), 1700.0, p5[0])  # the test bites
     finally:
         mp.undo()
 
@@ -170,7 +170,7 @@ def test_every_attractor_of_the_full_search_with_a_basin_over_1_percent_or_of_pe
     m = ContactModel()
     import xarray as xr
 
-    resonance_dataset(m, PAPER_LEVELS, SweepSettings(), out=tmp_path, name="paper", workers=2,
+    resonance_dataset(m, levels=PAPER_LEVELS, settings=SweepSettings(), out=tmp_path, name="paper", workers=2,
                       progress=False)
     ds = xr.open_dataset(tmp_path / "paper.nc").load()
     nonp = ds["kind"].values != "periodic"

@@ -24,7 +24,7 @@ def level_file(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("dofs")
     st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=4.0, multistart_per_octave=2, multistart_starts=4)
-    resonance_dataset(ContactModel(), [0.65], st, out=out, workers=1, progress=False)
+    resonance_dataset(ContactModel(), levels=[0.65], settings=st, out=out, workers=1, progress=False)
     return out / "resonance.nc"
 
 
@@ -69,7 +69,7 @@ def test_round_trip_rebuilds_the_attractors_dofs_and_contacts(level_file):
     mean force W equals the attractor's integral along its orbit."""
     model = ContactModel()
     with xr.open_dataset(level_file) as ds:
-        stored = attractors_at(ds, 0.65, 360.0)["attractors"]
+        stored = attractors_at(ds, pa_over_q=0.65, fe_hz=360.0)["attractors"]
         # the query goes through dofs_and_contacts on the stored columns
         p = int(np.nonzero(np.asarray(ds["fe_hz"].values) == 360.0)[0][-1])
         cols = {n: ds[n].values[p] for n in ("dof_min", "dof_max", "dof_app", "dof_h1", "contact_loses_contact",
@@ -77,7 +77,7 @@ def test_round_trip_rebuilds_the_attractors_dofs_and_contacts(level_file):
         cols.update({n: ds[n].values for n in ("dof_name", "dof_unit", "contact_name")})
     assert dofs_and_contacts(**cols) in [{"dofs": a["dofs"], "contacts": a["contacts"]} for a in stored]
     assert len(stored) == 5 and {s["contacts"][0]["loses_contact"] for s in stored} == {True, False}
-    found = find_attractors(model, model.excitation(0.65, 360.0), n_starts=256)
+    found = find_attractors(model.excitation(0.65, 360.0), n_starts=256)
     for s in stored:
         a = min(found, key=lambda a: abs(a.app_um - s["app_um"]))
         assert a.period == s["period"]

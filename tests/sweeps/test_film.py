@@ -39,7 +39,7 @@ def films(tmp_path_factory):
     whose level 0.66 Q is a copy of 0.65 Q (identical data, another P_a)."""
     out = tmp_path_factory.mktemp("film")
     st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=4.0, multistart_per_octave=0)
-    resonance_dataset(ContactModel(), list(LEVELS), st, out=out / "res", workers=1, progress=False)
+    resonance_dataset(ContactModel(), levels=list(LEVELS), settings=st, out=out / "res", workers=1, progress=False)
     chunks = {p: xr.load_dataset(out / "res" / ".chunks" / f"level_pa{p:g}.nc") for p in LEVELS}
     twin = chunks[0.65].copy(deep=True)
     for v in ("pa_over_q", "branch_pa_over_q", "trace_pa_over_q"):

@@ -31,8 +31,7 @@ def _explain(pa, f_a, f_b, z, k):
     lo, hi = min(f_a, f_b) - DF, max(f_a, f_b) + DF
     s = ContinuationSettings(fmin_hz=f_a - 1e-9 if up else lo, fmax_hz=hi if up else f_a + 1e-9,
                              ds=0.002, ds_max=0.01, max_points=400)
-    b = continue_orbit(MODEL, MODEL.excitation(pa, f_a), z, k, direction="up" if up else "down",
-                       settings=s)
+    b = continue_orbit(MODEL.excitation(pa, f_a), z, k, direction="up" if up else "down", settings=s)
     for sp in b.special:
         if sp.type in ("fold", "period-doubling") and lo <= sp.fe_hz <= hi:
             return sp.type
@@ -49,7 +48,7 @@ def _explain(pa, f_a, f_b, z, k):
 @pytest.mark.parametrize("pa", [0.65, 0.70, pytest.param(0.75, marks=pytest.mark.slow),
                                 pytest.param(0.90, marks=pytest.mark.slow)])
 def test_every_sweep_jump_is_a_fold_a_period_doubling_or_a_crisis(pa):
-    level = trace_level(MODEL, pa, SweepSettings(df_hz=DF))
+    level = trace_level(MODEL, pa_over_q=pa, settings=SweepSettings(df_hz=DF))
     rows, f, links = level.rows, level.f_hz, level.links
     jumps = [(a, b) for a, b, jump in zip(links.a, links.b, links.jump)
              if jump and level.found_by[a] == 0]

@@ -144,12 +144,12 @@ def fold_cases(tmp_path_factory):
     cases = {}
     for m, (lo, hi) in WINDOWS.items():
         st = SweepSettings(fmin_hz=lo, fmax_hz=hi, df_hz=DF, multistart_per_octave=40)
-        ds = resonance_dataset(model, LEVELS, st, out=tmp_path_factory.mktemp(f"fold{m}"), workers=1,
+        ds = resonance_dataset(model, levels=LEVELS, settings=st, out=tmp_path_factory.mktemp(f"fold{m}"), workers=1,
                                progress=False)
         cs = ContinuationSettings(fmin_hz=lo - 60, fmax_hz=hi + 60, max_points=200)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # unsettled starts of the seeds' attractor searches
-            res = evolution(model, m, pa_min=LEVELS[0], pa_max=LEVELS[-1], n_levels=2,
+            res = evolution(model, order=m, pa_min=LEVELS[0], pa_max=LEVELS[-1], n_levels=2,
                             seed_fe=[lo - 30, 0.5 * (lo + hi), hi + 20], settings=cs)
         curves = [MapCurve(m, c.type, c.fe_hz, c.pa_over_q) for c in res.curves if c.fe_hz.size > 1]
         cases[m] = (regime_maps(ds), curves)

@@ -25,8 +25,8 @@ def _tiny(**kw):
 
 
 def _run(out, levels=(0.65,), resume=False, model=None, **kw):
-    return resonance_dataset(model or ContactModel(), list(levels), _tiny(**kw), out=out,
-                             resume=resume, workers=1, progress=False)
+    return resonance_dataset(model or ContactModel(), levels=list(levels), settings=_tiny(**kw), out=out, resume=resume,
+                             workers=1, progress=False)
 
 
 @pytest.fixture
@@ -36,7 +36,9 @@ def calls(monkeypatch):
 
     real = sweep.trace_level
     seen = []
-    monkeypatch.setattr(sweep, "trace_level", lambda m, pa, st: seen.append(pa) or real(m, pa, st))
+    monkeypatch.setattr(sweep, "trace_level",
+                        lambda m, *, pa_over_q, settings: seen.append(pa_over_q) or real(m, pa_over_q=pa_over_q,
+                                                                                           settings=settings))
     return seen
 
 
@@ -45,7 +47,7 @@ def no_sweep(monkeypatch):
     """Fail if a level is swept."""
     import contactvib.sweeps.sweep as sweep
 
-    def fail(*_a):
+    def fail(*_a, **_k):
         raise AssertionError("a level was swept")
 
     monkeypatch.setattr(sweep, "trace_level", fail)
@@ -71,7 +73,7 @@ def test_resume_with_another_df_is_refused_before_computing(tmp_path, monkeypatc
     mtime = chunk.stat().st_mtime_ns
     import contactvib.sweeps.sweep as sweep
 
-    monkeypatch.setattr(sweep, "trace_level", lambda *a: pytest.fail("a level was swept"))
+    monkeypatch.setattr(sweep, "trace_level", lambda *a, **k: pytest.fail("a level was swept"))
     with pytest.raises(ResumeMismatch) as e:
         _run(tmp_path, resume=True, df_hz=5.0)
     assert isinstance(e.value, ParameterError) and e.value.symbol == "resume"
@@ -86,7 +88,7 @@ def test_resume_with_another_model_is_refused(tmp_path, monkeypatch):
     _run(tmp_path)
     import contactvib.sweeps.sweep as sweep
 
-    monkeypatch.setattr(sweep, "trace_level", lambda *a: pytest.fail("a level was swept"))
+    monkeypatch.setattr(sweep, "trace_level", lambda *a, **k: pytest.fail("a level was swept"))
     params = ContactModel().parameters()
     name = next(iter(params))
     other = ContactModel(**{**params, name: params[name] * 1.01})
@@ -109,7 +111,7 @@ def test_resume_with_the_same_settings_reuses_the_chunk(tmp_path, monkeypatch):
     mtime = chunk_path(tmp_path, 0.65).stat().st_mtime_ns
     import contactvib.sweeps.sweep as sweep
 
-    monkeypatch.setattr(sweep, "trace_level", lambda *a: pytest.fail("a level was swept"))
+    monkeypatch.setattr(sweep, "trace_level", lambda *a, **k: pytest.fail("a level was swept"))
     again = _run(tmp_path, resume=True)
     assert chunk_path(tmp_path, 0.65).stat().st_mtime_ns == mtime
     for name in ("fe_hz", "app_um", "period", "branch_index"):
@@ -123,7 +125,7 @@ def test_cli_resume_with_another_df_is_one_line_exit_2(tmp_path, capsys, monkeyp
     capsys.readouterr()
     import contactvib.sweeps.sweep as sweep
 
-    monkeypatch.setattr(sweep, "trace_level", lambda *a: pytest.fail("a level was swept"))
+    monkeypatch.setattr(sweep, "trace_level", lambda *a, **k: pytest.fail("a level was swept"))
     assert _cli(out, "--df", "5", "--resume") == 2
     err = _one_error_line(capsys)
     assert err == (f"contactvib: error: --resume: {chunk_path(out, 0.65)} was made with df_hz = 10, "
@@ -199,7 +201,7 @@ def test_cli_paper_a_held_lock_is_one_line_exit_2(tmp_path, capsys, no_sweep):
 def test_the_lock_is_released_after_an_error(tmp_path, monkeypatch):
     import contactvib.sweeps.sweep as sweep
 
-    def boom(*_a):
+    def boom(*_a, **_k):
         raise RuntimeError("boom")
 
     monkeypatch.setattr(sweep, "trace_level", boom)

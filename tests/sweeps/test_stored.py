@@ -87,7 +87,7 @@ def test_attractors_at_is_what_query_prints(small_dataset, capsys):
     data = open_resonance(small_dataset)
     with data:
         got = data.attractors_at(0.65, 360.4)
-    assert got == attractors_at(xr.load_dataset(small_dataset), 0.65, 360.4)
+    assert got == attractors_at(xr.load_dataset(small_dataset), pa_over_q=0.65, fe_hz=360.4)
     assert main(["query", str(small_dataset), "--pa", "0.65", "--fe", "360.4", "--json"]) == 0
     assert json.loads(capsys.readouterr().out) == json.loads(json.dumps(got).replace("NaN", "null"))
     # the rows are the dataset's own: the points of 0.65 Q at the grid frequency 360 Hz

@@ -34,7 +34,7 @@ CONTRACT = {"period", "minima_per_period", "app_um", "ymin_um", "ymax_um", "lose
 @pytest.fixture(scope="module")
 def paper(tmp_path_factory):
     out = tmp_path_factory.mktemp("paper")
-    return reproduce_paper(out, settings=SweepSettings(df_hz=4.0), workers=2, progress=False)
+    return reproduce_paper(out=out, settings=SweepSettings(df_hz=4.0), workers=2, progress=False)
 
 
 @pytest.fixture(scope="module")
@@ -91,7 +91,7 @@ def test_no_row_contradicts_itself(ds):
                          ids=lambda o: f"{o['pa_over_q']}Q-{o['f_e']:g}Hz-{o['label']}")
 def test_sweep_points_match_scipy_reference(ds, orbit):
     """Every reference orbit on the grid is in the dataset, A_pp to 1e-6 (scipy DOP853 rtol 1e-12)."""
-    res = attractors_at(ds, orbit["pa_over_q"], orbit["f_e"])
+    res = attractors_at(ds, pa_over_q=orbit["pa_over_q"], fe_hz=orbit["f_e"])
     app_ref = orbit["A_pp"] * Y0_UM
     same = [a for a in res["attractors"] if a["period"] == orbit["period"]
             and a["minima_per_period"] == orbit["minima_per_period"]
@@ -137,7 +137,7 @@ def test_period_doubling_of_the_1_2_resonance_appears_at_070q(ds):
     """S3.3, S4.3: no doubling of the 1/2 at 0.65 Q; period 2 at 0.70 Q (4 minima at 470 Hz)."""
     assert resonance_facts(ds, 0.65, 2).period_doubled == {}
     assert 2 in resonance_facts(ds, 0.70, 2).period_doubled
-    res = attractors_at(ds, 0.70, 470.0)
+    res = attractors_at(ds, pa_over_q=0.70, fe_hz=470.0)
     pd = [a for a in res["attractors"] if a["resonance"] == "1/2 period-2"]
     assert len(pd) == 1 and pd[0]["period"] == 2 and pd[0]["minima_per_period"] == 4
     assert pd[0]["loses_contact"]
@@ -173,7 +173,7 @@ def test_open_primary_branch_runs_over_the_whole_grid_without_a_jump(ds):
     """S3.9 and the open upper branch: the main resonance is traced from 30 to 2000 Hz on one
     branch whose A_pp falls monotonically with f_e up to 800 Hz."""
     for p in PAPER_LEVELS:
-        r = attractors_at(ds, p, 30.0)
+        r = attractors_at(ds, pa_over_q=p, fe_hz=30.0)
         main = [a for a in r["attractors"] if a["resonance"] == "main"]
         assert len(main) == 1 and main[0]["app_um"] > 1000.0
         b = [i for i, bid in enumerate(ds["branch_id"].values) if bid == main[0]["branch"]][0]
@@ -212,9 +212,9 @@ def test_sweep_branches_coincide_with_continuation_and_jump_at_the_fold(ds):
         return np.array([p["y_um"] / y_um, p["ydot_mm_s"] / v_mm_s])
 
     # the open upper primary branch, 1202 Hz down to 300 Hz
-    up = [a for a in attractors_at(ds, 0.65, 1202.0)["attractors"] if a["resonance"] == "main"]
+    up = [a for a in attractors_at(ds, pa_over_q=0.65, fe_hz=1202.0)["attractors"] if a["resonance"] == "main"]
     assert len(up) == 1
-    b = continue_orbit(model, model.excitation(0.65, 1202.0), state(up[0]), 1, direction="down",
+    b = continue_orbit(model.excitation(0.65, 1202.0), state(up[0]), 1, direction="down",
                        settings=ContinuationSettings(fmin_hz=290.0, fmax_hz=1300.0))
     assert np.all(b.stable) and np.all(np.diff(b.fe_hz) < 0)  # no fold: open branch
     spline = CubicSpline(np.log(b.fe_hz[::-1]), np.log(b.app_um[::-1]))  # A_pp ~ power of f_e
@@ -223,9 +223,9 @@ def test_sweep_branches_coincide_with_continuation_and_jump_at_the_fold(ds):
     assert inside.sum() > 200
     assert np.max(np.abs(np.exp(spline(np.log(fe[inside]))) / app[inside] - 1.0)) < 1e-5
     # the lower branch through its fold: the sweep's last point lies within one step of it
-    low = min((a for a in attractors_at(ds, 0.65, 902.0)["attractors"] if a["resonance"] == "main"),
+    low = min((a for a in attractors_at(ds, pa_over_q=0.65, fe_hz=902.0)["attractors"] if a["resonance"] == "main"),
               key=lambda a: a["app_um"])
-    b = continue_orbit(model, model.excitation(0.65, 902.0), state(low), 1, direction="up",
+    b = continue_orbit(model.excitation(0.65, 902.0), state(low), 1, direction="up",
                        settings=ContinuationSettings(fmin_hz=800.0, fmax_hz=1100.0, ds=0.002, ds_max=0.004,
                                                                max_points=2000))
     folds = [sp.fe_hz for sp in b.special if sp.type == "fold"]
@@ -247,10 +247,10 @@ def test_perturbation_series_lies_on_the_small_amplitude_orbits(ds):
 
     model = ContactModel()
     f = np.arange(30.0, 1998.0, 40.0)
-    fe, app, ok = perturbation_curve(model, 0.65, f)
+    fe, app, ok = perturbation_curve(model, pa_over_q=0.65, fe_hz=f)
     assert 20 <= ok.sum() < len(f)  # valid below and between the resonances, not everywhere
     for fv, av in zip(fe[ok], app[ok]):
-        stored = [a["app_um"] for a in attractors_at(ds, 0.65, fv)["attractors"] if a["period"] == 1]
+        stored = [a["app_um"] for a in attractors_at(ds, pa_over_q=0.65, fe_hz=fv)["attractors"] if a["period"] == 1]
         assert min(abs(s / av - 1.0) for s in stored) < 1e-3, fv
 
 
@@ -260,7 +260,7 @@ def test_chaos_inside_the_1_2_resonance_at_075q():
     st = SweepSettings(fmin_hz=560.0, fmax_hz=640.0, df_hz=1.0, multistart_per_octave=16)
     from contactvib.sweeps.dataset import level_dataset
 
-    d = level_dataset(model, trace_level(model, 0.75, st), st.to_dict())
+    d = level_dataset(model, trace_level(model, pa_over_q=0.75, settings=st), st.to_dict())
     lab = d["resonance"].values
     for k in (2, 4, 8):
         assert f"1/2 period-{k}" in set(lab), k
@@ -276,14 +276,14 @@ def test_isolated_part_is_not_found_by_the_sweeps_alone(ds):
     """The special procedure of Sec. 3: without seeds no 1/2 orbit exists near 100 Hz at 0.75 Q."""
     model = ContactModel()
     st = SweepSettings(fmin_hz=30.0, fmax_hz=2000.0, df_hz=4.0, multistart_per_octave=0)
-    lv = trace_level(model, 0.75, st)
+    lv = trace_level(model, pa_over_q=0.75, settings=st)
     from contactvib.sweeps.dataset import level_dataset
 
     d = level_dataset(model, lv, st.to_dict())
     near = (d["fe_hz"].values >= 80) & (d["fe_hz"].values <= 120)
     assert not any(str(x).startswith("1/2") for x in d["resonance"].values[near])
     assert any(str(a["resonance"]).startswith("1/2")
-               for a in attractors_at(ds, 0.75, 102.0)["attractors"])
+               for a in attractors_at(ds, pa_over_q=0.75, fe_hz=102.0)["attractors"])
 
 
 @pytest.mark.parametrize("pa", PAPER_LEVELS)
@@ -359,14 +359,16 @@ def test_resume_recomputes_only_missing_levels(tmp_path, monkeypatch):
     from contactvib.sweeps.resonance import chunk_path, resonance_dataset
 
     model = ContactModel()
-    first = resonance_dataset(model, [0.6, 0.65], _small(), out=tmp_path, workers=1, progress=False)
+    first = resonance_dataset(model, levels=[0.6, 0.65], settings=_small(), out=tmp_path, workers=1, progress=False)
     kept = chunk_path(tmp_path, 0.6)
     mtime = kept.stat().st_mtime_ns
     chunk_path(tmp_path, 0.65).unlink()
     calls = []
     real = sweep.trace_level
-    monkeypatch.setattr(sweep, "trace_level", lambda m, pa, st: calls.append(pa) or real(m, pa, st))
-    again = resonance_dataset(model, [0.6, 0.65], _small(), out=tmp_path, resume=True, workers=1,
+    monkeypatch.setattr(sweep, "trace_level",
+                        lambda m, *, pa_over_q, settings: calls.append(pa_over_q) or real(m, pa_over_q=pa_over_q,
+                                                                                           settings=settings))
+    again = resonance_dataset(model, levels=[0.6, 0.65], settings=_small(), out=tmp_path, resume=True, workers=1,
                               progress=False)
     assert calls == [0.65] and kept.stat().st_mtime_ns == mtime
     for name in ("fe_hz", "app_um", "period", "resonance", "branch_index"):
@@ -375,11 +377,10 @@ def test_resume_recomputes_only_missing_levels(tmp_path, monkeypatch):
     # (tests/sweeps/test_resume_safety.py); without resume they are recomputed
     calls.clear()
     with pytest.raises(ParameterError, match="seed"):
-        resonance_dataset(model, [0.6, 0.65], _small(seed=1), out=tmp_path, resume=True,
-                          workers=1, progress=False)
+        resonance_dataset(model, levels=[0.6, 0.65], settings=_small(seed=1), out=tmp_path, resume=True, workers=1,
+                          progress=False)
     assert calls == []
-    resonance_dataset(model, [0.6, 0.65], _small(seed=1), out=tmp_path, workers=1,
-                      progress=False)
+    resonance_dataset(model, levels=[0.6, 0.65], settings=_small(seed=1), out=tmp_path, workers=1, progress=False)
     assert sorted(calls) == [0.6, 0.65]
 
 
@@ -391,22 +392,25 @@ def test_interrupted_run_keeps_finished_levels(tmp_path, monkeypatch):
     real = sweep.trace_level
     calls = []
 
-    def interrupted(m, pa, st):
+    def interrupted(m, *, pa_over_q, settings):
+        pa = pa_over_q
         calls.append(pa)
         if len(calls) == 2:
             raise KeyboardInterrupt
-        return real(m, pa, st)
+        return real(m, pa_over_q=pa, settings=settings)
 
     monkeypatch.setattr(sweep, "trace_level", interrupted)
     model = ContactModel()
     with pytest.raises(KeyboardInterrupt):
-        resonance_dataset(model, [0.6, 0.65], _small(), out=tmp_path, workers=1, progress=False)
+        resonance_dataset(model, levels=[0.6, 0.65], settings=_small(), out=tmp_path, workers=1, progress=False)
     assert chunk_path(tmp_path, 0.6).is_file() and not chunk_path(tmp_path, 0.65).exists()
     assert not (tmp_path / "resonance.nc").exists()
     assert not list(tmp_path.rglob("*.tmp*"))
-    monkeypatch.setattr(sweep, "trace_level", lambda m, pa, st: calls.append(pa) or real(m, pa, st))
+    monkeypatch.setattr(sweep, "trace_level",
+                        lambda m, *, pa_over_q, settings: calls.append(pa_over_q) or real(m, pa_over_q=pa_over_q,
+                                                                                           settings=settings))
     calls.clear()
-    resonance_dataset(model, [0.6, 0.65], _small(), out=tmp_path, resume=True, workers=1,
+    resonance_dataset(model, levels=[0.6, 0.65], settings=_small(), out=tmp_path, resume=True, workers=1,
                       progress=False)
     assert calls == [0.65] and (tmp_path / "resonance.nc").is_file()
 
@@ -443,12 +447,12 @@ def test_sweep_settings_validate():
 @pytest.mark.slow
 def test_full_paper_run(tmp_path):
     """`contactvib paper` at 1 Hz: every reference orbit, the 1/5 with two minima at 287 Hz."""
-    res = reproduce_paper(tmp_path, workers=2, progress=False)
+    res = reproduce_paper(out=tmp_path, workers=2, progress=False)
     d = res.dataset
     assert check_consistency(d) == []  # no row contradicts itself (issue 13)
     for orbit in REF["orbits"]:
         test_sweep_points_match_scipy_reference(d, orbit)
-    fives = [a for a in attractors_at(d, 0.65, 287.0)["attractors"] if a["resonance"] == "1/5"]
+    fives = [a for a in attractors_at(d, pa_over_q=0.65, fe_hz=287.0)["attractors"] if a["resonance"] == "1/5"]
     assert len(fives) == 1 and fives[0]["minima_per_period"] == 2 and not fives[0]["loses_contact"]
     test_four_resonances_coexist_at_360_hz_065q_and_three_at_234_hz_085q(d)
     test_1_2_branch_is_divided_with_parts_no_sweep_reaches(d)

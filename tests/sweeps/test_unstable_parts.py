@@ -21,7 +21,7 @@ DF = 5.0
 def level():
     model = ContactModel()
     st = SweepSettings(fmin_hz=95.0, fmax_hz=260.0, df_hz=DF, multistart_per_octave=0)
-    return model, level_dataset(model, trace_level(model, 0.9, st), st.to_dict())
+    return model, level_dataset(model, trace_level(model, pa_over_q=0.9, settings=st), st.to_dict())
 
 
 def test_continuation_is_a_trace_root():
@@ -44,7 +44,7 @@ def test_the_second_part_of_the_1_5_is_stored(level):
     assert np.array_equal(five, sel & window)
     # the same orbit as the multi-start search finds
     p = int(np.flatnonzero(sel & (d["fe_hz"].values == 110.0))[0])
-    att = [a for a in find_attractors(model, model.excitation(0.9, 110.0))
+    att = [a for a in find_attractors(model.excitation(0.9, 110.0))
            if a.period == 1 and a.minima_per_period == 5]
     assert len(att) == 1
     assert float(d["app_um"].values[p]) == pytest.approx(att[0].app_um, rel=1e-6)

@@ -66,7 +66,7 @@ def test_period_map_equals_the_one_dof_kernel(name, x0):
 def test_time_history_equals_simulate():
     m = MODELS["paper"]
     exc = m.excitation(PA, FE)
-    ref = simulate(m, exc, y_um=0.1, ydot_mm_s=0.5, n_periods=3, samples_per_period=200, rtol=1e-12)
+    ref = simulate(exc, y_um=0.1, ydot_mm_s=0.5, n_periods=3, samples_per_period=200, rtol=1e-12)
     h = simulate_system(System.single_dof(m), exc.P_a, FE, [0.1e-6], [0.5e-3], 3, 200, rtol=1e-12)
     assert h.q_units == ("um",) and h.qdot_units == ("mm/s",) and h.contacts == ("contact",)
     np.testing.assert_allclose(h.t_ms, ref.t_ms, rtol=1e-12)
@@ -84,7 +84,7 @@ def orbits():
     exc = m.excitation(PA, FE)
     s = System.single_dof(m)
     out = []
-    for a in find_attractors(m, exc, n_starts=32):
+    for a in find_attractors(exc, n_starts=32):
         z = _si(m, a.state)
         o = periodic_orbit(s, exc.P_a, FE, z * (1.0 + 1e-3), a.period)
         out.append((a, z, o))

@@ -83,7 +83,7 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     grid_, box_, kmax_, mp_, starts_, seed_ = checked
     with ctrl_c():
         try:
-            bmap = run(model, exc, grid=grid_, box=box_, kmax=kmax_, max_periods=mp_, n_starts=starts_, seed=seed_)
+            bmap = run(exc, grid=grid_, box=box_, kmax=kmax_, max_periods=mp_, n_starts=starts_, seed=seed_)
         except ParameterError as e:  # a --set that moved f_n0 out of reach is named (not --fe)
             blamed = model_blamed(model, e, _grid_within_reach(exc, grid_[0] * grid_[1], mp_))
             raise (blamed or option_error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e, _BASIN_OPTIONS)) from None

@@ -218,13 +218,14 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
     from contactvib.steady.attractors import find_attractors
 
     with ctrl_c():
-        found = find_attractors(model, exc)
+        found = find_attractors(exc)
     if n is not None and n >= len(found):
         raise InputError(f"--attractor (attractor) = {n}: must be an index 0..{len(found) - 1} "
                          f"of the {len(found)} attractors found at {fe:g} Hz")
     _below_app_max(found if n is None else [found[n]], s.app_max_um, fe)
     msgs = []
-    bset = continue_attractors(model, p, fe, n, s, switch=not cont["no_switch"], attractors=found,
+    bset = continue_attractors(model, pa_over_q=p, fe_hz=fe, attractor=n, settings=s,
+                               switch=not cont["no_switch"], attractors=found,
                                log=msgs.append, parameter="P_a" if by_pa else "f_e")
     tag = f"{LEVEL_TAGS[kind]}{p:g}_fe{fe:g}" + ("_in_pa" if by_pa else "")
     title = (f"$f_e$ = {fe:g} Hz, branches in $P_a$ from the attractors at {p:g} Q" if by_pa
@@ -272,7 +273,7 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
 
     allb = BranchSet([])
     for p in levels:
-        bset = bifurcation_diagram(model, p, seeds, s, switch=not cont["no_switch"])
+        bset = bifurcation_diagram(model, pa_over_q=p, seed_fe=seeds, settings=s, switch=not cont["no_switch"])
         _write(bset, Path(out), f"{LEVEL_TAGS[kind]}{p:g}", f"{level_title_text(p, kind)}: all branches", ds, p)
         allb.branches.extend(bset.branches)
         if not as_json:
@@ -309,7 +310,7 @@ def evolution(order, pa_min, pa_max, levels, settings, out, as_json):
     from contactvib.plotting.figures import save_figure
 
     msgs = []
-    res = run(model, m, pa_min=lo, pa_max=hi, n_levels=n, log=msgs.append)
+    res = run(model, order=m, pa_min=lo, pa_max=hi, n_levels=n, log=msgs.append)
     (outp / f"evolution_order{m}.json").write_text(res.to_json(indent=1))
     save_figure(evolution_figure(res, f"evolution of the 1/{m} resonance: folds and period doublings"),
                 outp / f"evolution_order{m}.png")

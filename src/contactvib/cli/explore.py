@@ -89,7 +89,8 @@ def _continue(point, model, exc, result, n):
     try:
         s = continuation_settings({"fmin": lo, "fmax": hi, "max_points": str(CONTINUATION_POINTS), "app_max": "2000",
                        "rtol": CONTINUATION_RTOL})
-        branches = continue_attractors(model, exc.pa_over_q, exc.f_e, n, s, switch=False,
+        branches = continue_attractors(model, pa_over_q=exc.pa_over_q, fe_hz=exc.f_e, attractor=n, settings=s,
+                                       switch=False,
                                        attractors=result, parameter="f_e")
     except InputError as e:
         raise BadInput(f"contactvib: error: {e}") from None
@@ -178,7 +179,7 @@ def _warm(point) -> None:
     try:
         model, exc = _check(point)
         for attractor in search_attractors(model, exc, *SEARCH_OPTIONS):
-            attractor_history(model, exc, attractor)
+            attractor_history(exc, attractor)
     except (BadInput, InputError):
         pass
     finally:

@@ -58,7 +58,7 @@ def perturbation(pa, pa_newton, fe, settings, terms, order, summation, out, as_j
     if order is not None:
         click.echo(ORDER_DEPRECATED, err=True)
 
-    res = perturbation_series(model, exc, n, summation)
+    res = perturbation_series(exc, terms=n, summation=summation)
     if as_json and out is None:
         echo_json(res.to_json())
         return
@@ -84,7 +84,7 @@ def perturbation(pa, pa_newton, fe, settings, terms, order, summation, out, as_j
     from contactvib.steady.simulate import attractor_history
 
     tag = f"pa{exc.pa_over_q:g}_fe{exc.f_e:g}"
-    hist_num = attractor_history(model, exc, num, n_periods=2, samples_per_period=1000)
+    hist_num = attractor_history(exc, num, n_periods=2, samples_per_period=1000)
     series = res.history(n_periods=2, samples_per_period=1000) if res.valid else None
     note = "" if res.valid else f"perturbation series not drawn: {res.reason}"
     head = (f"$P_a$ = {exc.pa_over_q:g} Q, $f_e$ = {exc.f_e:g} Hz: perturbation (N = {n}, "
@@ -156,10 +156,9 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kin
     from contactvib.frequency.harmonic_balance import HBSettings, hb_continuation
 
     hs = HBSettings(energy_tol=etol)
-    kw = {"level_kind": level_kind}
-    branches = [("from fmin", hb_continuation(model, pa_q, f1, f2, harmonics=H, settings=hs, **kw)),
-                ("from fmax", hb_continuation(model, pa_q, f1, f2, harmonics=H, settings=hs, from_fmax=True,
-                                                **kw))]
+    kw = {"pa_over_q": pa_q, "fmin_hz": f1, "fmax_hz": f2, "harmonics": H, "settings": hs, "excitation": level_kind}
+    branches = [("from fmin", hb_continuation(model, **kw)),
+                ("from fmax", hb_continuation(model, from_fmax=True, **kw))]
     # the perturbation series seeds the small-amplitude parts: the paper's law under a force
     series = _series_points(model, pa_q, f1, f2) if model.is_paper_family and level_kind == "force" else ([], [])
     branches += _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches)
@@ -195,7 +194,7 @@ def _series_points(model, pa_q, f1, f2, terms: int = 40, n: int = 120):
 
     fs, apps = [], []
     for f in np.geomspace(f1, f2, n):
-        r = perturbation_series(model, model.excitation(pa_q, float(f)), terms)
+        r = perturbation_series(model.excitation(pa_q, float(f)), terms=terms)
         if r.valid:
             fs.append(float(f))
             apps.append(r.app_um)
@@ -239,15 +238,16 @@ def _branches_from_series(model, pa_q, f1, f2, H, etol, series, branches):
         f, a = fs[mid], apps[mid]
         if any(_passes(b, f, a) for _name, b in branches + new):
             continue
-        c = perturbation_series(model, model.excitation(pa_q, f), 40).sum_coefficients
+        c = perturbation_series(model.excitation(pa_q, f), terms=40).sum_coefficients
         X = np.zeros(2 * H + 1)
         X[0] = 1.0 + c[0].real
         k = min(H, c.size - 1)
         X[1:2 * k + 1:2] = 2.0 * c[1:k + 1].real
         X[2:2 * k + 1:2] = -2.0 * c[1:k + 1].imag
-        start = hb_solve(model, model.excitation(pa_q, f), H, start=X, stability=False)
+        start = hb_solve(model.excitation(pa_q, f), harmonics=H, start=X, stability=False)
         for down in (False, True):
             new.append((f"from {f:.0f} Hz {'down' if down else 'up'}",
-                        hb_continuation(model, pa_q, f1, f2, harmonics=H, settings=HBSettings(energy_tol=etol),
+                        hb_continuation(model, pa_over_q=pa_q, fmin_hz=f1, fmax_hz=f2, harmonics=H,
+                                        settings=HBSettings(energy_tol=etol),
                                         start=start, from_fmax=down, f_start=f)))
     return new

@@ -189,7 +189,7 @@ def _one_point(model, exc, found, fm, out, as_json) -> None:
     with ctrl_c():
         for a in found:
             try:
-                results.append(friction_at(model, exc, a, fm))
+                results.append(friction_at(exc, a, friction=fm))
             except ComputationError:
                 results.append(None)
     if as_json:

@@ -50,7 +50,7 @@ def search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds, pro
     names = {**_SEARCH_OPTIONS, "h_n": "--set h_n", "f_e": "--fe"}
     with ctrl_c():
         try:
-            return find_attractors(model, exc, seeds=not no_seeds, progress=progress, **kw)
+            return find_attractors(exc, seeds=not no_seeds, progress=progress, **kw)
         except ParameterError as e:
             blamed = model_blamed(model, e, _work_within_reach(exc, kw, no_seeds))
             raise (blamed or option_error(names.get(e.symbol, e.symbol), e, names)) from None
@@ -289,7 +289,7 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     out = checked_output_folder(out)
     tag = f"{LEVEL_TAGS[exc.level_kind]}{exc.level[1]:g}_fe{exc.f_e:g}"
     if from_state is not None:
-        h = mapped_options({"n_periods": "--periods", "f_e": "--fe"}, run, model, exc, y, yd, n_periods=n)
+        h = mapped_options({"n_periods": "--periods", "f_e": "--fe"}, run, exc, y_um=y, ydot_mm_s=yd, n_periods=n)
         sym, rest = h.level.split(" = ", 1)
         fig = history_figure(h, f"${sym}$ = {rest}{' (base motion)' if h.base_um is not None else ''}, "
                                 f"$f_e$ = {exc.f_e:g} Hz, from y = {y:g} µm, ẏ = {yd:g} mm/s")
@@ -300,7 +300,7 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     _none_settled(result)
     (out / "attractors.json").write_text(result.to_json(indent=1))
     for i, a in enumerate(result):
-        hist = attractor_history(model, exc, a)
+        hist = attractor_history(exc, a)
         path = save_figure(attractor_figure(hist, a), out / f"attractor{i}_{tag}.png")
         click.echo(f"{path}  period={a.period} minima={a.minima_per_period} A_pp={a.app_um:.4g} um")
 

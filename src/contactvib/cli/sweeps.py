@@ -165,7 +165,7 @@ def resonance(pa, out, **sweep):
 
     out = checked_output_folder(out)
     with writing_into(out):
-        ds = resonance_dataset(model, levels, st, out=out, resume=sweep["resume"], workers=n_workers,
+        ds = resonance_dataset(model, levels=levels, settings=st, out=out, resume=sweep["resume"], workers=n_workers,
                                progress=not sweep["no_progress"])
         for p in sorted(set(levels)):
             tag = _level_file_tag(p, st.excitation)
@@ -229,7 +229,7 @@ def paper(out, **sweep):
     from contactvib.sweeps.paper import reproduce_paper
 
     with writing_into(folder):
-        res = reproduce_paper(out, model=model, settings=st, resume=sweep["resume"],
+        res = reproduce_paper(model, out=out, settings=st, resume=sweep["resume"],
                               workers=n_workers, progress=not sweep["no_progress"])
     ds = res.dataset
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches; "

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib.call_forms import old_form
 from contactvib.continuation.branch import Branch, BranchSet
 from contactvib.continuation.shooting import (
     ContinuationSettings,
@@ -115,7 +116,7 @@ def _switch_all(model, branches: list, settings, kmax_switch: int, log, paramete
                 continue
             bid = f"{b.branch}.m{len(branches)}"
             try:
-                nb = continue_orbit(model, exc, z, k, parameter=parameter, settings=settings,
+                nb = continue_orbit(exc, z, k, parameter=parameter, settings=settings,
                                     branch_id=bid)
             except (ComputationError, ParameterError) as e:
                 log(f"continuation from the merge at {_where(st, parameter)} failed: {e}")
@@ -131,7 +132,9 @@ def _where(point, parameter: str) -> str:
     return f"P_a = {point.pa_over_q:.6g} Q"
 
 
-def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
+@old_form("model", "pa_over_q", "fe_hz", "attractor", "settings", "switch", "kmax_switch", "known", "prefix",
+          "attractors", "log", "parameter")
+def continue_attractors(model: ContactModel, *, pa_over_q: float, fe_hz: float,
                         attractor: int | None = None, settings: ContinuationSettings | None = None,
                         switch: bool = True, kmax_switch: int = 8, known: list | None = None,
                         prefix: str | None = None, attractors=None, log=None,
@@ -140,6 +143,10 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
 
     Parameters
     ----------
+    model : ContactModel
+    pa_over_q, fe_hz : float
+        The seeds' operating point: the level (P_a/Q, or U [µm] or A [g] as
+        ``settings.excitation`` says) and f_e [Hz].
     attractor : int or None
         Index into the attractor list (sorted by A_pp, largest first, as ``attractors --json``);
         None: every periodic attractor.
@@ -173,7 +180,7 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
     if parameter == "P_a" and not (settings.pa_min <= exc.pa_over_q <= settings.pa_max):
         raise ParameterError("P_a", pa_over_q, f"seed must lie in [pa_min, pa_max] = "
                                                f"[{settings.pa_min:g}, {settings.pa_max:g}] Q")
-    found = attractors if attractors is not None else find_attractors(model, exc)
+    found = attractors if attractors is not None else find_attractors(exc)
     if attractor is not None:
         n = int(check_range("attractor", attractor, 0, True))
         if n != attractor or n >= len(found):
@@ -197,7 +204,7 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
             continue
         bid = f"{prefix}/b{len(known) + len(new)}"
         try:
-            b = continue_orbit(model, exc, a.state, a.period, parameter=parameter,
+            b = continue_orbit(exc, a.state, a.period, parameter=parameter,
                                settings=settings, branch_id=bid)
         except ComputationError as e:
             log(f"attractor {i}: {e}")
@@ -213,7 +220,8 @@ def continue_attractors(model: ContactModel, pa_over_q: float, fe_hz: float,
     return BranchSet(new)
 
 
-def bifurcation_diagram(model: ContactModel, pa_over_q: float,
+@old_form("model", "pa_over_q", "seed_fe", "settings", "switch", "kmax_switch", "log")
+def bifurcation_diagram(model: ContactModel, *, pa_over_q: float,
                         seed_fe=DEFAULT_SEED_FE, settings: ContinuationSettings | None = None,
                         switch: bool = True, kmax_switch: int = 8, log=None) -> BranchSet:
     """All branches at one amplitude seeded from the attractors at the frequencies ``seed_fe``."""
@@ -223,6 +231,7 @@ def bifurcation_diagram(model: ContactModel, pa_over_q: float,
     for f in seed_fe:
         if not (settings.fmin_hz <= f <= settings.fmax_hz):
             continue
-        continue_attractors(model, pa_over_q, f, None, settings, switch, kmax_switch, known,
+        continue_attractors(model, pa_over_q=pa_over_q, fe_hz=f, settings=settings, switch=switch,
+                            kmax_switch=kmax_switch, known=known,
                             prefix=f"{LEVEL_TAGS[settings.excitation]}{pa_over_q:g}", log=log)
     return BranchSet(known)

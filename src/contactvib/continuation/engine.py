@@ -145,7 +145,7 @@ class StepControl:
     max_points: int = 2000
     dq_max: float = math.inf
     locate_tol: float = 1e-11
-    locate_events: bool = True  # False: test-function sign changes are not located (no events)
+    locate: bool = True  # False: test-function sign changes are not located (no events)
     detect_loop: bool = False
     bound_action: str = "fix"  # "fix": corrected onto the bound, "append": kept, "drop": left out
 
@@ -439,7 +439,7 @@ def continue_branch(problem: Problem, start: Point, direction, cs: CorrectorSett
             why = problem.check_step(a, b)
             if why is not None:
                 return Run(points, events, EngineStop("rejected", detail=why))
-            for kind in (eng.crossings(a, b) if sc.locate_events else ()):
+            for kind in (eng.crossings(a, b) if sc.locate else ()):
                 found = eng.locate(kind, a, b, tau, w, ds)
                 if found is not None:
                     events.append(Event(kind, len(points) - 1, found[1], found[0], (a, b)))

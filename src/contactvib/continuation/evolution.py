@@ -28,6 +28,7 @@ import numpy as np
 from contactvib._kernels.continuation import orbit_range, residual_jacobian
 from contactvib._kernels.shooting import strobe_map
 from contactvib._kernels.status import STATUS_OK
+from contactvib.call_forms import old_form
 from contactvib.continuation.bifurcations import fold_test, pd_test
 from contactvib.continuation.engine import (
     Bound,
@@ -254,7 +255,8 @@ def _minima(model, sp):
     return orbit_range(np.asarray(sp.state, float), 1, exc.kernel_parameters(), 1e-11)[3]
 
 
-def evolution(model: ContactModel, order: int, *, pa_min: float = 0.3, pa_max: float = 0.9,
+@old_form("model", "order")
+def evolution(model: ContactModel, *, order: int, pa_min: float = 0.3, pa_max: float = 0.9,
               n_levels: int = 7, seed_fe=None, settings: ContinuationSettings | None = None,
               max_points: int = 300, log=None) -> EvolutionResult:
     """Folds and period doublings of the 1/``order`` resonance in the (f_e, P_a) plane.
@@ -287,7 +289,7 @@ def evolution(model: ContactModel, order: int, *, pa_min: float = 0.3, pa_max: f
     points = []
     first = {}
     for p in levels:
-        bs = bifurcation_diagram(model, float(p), seed_fe, settings, switch=False)
+        bs = bifurcation_diagram(model, pa_over_q=float(p), seed_fe=seed_fe, settings=settings, switch=False)
         found = [sp for b in bs if b.period == 1 for sp in b.special
                  if sp.type in _H and _minima(model, sp) == m]
         # de-duplicate (the same point on a branch reached from two seeds)

@@ -35,6 +35,7 @@ import numpy as np
 from contactvib._kernels.continuation import orbit_range, residual_jacobian, residual_jacobian_step
 from contactvib._kernels.shooting import is_stable, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
+from contactvib.call_forms import old_form
 from contactvib.continuation.bifurcations import fold_test, ns_test, pd_test
 from contactvib.continuation.branch import Branch, SpecialPoint, Stop
 from contactvib.continuation.engine import (
@@ -53,6 +54,7 @@ from contactvib.model import (
     Excitation,
     ParameterError,
     check_choice,
+    check_excitation,
     check_int,
     check_level_kind,
     check_range,
@@ -231,7 +233,7 @@ class OrbitProblem:
         self.steps = StepControl(ds=settings.ds, ds_min=settings.ds_min, ds_max=settings.ds_max,
                                  max_turn=settings.max_turn, max_failures=settings.max_failures,
                                  max_points=settings.max_points, locate_tol=settings.locate_tol,
-                                 locate_events=settings.locate,
+                                 locate=settings.locate,
                                  detect_loop=True, bound_action="fix")
 
     # ------------------------------------------------------------------ engine protocol
@@ -395,15 +397,15 @@ def _check_common(excitation, state, period, parameter, direction):
     return k, z
 
 
-def continue_orbit(model: ContactModel, excitation: Excitation, state, period: int,
-                   parameter: str = "f_e", direction="both",
+@old_form("model", "excitation", "state", "period", "parameter", "direction", "settings", "branch_id")
+def continue_orbit(excitation: Excitation, state, period: int, *, parameter: str = "f_e", direction="both",
                    settings: ContinuationSettings | None = None, branch_id: str = "b0") -> Branch:
     """Continue the period-``period`` orbit through ``state`` at ``excitation``.
 
     Parameters
     ----------
-    model, excitation
-        The oscillator and the operating point of the seed.
+    excitation : Excitation
+        The operating point of the seed (with its model, ``excitation.model``).
     state : array_like (2,)
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0, e.g.
         ``Attractor.state``; refined by Newton shooting first.
@@ -429,6 +431,7 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     ComputationError
         The seed does not converge to a period-k orbit (``stage`` "continuation").
     """
+    model = check_excitation(excitation).model
     settings = settings or ContinuationSettings()
     if not isinstance(settings, ContinuationSettings):
         raise ParameterError("settings", settings, "must be a ContinuationSettings")
@@ -462,9 +465,10 @@ def continue_orbit(model: ContactModel, excitation: Excitation, state, period: i
     return prob.branch(points, specials, stops, branch_id, settings=asdict(settings))
 
 
-def switch_period_doubling(model: ContactModel, special: SpecialPoint,
-                           parameter: str = "f_e", settings: ContinuationSettings | None = None,
-                           branch_id: str | None = None, ds: float = 0.01) -> Branch:
+@old_form("model", "special", "parameter", "settings", "branch_id", "ds")
+def switch_period_doubling(model: ContactModel, special: SpecialPoint, *, parameter: str = "f_e",
+                           settings: ContinuationSettings | None = None, branch_id: str | None = None,
+                           ds: float = 0.01) -> Branch:
     """Branch switching at a period-doubling point onto the branch of period 2k.
 
     The period-2k orbits near the point are ``z* + ε e + O(ε²)`` (``e`` the eigenvector of the

@@ -114,7 +114,7 @@ def _compute(point: Point, ops, limit_s: float):
     try:
         model, exc = check(point)
         result, seconds = search(find, model, exc, limit_s)
-        hists = [attractor_history(model, exc, a) for a in result]
+        hists = [attractor_history(exc, a) for a in result]
     except (Stopped, BadInput) as e:
         return "error", str(e)
     labels = [resonance_of(a, h, model.f_n0) for a, h in zip(result, hists)]

@@ -71,8 +71,8 @@ def sweep_level(run: LevelRun, limit_s: float = GRAPH_TIME_LIMIT_S):
     t0 = time.perf_counter()
     try:
         with points_to(run._report):
-            ds = run_limited(lambda: resonance_dataset(run.model, [run.pa_over_q], run.settings, workers=1,
-                                                       progress=False), limit_s, run.flag)
+            ds = run_limited(lambda: resonance_dataset(run.model, levels=[run.pa_over_q], settings=run.settings,
+                                                       workers=1, progress=False), limit_s, run.flag)
     except Stopped as e:
         return "stopped", str(e)
     except ParameterError as e:  # the inputs are checked before; a refusal is still one line

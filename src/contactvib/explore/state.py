@@ -227,7 +227,7 @@ def series_overlay(model, exc, result) -> SeriesOverlay:
     from contactvib.model import ParameterError
 
     try:
-        series = perturbation_series(model, exc)
+        series = perturbation_series(exc)
     except (ParameterError, FloatingPointError, ZeroDivisionError, np.linalg.LinAlgError) as e:
         return SeriesOverlay(None, None, f"perturbation series not computed: {e}")
     head = f"perturbation series (N = {series.terms}, {series.summation})"

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactvib._kernels.shooting import is_stable
+from contactvib.call_forms import old_form, renamed_fields
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
 from contactvib.errors import ComputationError
 from contactvib.frequency.aft import AFT as _AFT
@@ -53,6 +54,7 @@ from contactvib.model import (
     ContactModel,
     Excitation,
     ParameterError,
+    check_excitation,
     check_int,
     check_level_kind,
     check_range,
@@ -203,15 +205,15 @@ def _check_force_harmonics(excitation: Excitation, H: int) -> None:
         raise ParameterError("harmonics", H, f"must be >= {k}: the force has a harmonic {k} f_e")
 
 
-def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
-             start=None, n_time: int | None = None, tol: float = 1e-12, max_iter: int = 60,
-             stability: bool = True) -> HBSolution:
+@old_form("model", "excitation", "harmonics", "start", "n_time", "tol", "max_iter", "stability")
+def hb_solve(excitation: Excitation, *, harmonics: int = 32, start=None, n_time: int | None = None,
+             tol: float = 1e-12, max_iter: int = 60, stability: bool = True) -> HBSolution:
     """Harmonic-balance periodic solution at one operating point.
 
     Parameters
     ----------
-    model, excitation
-        The oscillator and the force.
+    excitation : Excitation
+        The operating point (with its model, ``excitation.model``).
     harmonics : int
         Number of harmonics H (1..1024).
     start : ndarray (2H'+1,) or HBSolution, optional
@@ -229,6 +231,7 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
     ComputationError
         If Newton does not converge (``stage`` "harmonic-balance").
     """
+    model = check_excitation(excitation).model
     H, n_time = _check_harmonics(harmonics, n_time)
     _check_force_harmonics(excitation, H)
     tol, max_iter = check_range("tol", tol, 0.0, False), check_int("max_iter", max_iter, 1)
@@ -252,6 +255,7 @@ def hb_solve(model: ContactModel, excitation: Excitation, harmonics: int = 32,
     return sol
 
 
+@renamed_fields(df_max="df_max_hz")
 @dataclass(frozen=True)
 class HBSettings:
     """Knobs of a harmonic-balance continuation (:func:`hb_continuation`).
@@ -263,8 +267,9 @@ class HBSettings:
     ds, ds_min, ds_max : float
         Initial, smallest and largest arclength step (in the scaled unknowns: coefficients in
         y0, r = f_e/f_n0).
-    df_max : float
-        Largest frequency step [Hz] (resolves narrow superharmonic peaks).
+    df_max_hz : float
+        Largest frequency step [Hz] (resolves narrow superharmonic peaks; ``df_max`` before
+        0.2.0, still accepted with a DeprecationWarning).
     max_points : int
         Largest number of points.
     energy_tol : float
@@ -283,7 +288,7 @@ class HBSettings:
     ds: float = 0.02
     ds_min: float = 1e-6
     ds_max: float = 0.5
-    df_max: float = 5.0
+    df_max_hz: float = 5.0
     max_points: int = 5000
     energy_tol: float = 1e-8
     tol: float = 1e-11
@@ -297,16 +302,17 @@ class HBSettings:
         v["ds_max"] = check_range("ds_max", self.ds_max, v["ds_min"], True, lower_name="ds_min")
         v["energy_tol"] = check_range("energy_tol", self.energy_tol, 0.0, False)
         v["max_points"] = check_int("max_points", self.max_points, 2)
-        v["df_max"] = check_range("df_max", self.df_max, 0.0, False, "Hz")
+        v["df_max_hz"] = check_range("df_max_hz", self.df_max_hz, 0.0, False, "Hz")
         v["tol"] = check_range("tol", self.tol, 0.0, False)
         v["max_iter"] = check_int("max_iter", self.max_iter, 1)
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
 
-def hb_continuation(model: ContactModel, pa_over_q: float, fmin_hz: float, fmax_hz: float, *,
+@old_form("model", "pa_over_q", "fmin_hz", "fmax_hz", renamed={"level_kind": "excitation"})
+def hb_continuation(model: ContactModel, *, pa_over_q: float, fmin_hz: float, fmax_hz: float,
                     harmonics: int = 32, settings: HBSettings | None = None, start=None,
-                    from_fmax: bool = False, f_start: float | None = None, level_kind: str = "force",
+                    from_fmax: bool = False, f_start: float | None = None, excitation: str = "force",
                     force_harmonics=()) -> HBBranch:
     """Follow a periodic branch from ``fmin`` to ``fmax`` by pseudo-arclength continuation.
 
@@ -330,7 +336,7 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin_hz: float, fmax_
     f_start : float, optional
         Start at this frequency [Hz] inside the range instead (direction still set by
         ``from_fmax``: decreasing f_e if True).
-    level_kind : str
+    excitation : str
         What ``pa_over_q`` holds (:data:`contactvib.model.LEVEL_KINDS`): "force" (P_a/Q), or
         base motion "base-um" (U [µm], the inertial force growing with f_e²) / "base-g" (A [g]).
     force_harmonics : tuple of (k, P_k/Q, phase [deg])
@@ -344,9 +350,9 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin_hz: float, fmax_
     -----
     ``contactvib.continuation.engine.continue_branch`` on ``HBProblem``: Newton with at
     least one step and at most 12 Jacobians, step ×1.5 after ≤ 4 Jacobians, halved after a
-    failure, capped so that f_e moves at most ``df_max``.
+    failure, capped so that f_e moves at most ``df_max_hz``.
     """
-    kind = check_level_kind(level_kind)
+    kind = check_level_kind(excitation)
     if kind != "force" and force_harmonics:
         raise ParameterError("force_harmonics", force_harmonics, "belong to a force level, not to base motion")
     pa_over_q = check_range(LEVEL_KINDS[kind][0], pa_over_q, 0.0, True)
@@ -357,7 +363,7 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin_hz: float, fmax_
     s = settings or HBSettings()
     if not isinstance(s, HBSettings):
         raise ParameterError("settings", settings, "must be an HBSettings")
-    dr_max = s.df_max / model.f_n0
+    dr_max = s.df_max_hz / model.f_n0
     H, n_time = _check_harmonics(harmonics, s.n_time)
     aft = _AFT(H, n_time)
     fn0 = model.f_n0
@@ -368,7 +374,7 @@ def hb_continuation(model: ContactModel, pa_over_q: float, fmin_hz: float, fmax_
             raise ParameterError("f_start", f_start, f"must be in [{fmin:g}, {fmax:g}] Hz")
     exc0 = (model.excitation(pa_over_q, f0, harmonics=force_harmonics) if kind == "force"
             else excitation_at(model, pa_over_q, f0, kind))
-    first = hb_solve(model, exc0, H, start=start, n_time=n_time, tol=s.tol, stability=False)
+    first = hb_solve(exc0, harmonics=H, start=start, n_time=n_time, tol=s.tol, stability=False)
     prob = HBProblem(model, pa_over_q, aft, (fmin, fmax), s.energy_tol, s.stability, _hb_par(model, exc0))
     u0 = np.append(first.coefficients, f0 / fn0)
     prob.f_exact = (u0[-1], f0)  # the first point's f_e as given, not r f_n0
@@ -466,7 +472,8 @@ class HBProblem:
         return None
 
 
-def coefficients_from_orbit(excitation: Excitation, z, harmonics: int) -> np.ndarray:
+@old_form("excitation", "z", "harmonics")
+def coefficients_from_orbit(excitation: Excitation, z, *, harmonics: int) -> np.ndarray:
     """HB coefficients [a0, a1, b1, ...] of the period-1 orbit through the nondimensional state
     ``z`` at phase 0 (one tight-tolerance period sampled from the dense output, then FFT)."""
     from contactvib._kernels.orbit import sample_records

@@ -57,7 +57,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contactvib.model import ContactModel, Excitation, ParameterError, check_range
+from contactvib.call_forms import old_form
+from contactvib.model import ContactModel, Excitation, ParameterError, check_excitation, check_range
 from contactvib.model.contact_law import PowerLaw
 from contactvib.steady.results import TimeHistory
 
@@ -370,16 +371,15 @@ def series_state(model: ContactModel, excitation: Excitation, terms: int = 40,
     return _phase_zero_state(c, excitation.f_e / model.f_n0)
 
 
-def perturbation_series(model: ContactModel, excitation: Excitation, terms: int = 40,
-                        summation: str = "pade") -> PerturbationResult:
+@old_form("model", "excitation", "terms", "summation")
+def perturbation_series(excitation: Excitation, *, terms: int = 40, summation: str = "pade") -> PerturbationResult:
     """The regular perturbation series of the steady state, summed over ``terms`` terms.
 
     Parameters
     ----------
-    model : ContactModel
-        Any power law (m2 ≥ 1, l ≥ 0).
     excitation : Excitation
-        P_a/Q is the expansion parameter ε; f_e > 0.
+        P_a/Q is the expansion parameter ε; f_e > 0. Its model (``excitation.model``): any power
+        law (m2 ≥ 1, l ≥ 0).
     terms : int
         Number of terms N (1 ≤ N ≤ 400). N = 1 is the linear response.
     summation : {"pade", "plain"}
@@ -393,6 +393,7 @@ def perturbation_series(model: ContactModel, excitation: Excitation, terms: int 
     -------
     PerturbationResult
     """
+    model = check_excitation(excitation).model
     model.require_paper_family("the perturbation series", excitation)
     N = _check_terms(terms, summation)
     eps = excitation.pa_over_q
@@ -440,7 +441,8 @@ def perturbation_series(model: ContactModel, excitation: Excitation, terms: int 
         summation=summation, coefficients=C, sum_coefficients=c)
 
 
-def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, terms: int = 24):
+@old_form("model", "pa_over_q", "fe_hz", "terms")
+def perturbation_curve(model: ContactModel, *, pa_over_q: float, fe_hz, terms: int = 24):
     """The series' A_pp along frequencies (for the resonance graphs' small-amplitude parts).
 
     Returns ``(fe_hz, app_um, valid)`` arrays [Hz, µm, bool]; ``valid`` as
@@ -448,7 +450,7 @@ def perturbation_curve(model: ContactModel, pa_over_q: float, fe_hz, terms: int 
     """
     model.require_paper_family("the perturbation series")
     fe = np.asarray(fe_hz, float)
-    out = [perturbation_series(model, model.excitation(pa_over_q, float(f)), terms=terms) for f in fe]
+    out = [perturbation_series(model.excitation(pa_over_q, float(f)), terms=terms) for f in fe]
     return fe, np.array([r.app_um for r in out]), np.array([r.valid for r in out], bool)
 
 
@@ -476,13 +478,13 @@ def steady_counterpart(model: ContactModel, excitation: Excitation, result: Pert
 
     try:
         z, M, res = refine_orbit(excitation, result.state, 1)
-        att = describe_orbit(model, excitation, z, 1, M, res)
+        att = describe_orbit(excitation, z, 1, monodromy=M, closure=res)
         if not att.loses_contact or not result.valid:
             if abs(att.app_um - result.app_um) <= 0.5 * max(result.app_um, 1e-12) or not result.valid:
                 return att
     except ComputationError:
         pass
-    found = find_attractors(model, excitation)
+    found = find_attractors(excitation)
     if len(found) == 0:
         raise ComputationError("no steady state found at this operating point", stage="settle")
     return found[described_attractor(found, result)]
@@ -503,7 +505,7 @@ def convergence_table(model: ContactModel, excitation: Excitation, terms, refere
     per number of terms N in ``terms`` (a sequence)."""
     rows = []
     for n in terms:
-        res = perturbation_series(model, excitation, n, summation)
+        res = perturbation_series(excitation, terms=n, summation=summation)
         rows.append((int(n), res.app_um, abs(res.app_um - reference_app_um) / reference_app_um,
                      res.error_estimate_um, res.valid))
     return rows

@@ -93,7 +93,7 @@ def friction_variables(model, level, settings) -> dict:
         try:
             ws = warm.pop(before[j], None) if before[j] >= 0 else None
             ws = WarmStart() if ws is None else ws
-            res = friction_at(model, exc, orbit, fm, with_limit=False, warm=ws)
+            res = friction_at(exc, orbit, friction=fm, with_limit=False, warm=ws)
             warm[j] = ws
         except ComputationError:
             continue

@@ -87,16 +87,16 @@ def _row(exc: Excitation, vd: float, rank: int, a, res) -> dict:
 def friction_vs_frequency(model: ContactModel, excitations, friction: FrictionModel | None = None,
                           search: dict | None = None, on_point=None) -> FrictionSweep:
     """The friction of every periodic attractor at each excitation of ``excitations`` (one level,
-    a grid of f_e), the attractors found by ``find_attractors(model, exc, **search)``;
+    a grid of f_e), the attractors found by ``find_attractors(exc, **search)``;
     ``on_point(exc, rows)`` is called after each frequency (progress)."""
     fm = FrictionModel() if friction is None else friction
     acc, skipped = [], 0
     for exc in excitations:
-        found = _search.find_attractors(model, exc, **(search or {}))
+        found = _search.find_attractors(exc, **(search or {}))
         new = []
         for rank, a in enumerate(found):
             try:
-                new.append(_row(exc, fm.vd, rank, a, friction_at(model, exc, a, fm)))
+                new.append(_row(exc, fm.vd, rank, a, friction_at(exc, a, friction=fm)))
             except ComputationError:
                 skipped += 1
         acc += new
@@ -126,7 +126,7 @@ def friction_vs_velocity(model: ContactModel, excitation: Excitation, attractors
     for rank, a in enumerate(attractors):
         for vd in velocities:
             try:
-                res = friction_at(model, excitation, a, replace(fm, vd=float(vd)))
+                res = friction_at(excitation, a, friction=replace(fm, vd=float(vd)))
             except ComputationError:
                 skipped += 1
                 break

@@ -28,10 +28,11 @@ from contactvib._kernels.contact import contact_force_array
 from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import sample_records
 from contactvib._kernels.status import STATUS_INTERRUPTED, STATUS_OK, status_message
+from contactvib.call_forms import old_form
 from contactvib.errors import ComputationError
 from contactvib.friction.model import FrictionModel
 from contactvib.interrupts import new_stop_flag, run_interruptible
-from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
+from contactvib.model import ContactModel, Excitation, ParameterError, check_excitation, check_int, check_range
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor
 
@@ -308,16 +309,16 @@ def _newton(rec, par, tpar, scale, warm, k: int, fe_hz: float, cold):
             np.array([[mode, int(sigma)], [m1, int(s1)]], np.int64))
 
 
-def friction_at(model: ContactModel, excitation: Excitation, attractor: Attractor,
-                friction: FrictionModel | None = None, *, max_periods: int | None = None,
-                with_limit: bool = True, warm=None) -> FrictionResult:
+@old_form("model", "excitation", "attractor", "friction")
+def friction_at(excitation: Excitation, attractor: Attractor, *, friction: FrictionModel | None = None,
+                max_periods: int | None = None, with_limit: bool = True, warm=None) -> FrictionResult:
     """The steady tangential motion (friction ratio, stick fraction, energies) under the normal
-    attractor ``attractor`` of ``model`` at ``excitation``.
+    attractor ``attractor`` at ``excitation`` (of its model, ``excitation.model``).
 
     Parameters
     ----------
-    model, excitation, attractor
-        The normal problem and one of its periodic attractors (``find_attractors``).
+    excitation, attractor
+        The normal operating point and one of its periodic attractors (``find_attractors``).
     friction : FrictionModel
         Tangential parameters (default ``FrictionModel()``).
     max_periods : int or None
@@ -339,6 +340,7 @@ def friction_at(model: ContactModel, excitation: Excitation, attractor: Attracto
         ``WARM_TOL``. None: the
         transient from steady sliding, refined to the integrator's noise floor.
     """
+    model = check_excitation(excitation).model
     fm = FrictionModel() if friction is None else friction
     if not isinstance(fm, FrictionModel):
         raise ParameterError("friction", friction, "must be a FrictionModel")

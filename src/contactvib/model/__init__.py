@@ -24,7 +24,14 @@ from contactvib.model.checks import (
                                      check_range,
 )
 from contactvib.model.contact_law import PowerLaw
-from contactvib.model.excitation import LEVEL_KINDS, LEVEL_TAGS, check_level_kind, excitation_at, level_text
+from contactvib.model.excitation import (
+    LEVEL_KINDS,
+    LEVEL_TAGS,
+    check_excitation,
+    check_level_kind,
+    excitation_at,
+    level_text,
+)
 from contactvib.model.greenwood_williamson import GreenwoodWilliamson
 from contactvib.model.laws import (
     ClearanceLaw,
@@ -48,4 +55,5 @@ __all__ = ["ContactModel", "System", "ContactElement", "Excitation", "ParameterE
            "check_frequency_range", "check_pa_level", "PA_NOTE", "SHOOTING_RTOL_RANGE",
            "KMAX_SEARCH_MAX", "KMAX_SWEEP_MAX", "MULTISTART_PER_OCTAVE_MAX",
            "EVOLUTION_ORDER_MAX", "HARMONICS_MAX", "CAPTURE_TOL_MAX", "WORKERS_MAX",
-           "LEVEL_KINDS", "LEVEL_TAGS", "check_level_kind", "excitation_at", "level_text", "GreenwoodWilliamson"]
+           "LEVEL_KINDS", "LEVEL_TAGS", "check_excitation", "check_level_kind", "excitation_at", "level_text",
+           "GreenwoodWilliamson"]

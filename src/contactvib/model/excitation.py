@@ -14,7 +14,8 @@ from contactvib.model.checks import PA_MAX, PA_NOTE, R_RANGE, ParameterError, ch
 #: What an Excitation asks of its model (every :class:`ContactModel` has them)
 _MODEL_MEMBERS = ("f_n0", "Q", "M", "spring_law", "require_paper_family")
 
-__all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX", "LEVEL_KINDS", "LEVEL_TAGS", "excitation_at", "level_text"]
+__all__ = ["Excitation", "G_STANDARD", "HARMONIC_TERMS_MAX", "LEVEL_KINDS", "LEVEL_TAGS",
+           "check_excitation", "excitation_at", "level_text"]
 
 #: Standard gravity [m/s²]: the unit of a base acceleration given in g (``--base-g``).
 G_STANDARD = 9.80665
@@ -28,6 +29,22 @@ LEVEL_KINDS = {
     "base-um": ("U", "um", "base displacement amplitude U"),
     "base-g": ("A", "g", "base acceleration amplitude A"),
 }
+
+
+def check_excitation(excitation, model: ExcitedModel | None = None) -> Excitation:
+    """``excitation`` checked to be an :class:`Excitation` (of a model equal to ``model``, where
+    given): the operating point of a verb at one point. Returns it."""
+    if model is not None and not all(hasattr(type(model), a) for a in _MODEL_MEMBERS):
+        raise ParameterError("model", model, "must be a ContactModel")
+    if not isinstance(excitation, Excitation):
+        raise ParameterError("excitation", excitation, "must be an Excitation (model.excitation(P_a/Q, f_e))")
+    if model is not None and excitation.model != model:
+        mine, theirs = model.parameters(), excitation.model.parameters()
+        differ = ", ".join(k for k in mine if mine[k] != theirs.get(k))
+        raise ParameterError("excitation", f"P_a/Q = {excitation.pa_over_q:g} at {excitation.f_e:g} Hz",
+                             f"belongs to another model ({differ} differ): make it with "
+                             f"model.excitation(P_a/Q, f_e)")
+    return excitation
 
 
 class ExcitedModel(Protocol):

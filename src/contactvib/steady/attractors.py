@@ -41,13 +41,13 @@ import numpy as np
 
 from contactvib._kernels.settle import settle_capture_many
 from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+from contactvib.call_forms import old_form
 from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import (
     CAPTURE_TOL_MAX,
     KMAX_SEARCH_MAX,
-    ContactModel,
     Excitation,
-    ParameterError,
+    check_excitation,
     check_int,
     check_range,
 )
@@ -159,20 +159,6 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
     return n_failed, n_unsettled, n_unsettled_box, labels
 
 
-def check_pair(model: ContactModel, excitation: Excitation) -> None:
-    """Refuse an excitation made for another model (its r = f_e/f_n0 and P_a/Q would be wrong)."""
-    if not isinstance(model, ContactModel):
-        raise ParameterError("model", model, "must be a ContactModel")
-    if not isinstance(excitation, Excitation):
-        raise ParameterError("excitation", excitation, "must be an Excitation (model.excitation(P_a/Q, f_e))")
-    if excitation.model != model:
-        mine, theirs = model.parameters(), excitation.model.parameters()
-        differ = ", ".join(k for k in mine if mine[k] != theirs[k])
-        raise ParameterError("excitation", f"P_a/Q = {excitation.pa_over_q:g} at {excitation.f_e:g} Hz",
-                             f"belongs to another model ({differ} differ): make it with "
-                             f"model.excitation(P_a/Q, f_e)")
-
-
 def default_max_periods(excitation: Excitation, detect_tol: float = 1e-4) -> int:
     """The automatic transient limit of a search [excitation periods]: for a start
     ``3 + 10 P_a/Q`` y0 away (:func:`.transients.transient_periods`)."""
@@ -235,17 +221,18 @@ def check_search(n_starts, seed, kmax, max_periods) -> tuple[int, int, int, int 
     return n_starts, seed, kmax, max_periods
 
 
-def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int = 512,
-                    seed: int = 0, kmax: int = 8, max_periods: int | None = None,
-                    seeds: bool = True, detect_tol: float = 1e-4,
+@old_form("model", "excitation", "n_starts", "seed", "kmax", "max_periods", "seeds", "detect_tol",
+          "rtol_transient", "capture_tol", "progress")
+def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 0, kmax: int = 8,
+                    max_periods: int | None = None, seeds: bool = True, detect_tol: float = 1e-4,
                     rtol_transient: float = 1e-8, capture_tol: float = 3e-3,
                     progress=None) -> AttractorSet:
     """All attractors reached from the start box and the ballistic seeds.
 
     Parameters
     ----------
-    model, excitation
-        The oscillator and the harmonic force. The model must be damped (h_n > 0).
+    excitation : Excitation
+        The operating point (its model, ``excitation.model``, must be damped: h_n > 0).
     n_starts : int
         Random starts in the box (≥ 1).
     seed : int
@@ -279,7 +266,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
     AttractorSet
         With ``n_unsettled`` starts that did not settle (an ``UnsettledWarning`` says so).
     """
-    check_pair(model, excitation)
+    model = check_excitation(excitation).model
     check_damped(model, "the attractor search")
     n_starts, seed, kmax, max_periods = check_search(n_starts, seed, kmax, max_periods)
     detect_tol = check_range("detect_tol", detect_tol, 0.0, False)
@@ -332,7 +319,7 @@ def find_attractors(model: ContactModel, excitation: Excitation, n_starts: int =
             f"exceeds {kmax}"), stacklevel=2)
 
     attractors = [
-        describe_orbit(model, excitation, g["z"], g["period"], g["M"], g["res"],
+        describe_orbit(excitation, g["z"], g["period"], monodromy=g["M"], closure=g["res"],
                        basin_fraction=g["box"] / n_starts, hits=g["hits"], kind=g["type"],
                        lyapunov=g["lyap"])
         for g in groups

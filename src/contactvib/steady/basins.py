@@ -32,11 +32,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactvib.model import ContactModel, Excitation, check_int, check_range
+from contactvib.call_forms import old_form
+from contactvib.model import ContactModel, Excitation, check_excitation, check_int, check_range
 from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.attractors import (
     box_half_width,
-    check_pair,
     check_search,
     default_max_periods,
     find_attractors,
@@ -187,7 +187,7 @@ def merge_blocks(model: ContactModel, excitation: Excitation, search: AttractorS
         parts.append(lut[b.labels + 1])
     labels = np.vstack(parts)
     n = labels.size
-    described = [describe_orbit(model, excitation, g["z"], g["period"], g["M"], g["res"],
+    described = [describe_orbit(excitation, g["z"], g["period"], monodromy=g["M"], closure=g["res"],
                                 basin_fraction=float(np.count_nonzero(labels == n_known + j)) / n,
                                 hits=int(np.count_nonzero(labels == n_known + j)), kind=g["type"],
                                 lyapunov=g["lyap"])
@@ -198,15 +198,16 @@ def merge_blocks(model: ContactModel, excitation: Excitation, search: AttractorS
                     n_unsettled=sum(b.n_unsettled for b in blocks))
 
 
-def basins(model: ContactModel, excitation: Excitation, grid=(400, 400), box=None, kmax: int = 8,
+@old_form("model", "excitation", "grid", "box", "kmax", "max_periods", "n_starts", "seed", "block_starts")
+def basins(excitation: Excitation, *, grid=(400, 400), box=None, kmax: int = 8,
            max_periods: int | None = None, n_starts: int = 512, seed: int = 0,
            block_starts: int = BLOCK_STARTS) -> BasinMap:
     """Basins of attraction on a grid of initial states (y, ẏ) at phase 0 of the excitation.
 
     Parameters
     ----------
-    model, excitation
-        The oscillator (damped, h_n > 0) and the harmonic force.
+    excitation : Excitation
+        The operating point (its model, ``excitation.model``, damped: h_n > 0).
     grid : (int, int)
         Grid points in y and in ẏ (each ≥ 2).
     box : ((float, float), (float, float)) or None
@@ -223,7 +224,7 @@ def basins(model: ContactModel, excitation: Excitation, grid=(400, 400), box=Non
     BasinMap
         Labels (−1: no attractor within ``max_periods``), the attractors and their fractions.
     """
-    check_pair(model, excitation)
+    model = check_excitation(excitation).model
     check_damped(model, "basins of attraction")
     grid, box, kmax, max_periods, n_starts, seed = check_basins(grid, box, kmax, max_periods, n_starts, seed)
     block_starts = check_int("block_starts", block_starts, 1)
@@ -231,7 +232,7 @@ def basins(model: ContactModel, excitation: Excitation, grid=(400, 400), box=Non
     limit = default_max_periods(excitation) if max_periods is None else max_periods
     check_work(excitation, grid[0] * grid[1], limit,
                options="--grid or --max-periods")
-    search = find_attractors(model, excitation, n_starts=n_starts, seed=seed, kmax=kmax,
+    search = find_attractors(excitation, n_starts=n_starts, seed=seed, kmax=kmax,
                              max_periods=max_periods)
     step = max(1, block_starts // grid[0])
     blocks = [basin_block(model, excitation, search, grid, box, (r, min(r + step, grid[1])))

@@ -17,8 +17,9 @@ from contactvib._kernels.flow import REC_H, REC_MODE, REC_T
 from contactvib._kernels.orbit import measure_orbit, record_steps, sample_records
 from contactvib._kernels.shooting import newton_orbit, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
+from contactvib.call_forms import old_form
 from contactvib.errors import ComputationError
-from contactvib.model import ContactModel, Excitation
+from contactvib.model import ContactModel, Excitation, check_excitation
 from contactvib.steady.results import Attractor
 
 __all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points",
@@ -47,7 +48,8 @@ def strobe_points(excitation: Excitation, z, k: int, rtol: float = RTOL_REFINE) 
     return pts
 
 
-def refine_orbit(excitation: Excitation, z, k: int, tol: float = CLOSE_TOL,
+@old_form("excitation", "z", "k", "tol", "rtol", "max_iter")
+def refine_orbit(excitation: Excitation, z, k: int, *, tol: float = CLOSE_TOL,
                  rtol: float = RTOL_REFINE, max_iter: int = 20):
     """Newton shooting for a period-``k`` orbit from the nondimensional state ``z``.
 
@@ -146,10 +148,11 @@ def first_harmonic_um(excitation: Excitation, rec, n_periods: int) -> float:
     return float(out[-1]) * excitation.model.units.y_um
 
 
-def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int | None,
-                   monodromy=None, closure: float = math.inf, basin_fraction: float = 0.0,
-                   hits: int = 0, n_periods_nonperiodic: int = 32, kind: str | None = None,
-                   lyapunov: float = math.nan) -> Attractor:
+@old_form("model", "excitation", "z", "period", "monodromy", "closure", "basin_fraction", "hits",
+          "n_periods_nonperiodic", "kind", "lyapunov")
+def describe_orbit(excitation: Excitation, z, period: int | None, *, monodromy=None,
+                   closure: float = math.inf, basin_fraction: float = 0.0, hits: int = 0,
+                   n_periods_nonperiodic: int = 32, kind: str | None = None, lyapunov: float = math.nan) -> Attractor:
     """Measure an orbit through the nondimensional state ``z`` at phase 0.
 
     For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
@@ -158,6 +161,7 @@ def describe_orbit(model: ContactModel, excitation: Excitation, z, period: int |
     periods. The f_e amplitude (:func:`first_harmonic_um`) and the mean contact force
     (:func:`mean_contact_force_n`) are measured over the same span.
     """
+    model = check_excitation(excitation).model
     u = model.units
     n = period if period is not None else n_periods_nonperiodic
     rec, _z_end, t_flight = record(excitation, z, n)

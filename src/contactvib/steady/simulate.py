@@ -6,20 +6,14 @@ import numpy as np
 
 from contactvib._kernels.flow import REC_WIDTH
 from contactvib._kernels.orbit import sample_records
-from contactvib.model import ContactModel, Excitation, ParameterError, check_int, check_range
+from contactvib.call_forms import old_form
+from contactvib.model import ContactModel, Excitation, check_excitation, check_int, check_range
 from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.orbits import record
 from contactvib.steady.results import Attractor, TimeHistory
 from contactvib.steady.transients import check_work, steps_per_period
 
 __all__ = ["simulate", "attractor_history", "check_start"]
-
-
-def _check_types(model, excitation) -> None:
-    if not isinstance(model, ContactModel):
-        raise ParameterError("model", model, "must be a ContactModel")
-    if not isinstance(excitation, Excitation):
-        raise ParameterError("excitation", excitation, "must be an Excitation (model.excitation(P_a/Q, f_e))")
 
 
 def _history(model: ContactModel, excitation: Excitation, z, n_periods: int,
@@ -71,15 +65,15 @@ def check_start(model: ContactModel, y_um, ydot_mm_s, n_periods, samples_per_per
     return y_um, ydot_mm_s, n_periods, samples_per_period
 
 
-def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = None,
-             ydot_mm_s: float = 0.0, n_periods: int = 20, samples_per_period: int = 400,
-             rtol: float = 1e-10) -> TimeHistory:
+@old_form("model", "excitation", "y_um", "ydot_mm_s", "n_periods", "samples_per_period", "rtol")
+def simulate(excitation: Excitation, *, y_um: float | None = None, ydot_mm_s: float = 0.0,
+             n_periods: int = 20, samples_per_period: int = 400, rtol: float = 1e-10) -> TimeHistory:
     """Integrate from y = ``y_um`` µm, ẏ = ``ydot_mm_s`` mm/s at phase 0 for ``n_periods``.
 
     ``y_um`` defaults to the static deflection y0. The time history is sampled from the
     integrator's dense output (``samples_per_period`` points per excitation period).
     """
-    _check_types(model, excitation)
+    model = check_excitation(excitation).model
     y_um, ydot_mm_s, n_periods, samples_per_period = check_start(model, y_um, ydot_mm_s, n_periods,
                                                                  samples_per_period)
     rtol = check_range("rtol", rtol, 0.0, False)
@@ -93,10 +87,11 @@ def simulate(model: ContactModel, excitation: Excitation, y_um: float | None = N
     return hist
 
 
-def attractor_history(model: ContactModel, excitation: Excitation, attractor: Attractor,
-                      n_periods: int | None = None, samples_per_period: int = 800) -> TimeHistory:
+@old_form("model", "excitation", "attractor", "n_periods", "samples_per_period")
+def attractor_history(excitation: Excitation, attractor: Attractor, *, n_periods: int | None = None,
+                      samples_per_period: int = 800) -> TimeHistory:
     """Time history over ``n_periods`` (default: two orbit periods, at least 3) of an attractor."""
-    _check_types(model, excitation)
+    model = check_excitation(excitation).model
     if n_periods is None:
         n_periods = max(3, 2 * (attractor.period or 4))
     return _history(model, excitation, attractor.state, n_periods, samples_per_period, 1e-12)

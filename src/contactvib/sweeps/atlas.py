@@ -59,5 +59,5 @@ def atlas_dataset(model, levels, settings, out, resume: bool = False, backend=No
     ``resonance``'s at that level whatever the backend. Returns the merged Dataset."""
     from contactvib.sweeps.resonance import resonance_dataset
 
-    return resonance_dataset(model, levels, settings, out=Path(out), name=ATLAS_NAME, resume=resume,
+    return resonance_dataset(model, levels=levels, settings=settings, out=Path(out), name=ATLAS_NAME, resume=resume,
                              progress=progress, backend=backend, compress=True)

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from contactvib.call_forms import old_form
 from contactvib.model.checks import ParameterError, check_int, check_range
 from contactvib.sweeps.stored import DatasetError, ResonanceData, matching_level, open_resonance
 
@@ -149,7 +150,8 @@ def _write_gif(frames, path: Path, fps: float) -> dict:
     return stages
 
 
-def animate(dataset, out, fps: float = 2.0, size=(1600, 800), gif: bool | None = None) -> FilmResult:
+@old_form("dataset", "out", "fps", "size", "gif")
+def animate(dataset, out, *, fps: float = 2.0, size=(1600, 800), gif: bool | None = None) -> FilmResult:
     """Write the film of ``dataset`` (a path for :func:`open_levels`, or a ``ResonanceData``)
     to ``out``: MP4 (H.264) or, with ``gif`` (default: from the suffix of ``out``), GIF; one frame
     of ``size = (width, height)`` pixels per level at ``fps`` frames per second. Returns a

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from contactvib.call_forms import old_form
 from contactvib.labels import resonance_order
 from contactvib.model import ContactModel
 from contactvib.sweeps.paper_index import write_index
@@ -88,7 +89,7 @@ def write_level_figures(ds, pa: float, graph_path, extrema_path, model: ContactM
     if (model is not None and model.is_paper_family  # the series exists for the paper's law only
             and ds.attrs.get("excitation", "force") == "force"):  # and a force level
         f = np.arange(float(ds["fe_hz"].min()), float(ds["fe_hz"].max()) + 1e-9, PERTURBATION_STEP_HZ)
-        curve = perturbation_curve(model, pa, f)
+        curve = perturbation_curve(model, pa_over_q=pa, fe_hz=f)
     graph, extrema = level_figures(ds, pa, perturbation=curve, ref=ref)
     save_figure(graph, graph_path, dpi=120)
     save_figure(extrema, extrema_path, dpi=120)
@@ -134,12 +135,12 @@ def _time_figure(ds, model: ContactModel, tf: TimeFigure, out: Path):
     exc = model.excitation(tf.pa_over_q, res["fe_hz"])
     # the paper's resonances first (by amplitude), then the orbits the paper does not draw
     atts = sorted(res["attractors"], key=lambda a: (not _in_paper(a), -a["app_um"]))
-    ps = perturbation_series(model, exc, terms=PERTURBATION_TERMS)
+    ps = perturbation_series(exc, terms=PERTURBATION_TERMS)
     rows, figure_rows = [], []
     for a in atts:
         y, yd = _state_of(a)
         n_per = max(2, 2 * a["period"]) if a["period"] else 10
-        h = simulate(model, exc, y_um=y, ydot_mm_s=yd, n_periods=n_per, samples_per_period=600)
+        h = simulate(exc, y_um=y, ydot_mm_s=yd, n_periods=n_per, samples_per_period=600)
         note = _perturbation_note(ps, a)
         series = (ps.history(n_periods=n_per, samples_per_period=600)
                   if note.startswith("perturbation agrees") else None)
@@ -194,7 +195,8 @@ class PaperResult:
     timing: dict
 
 
-def reproduce_paper(out="paper", model: ContactModel | None = None,
+@old_form("out", "model", "settings", "levels", "resume", "workers", "progress", "time_figures", "spec_path")
+def reproduce_paper(model: ContactModel | None = None, *, out="paper",
                     settings: SweepSettings | None = None, levels=PAPER_LEVELS,
                     resume: bool = False, workers: int | None = None, progress: bool = True,
                     time_figures=PAPER_TIME_FIGURES, spec_path=None) -> PaperResult:
@@ -213,7 +215,7 @@ def reproduce_paper(out="paper", model: ContactModel | None = None,
     levels = sorted({round(float(p), 6) for p in levels})
     letters = {p: (_LETTERS[i] if len(levels) == len(_LETTERS) else "") for i, p in enumerate(levels)}
     products: dict = {}
-    ds = resonance_dataset(model, levels, settings, out=out, name="paper", resume=resume,
+    ds = resonance_dataset(model, levels=levels, settings=settings, out=out, name="paper", resume=resume,
                            workers=workers, progress=progress,
                            on_level=_LevelProducts(out, letters, tuple(time_figures), settings),
                            level_results=products)

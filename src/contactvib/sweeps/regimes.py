@@ -180,7 +180,7 @@ def evolution_curves(model, orders, pa_min: float, pa_max: float, n_levels: int 
 
     curves = []
     for m in orders:
-        res = evolution(model, m, pa_min=pa_min, pa_max=pa_max, n_levels=n_levels, log=log)
+        res = evolution(model, order=m, pa_min=pa_min, pa_max=pa_max, n_levels=n_levels, log=log)
         if out is not None:
             (Path(out) / f"evolution_order{m}.json").write_text(res.to_json(indent=1))
         curves.extend(_from_result(res.to_dict()))

@@ -27,6 +27,7 @@ import re
 from contextlib import contextmanager
 from pathlib import Path
 
+from contactvib.call_forms import old_form
 from contactvib.interrupts import Interrupted, check_interrupt, deferred_sigint
 from contactvib.model import (
     LEVEL_KINDS,
@@ -160,7 +161,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
 
     model = ContactModel(**model_params)
     st = SweepSettings(**settings)
-    level = trace_level(model, pa, st)
+    level = trace_level(model, pa_over_q=pa, settings=st)
     ds = level_dataset(model, level, settings)
     if st.friction is not None:  # the tangential motion under every periodic point
         from contactvib.friction.columns import with_friction
@@ -227,14 +228,21 @@ def check_sweep_level(model: ContactModel, level, settings: SweepSettings) -> fl
     return value
 
 
-def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, out=None,
+@old_form("model", "pa_levels", "settings", "out", "name", "resume", "workers", "progress", "on_level",
+          "level_results", "backend", "compress", renamed={"pa_levels": "levels"})
+def resonance_dataset(model: ContactModel, *, levels, settings: SweepSettings, out=None,
                       name: str = "resonance", resume: bool = False, workers: int | None = None,
                       progress: bool = True, on_level=None, level_results: dict | None = None,
                       backend=None, compress: bool = False):
-    """Sweep every P_a level in ``pa_levels`` [Q] over the settings' frequency grid.
+    """Sweep every level in ``levels`` over the settings' frequency grid.
 
     Parameters
     ----------
+    model : ContactModel
+    levels : sequence of float
+        The levels: P_a/Q, or U [µm] or A [g] as ``settings.excitation`` says (``pa_levels``
+        before 0.2.0).
+    settings : SweepSettings
     out : path or None
         Output folder; ``OUT/<name>.nc`` and the chunks ``OUT/.chunks/`` are written there.
     resume : bool
@@ -279,8 +287,8 @@ def resonance_dataset(model: ContactModel, pa_levels, settings: SweepSettings, o
         from contactvib.sweeps.backends import LocalPool
 
         backend = LocalPool(workers)
-    levels = []
-    for v in pa_levels:
+    given, levels = levels, []
+    for v in given:
         v = check_sweep_level(model, v, settings)
         if any(abs(v - w) < 1e-9 for w in levels):
             continue

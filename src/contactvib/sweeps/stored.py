@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from contactvib.call_forms import old_form
 from contactvib.errors import ContactvibError
 from contactvib.steady.results import dofs_and_contacts
 from contactvib.sweeps.dataset import FORMAT
@@ -111,7 +112,8 @@ def matching_level(levels, level: float) -> float | None:
     return float(lv[j]) if abs(lv[j] - level) <= LEVEL_TOL else None
 
 
-def open_resonance(path, load: bool = False) -> ResonanceData:
+@old_form("path", "load")
+def open_resonance(path, *, load: bool = False) -> ResonanceData:
     """The resonance dataset of ``path`` (a file, or a folder: ``find_dataset``) as a
     :class:`ResonanceData`, opened with xarray: read into memory with ``load``, else lazily
     (close it, or use it in a ``with`` block).
@@ -288,7 +290,8 @@ class ResonanceData:
         }
 
 
-def attractors_at(ds, pa_over_q: float, fe_hz: float) -> dict:
+@old_form("ds", "pa_over_q", "fe_hz")
+def attractors_at(ds, *, pa_over_q: float, fe_hz: float) -> dict:
     """The attractors stored in the resonance dataset ``ds`` (an xarray Dataset) at the grid
     point nearest (P_a [Q], f_e [Hz]): :meth:`ResonanceData.attractors_at`."""
     return ResonanceData(ds).attractors_at(pa_over_q, fe_hz)

@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from contactvib.call_forms import old_form
 from contactvib.model import (
     ContactModel,
     ParameterError,
@@ -173,7 +174,8 @@ def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int
     return obs
 
 
-def trace_level(model: ContactModel, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
+@old_form("model", "pa_over_q", "settings")
+def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
     As the level goes on it reports the frequency points done so far
@@ -250,9 +252,9 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
                     np.empty(2), np.empty(2))
     lyapunov_strobe(z.copy(), par, st.rtol_transient, np.int64(NP_LYAPUNOV))
     try:
-        continue_orbit(model, exc, z, 1, "f_e", "down",
-                       ContinuationSettings(fmin_hz=0.9 * f0, fmax_hz=f0, max_points=2, max_failures=2,
-                                            rtol=st.rtol, tol=st.close_tol))
+        continue_orbit(exc, z, 1, parameter="f_e", direction="down",
+                       settings=ContinuationSettings(fmin_hz=0.9 * f0, fmax_hz=f0, max_points=2, max_failures=2,
+                                                     rtol=st.rtol, tol=st.close_tol))
     except (ComputationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         pass
     newton_orbit(z.copy(), 1, par, st.rtol, st.rtol, st.close_tol, 8, np.empty(2), np.empty((2, 2)))

@@ -61,8 +61,8 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     settings = ContinuationSettings(fmin_hz=lo, fmax_hz=hi, max_points=MAX_POINTS, max_failures=20,
                                     rtol=lv.st.rtol, tol=lv.st.close_tol, locate=False)
     try:
-        return continue_orbit(model, lv.st.excitation_at(model, pa_over_q, f0), z, k, "f_e",
-                              "up" if direction > 0 else "down", settings)
+        return continue_orbit(lv.st.excitation_at(model, pa_over_q, f0), z, k, parameter="f_e",
+                              direction="up" if direction > 0 else "down", settings=settings)
     except (ComputationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         return None
 
