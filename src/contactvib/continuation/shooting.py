@@ -218,7 +218,7 @@ class OrbitProblem:
         self.level = excitation.level[1]  # recorded with each point of a branch in f_e
         self.y_um = model.units.y_um
         self.position_um = model.units.position_um
-        self.model, self.excitation = model, excitation
+        self.excitation = excitation
         self.fn0 = model.f_n0
         if parameter == "f_e":
             lo, hi = settings.fmin_hz / self.fn0, settings.fmax_hz / self.fn0
@@ -353,7 +353,7 @@ class OrbitProblem:
 
         exc = replace(self.excitation, f_e=r.fe_hz) if self.ip == 4 else \
             replace(self.excitation, f_e=r.fe_hz, pa_over_q=r.pa_over_q)
-        d = describe_orbit(self.model, exc, state, self.k).to_dict()
+        d = describe_orbit(exc, state, self.k).to_dict()
         return {"dofs": d["dofs"], "contacts": d["contacts"]}
 
     def branch(self, points, specials, stops, branch_id, parent=None, settings=None) -> Branch:
