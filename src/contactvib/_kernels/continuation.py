@@ -34,7 +34,7 @@ from numba import njit
 
 from .linalg import solve_dense
 from .orbit import RECORD_CAP_MAX, measure_orbit, record_steps
-from .shooting import strobe_map
+from .shooting import map_residual, strobe_map
 from .status import STATUS_OK
 
 #: relative step of the central difference in the parameter (floor 1e-3 absolute)
@@ -49,7 +49,8 @@ def fd_step(q):
 
 @njit(cache=True)
 def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
-    """G(u) and its 2×3 Jacobian ``[M − I | ∂P^k/∂q]`` at ``u = (x, x', q)``.
+    """G(u) and its 2×3 Jacobian ``[M − I | ∂P^k/∂q]`` at ``u = (x, x', q)`` (G and M from
+    :func:`.shooting.map_residual`, the one residual of the period map).
 
     ``par`` is used as scratch (``par[ip]`` is set to ``u[2]``). Returns a :mod:`.flow` status.
     """
@@ -58,11 +59,11 @@ def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
     z[1] = u[1]
     pz = np.empty(2)
     par[ip] = u[2]
-    st = strobe_map(z, k, par, rtol, rtol, pz, out_M)
+    st, g0, g1, _sc, _res = map_residual(z, k, par, rtol, rtol, pz, out_M)
     if st != STATUS_OK:
         return st
-    out_G[0] = pz[0] - z[0]
-    out_G[1] = pz[1] - z[1]
+    out_G[0] = g0
+    out_G[1] = g1
     out_J[0, 0] = out_M[0, 0] - 1.0
     out_J[0, 1] = out_M[0, 1]
     out_J[1, 0] = out_M[1, 0]
