@@ -6,6 +6,13 @@ orbit solves ``G(z) = P^k(z) − z = 0``; Newton's method uses ``G'(z) = M − I
 matrix ``M = ∂P^k/∂z`` from the variational equation integrated through the contact events
 (:mod:`.flow`). The eigenvalues of ``M`` are the Floquet multipliers of the orbit.
 
+Defined here once, for every periodic orbit of the normal motion: the residual of the period map
+(:func:`map_residual`), the Newton step (:func:`newton_step`, the 2×2 solve of
+:func:`.linalg.solve2`), Newton's method with its callers' options (:func:`newton_map`;
+:func:`newton_orbit`), the stability rule (:data:`STABILITY_TOL`, :func:`stable_multipliers`,
+:func:`stable_monodromy`, :func:`is_stable`) and the minimal-period tolerance
+(:data:`MINIMAL_PERIOD_TOL`).
+
 References
 ----------
 T. S. Parker, L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer (1989),
