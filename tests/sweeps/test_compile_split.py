@@ -73,8 +73,8 @@ def test_warm_up_compiles_only_what_a_level_uses(tmp_path):
                          timeout=600, check=True).stdout
     counts = {tuple(line.split()[:2]): int(line.split()[2]) for line in out.splitlines()}
     on_purpose = {("flow", "_stages"), ("dop853", "dense_value"), ("flow", "dense_root"),
-                  ("flow", "illinois_update"), ("dop853", "step_factor"), ("series_roots", "poly"),
-                  ("series_roots", "poly_root")}
+                  ("roots", "illinois_update"), ("roots", "illinois_trial"), ("dop853", "step_factor"),
+                  ("series_roots", "poly"), ("series_roots", "poly_root")}
     for root in (("settle", "settle"), ("trace", "trace"), ("describe", "describe_point"),
                  ("shooting", "newton_orbit"), ("describe", "lyapunov_strobe"),
                  ("table", "_settle_known_threads")):

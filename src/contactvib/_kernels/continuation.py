@@ -16,8 +16,8 @@ The null vector of the 2×3 Jacobian (the branch tangent) has the ``q``-componen
 ``det(M − I)`` (up to a factor): it changes sign at a fold.
 
 Also here, for the engine's small problems (n + 1 ≤ 8 unknowns): the bordered Newton step and
-the bordered null vector by Gaussian elimination (:func:`bordered_newton_step`,
-:func:`null_vector`); larger ones (harmonic balance) use LAPACK.
+the bordered null vector (:func:`bordered_newton_step`, :func:`null_vector`), solved by
+:func:`.linalg.solve_dense`; larger ones (harmonic balance) use LAPACK.
 
 References
 ----------
@@ -32,8 +32,9 @@ import math
 import numpy as np
 from numba import njit
 
+from .linalg import solve_dense
 from .orbit import RECORD_CAP_MAX, measure_orbit, record_steps
-from .shooting import strobe_map
+from .shooting import map_residual, strobe_map
 from .status import STATUS_OK
 
 #: relative step of the central difference in the parameter (floor 1e-3 absolute)
@@ -48,7 +49,8 @@ def fd_step(q):
 
 @njit(cache=True)
 def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
-    """G(u) and its 2×3 Jacobian ``[M − I | ∂P^k/∂q]`` at ``u = (x, x', q)``.
+    """G(u) and its 2×3 Jacobian ``[M − I | ∂P^k/∂q]`` at ``u = (x, x', q)`` (G and M from
+    :func:`.shooting.map_residual`, the one residual of the period map).
 
     ``par`` is used as scratch (``par[ip]`` is set to ``u[2]``). Returns a :mod:`.flow` status.
     """
@@ -57,11 +59,11 @@ def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
     z[1] = u[1]
     pz = np.empty(2)
     par[ip] = u[2]
-    st = strobe_map(z, k, par, rtol, rtol, pz, out_M)
+    st, g0, g1, _sc, _res = map_residual(z, k, par, rtol, rtol, pz, out_M)
     if st != STATUS_OK:
         return st
-    out_G[0] = pz[0] - z[0]
-    out_G[1] = pz[1] - z[1]
+    out_G[0] = g0
+    out_G[1] = g1
     out_J[0, 0] = out_M[0, 0] - 1.0
     out_J[0, 1] = out_M[0, 1]
     out_J[1, 0] = out_M[1, 0]
@@ -83,39 +85,6 @@ def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
     out_J[0, 2] = (pp[0] - pm[0]) / (2.0 * h)
     out_J[1, 2] = (pp[1] - pm[1]) / (2.0 * h)
     return STATUS_OK
-
-
-@njit(cache=True)
-def _gauss(A, y, out):
-    """Solve ``A x = y`` in place (A, y overwritten) by Gaussian elimination with partial
-    pivoting into ``out``; False if singular or not finite."""
-    n = A.shape[0]
-    for c in range(n):
-        p = c
-        for i in range(c + 1, n):
-            if abs(A[i, c]) > abs(A[p, c]):
-                p = i
-        if A[p, c] == 0.0 or not math.isfinite(A[p, c]):
-            return False
-        if p != c:
-            for j in range(n):
-                tmp = A[c, j]
-                A[c, j] = A[p, j]
-                A[p, j] = tmp
-            tmp = y[c]
-            y[c] = y[p]
-            y[p] = tmp
-        for i in range(c + 1, n):
-            f = A[i, c] / A[c, c]
-            for j in range(c, n):
-                A[i, j] -= f * A[c, j]
-            y[i] -= f * y[c]
-    for i in range(n - 1, -1, -1):
-        acc = y[i]
-        for j in range(i + 1, n):
-            acc -= A[i, j] * out[j]
-        out[i] = acc / A[i, i]
-    return True
 
 
 @njit(cache=True)
@@ -164,7 +133,7 @@ def bordered_newton_step(J, F, bord, u, u_prev, ds, w, out_u):
     for j in range(n1):
         A[n1 - 1, j] = bord[j]
     y[n1 - 1] = -cons
-    if not _gauss(A, y, d):
+    if not solve_dense(A, y, d):
         return cons, math.nan
     step = 0.0
     for i in range(n1):
@@ -186,7 +155,7 @@ def null_vector(J, w, direction, out_t):
     for j in range(n1):
         A[n1 - 1, j] = direction[j]
     y[n1 - 1] = 1.0
-    if not _gauss(A, y, out_t):
+    if not solve_dense(A, y, out_t):
         return False
     nrm = 0.0
     for i in range(n1):

@@ -45,6 +45,7 @@ from .dop853 import (  # noqa: F401  (dense_value, interpolant: also the flow's 
     solution,
     step_factor,
 )
+from .roots import illinois_root
 from .status import (  # noqa: F401
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -192,52 +193,28 @@ def _dense(contact, t, y, ynew, h, par, K, F):
     interpolant(K, y, ynew, h, 2, F)
 
 
+#: Width of the θ bracket below which a dense-output root is accepted (θ ∈ [0, 1]): strictly
+#: below 4e-16, as :func:`.roots.illinois_root` accepts widths ≤ ``xtol``.
+DENSE_XTOL = float(np.nextafter(4e-16, 0.0))
+
+
+@njit(cache=True, inline='always')
+def _dense_offset(theta, args):
+    """Component ``args[2]`` of the dense output (``args[0]``, ``args[1]``) at θ, minus ``args[3]``."""
+    return dense_value(args[0], args[1], theta, args[2]) - args[3]
+
+
 @njit(cache=True)
 def dense_root(F, y_old, comp, level, a, b):
-    """Root of component − level on [a, b] (a sign change assumed), Illinois method."""
+    """Root of component − level on [a, b] ⊂ [0, 1] (a sign change assumed), Illinois method
+    (:func:`.roots.illinois_root`)."""
     fa = dense_value(F, y_old, a, comp) - level
     fb = dense_value(F, y_old, b, comp) - level
     if fa == 0.0:
         return a
     if fb == 0.0:
         return b
-    side = 0
-    c = b
-    for _ in range(200):
-        c = illinois_trial(a, b, fa, fb)
-        fc = dense_value(F, y_old, c, comp) - level
-        if fc == 0.0 or abs(b - a) < 4e-16:
-            return c
-        a, b, fa, fb, side = illinois_update(a, b, fa, fb, c, fc, side)
-    return c
-
-
-@njit(cache=True)
-def illinois_trial(a, b, fa, fb):
-    """The secant point of the bracket [a, b] (its midpoint if the secant falls outside)."""
-    c = (a * fb - b * fa) / (fb - fa)
-    if not (c > min(a, b) and c < max(a, b)):
-        c = 0.5 * (a + b)
-    return c
-
-
-@njit(cache=True)
-def illinois_update(a, b, fa, fb, c, fc, side):
-    """Bracket [a, b] after the trial point c (value fc) of the Illinois method; the retained
-    end's value is halved when the same side is kept twice. Returns (a, b, fa, fb, side)."""
-    if (fc > 0.0) == (fb > 0.0):
-        b = c
-        fb = fc
-        if side == -1:
-            fa *= 0.5
-        side = -1
-    else:
-        a = c
-        fa = fc
-        if side == 1:
-            fb *= 0.5
-        side = 1
-    return a, b, fa, fb, side
+    return illinois_root(_dense_offset, (F, y_old, comp, level), a, b, fa, fb, DENSE_XTOL, 200)
 
 
 @njit(cache=True)

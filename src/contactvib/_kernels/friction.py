@@ -54,7 +54,8 @@ from numba import njit
 
 from .contact import contact_force, contact_partials, spring
 from .dop853 import C, dense_value, error_norm, interpolant, solution, stage_state
-from .flow import acceleration, illinois_trial, illinois_update
+from .flow import acceleration
+from .roots import illinois_trial, illinois_update
 
 #: Slots of the tangential parameter vector ``tpar`` (T_FT: a constant drive force [W]).
 T_MU, T_BETA, T_KT, T_KT_CONSTANT, T_KD, T_CD, T_VD, T_KAPPA, T_FT = range(9)

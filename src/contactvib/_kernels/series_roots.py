@@ -1,8 +1,8 @@
 """Events on a Taylor step's polynomial (compiled, pure): where x(s) = Σ x_k s^k reaches a level.
 
 :func:`crossing` finds the first arrival of x at the switching surface x = 0 of a mode on
-[0, h] (cheap exclusion tests, then sub-interval sampling and the Illinois method,
-:func:`poly_root`); :func:`segment_event` the first arrival at either end of a table law's
+[0, h] (cheap exclusion tests, then sub-interval sampling and the Illinois method of
+:mod:`.roots`, :func:`poly_root`); :func:`segment_event` the first arrival at either end of a table law's
 interval (the fast path for a monotone x: Newton's method in the bracket, :func:`_monotone_root`).
 Used by the Taylor flows of :mod:`.taylor`.
 """
@@ -13,7 +13,8 @@ import math
 
 from numba import njit
 
-from .flow import crosses_contact, illinois_trial, illinois_update
+from .flow import crosses_contact
+from .roots import illinois_root
 
 N_SUB = 8  # sub-intervals of a step searched for a crossing of x = 0
 
@@ -27,24 +28,23 @@ def poly(C, N, s, shift):
     return acc
 
 
+@njit(cache=True, inline='always')
+def _poly_value(s, args):
+    """:func:`poly` of ``args = (C, N, shift)`` at s."""
+    return poly(args[0], args[1], s, args[2])
+
+
 @njit(cache=True)
 def poly_root(C, N, shift, a, b):
-    """Root of the polynomial (:func:`poly`) on [a, b], a sign change assumed (Illinois)."""
+    """Root of the polynomial (:func:`poly`) on [a, b], a sign change assumed (Illinois,
+    :func:`.roots.illinois_root`, to 4e-16 relative)."""
     fa = poly(C, N, a, shift)
     fb = poly(C, N, b, shift)
     if fb == 0.0:
         return b
     if fa == 0.0:
         return a
-    side = 0
-    c = b
-    for _ in range(200):
-        c = illinois_trial(a, b, fa, fb)
-        fc = poly(C, N, c, shift)
-        if fc == 0.0 or abs(b - a) <= 4e-16 * max(1.0, abs(b)):
-            return c
-        a, b, fa, fb, side = illinois_update(a, b, fa, fb, c, fc, side)
-    return c
+    return illinois_root(_poly_value, (C, N, shift), a, b, fa, fb, 4e-16, 200)
 
 
 @njit(cache=True)

@@ -5,7 +5,7 @@ One trajectory is integrated period by period at a loose tolerance (the Taylor-s
 stroboscopic points are searched for the smallest ``k ≤ kmax`` with
 ``|P_n − P_{n−k}| < detect_tol · scale``; the candidate is then refined by Newton shooting
 (:func:`.shooting.newton_orbit`) at a tight tolerance and accepted only if it closes
-(``≤ close_tol``), is stable (all |Floquet multipliers| ≤ 1 + ``STABILITY_TOL``), and no
+(``≤ close_tol``), is stable (:func:`.shooting.stable_monodromy`), and no
 proper divisor of ``k`` closes too (the period reported is minimal). A refused candidate makes the detection ten times
 stricter and the integration goes on. No candidate by ``max_periods`` means a non-periodic
 attractor (or a period above ``kmax``).
@@ -24,9 +24,9 @@ from numba import njit, prange
 from .flow import initial_mode
 from .shooting import (
     MAX_STEPS_PER_PERIOD,
-    STABILITY_TOL,
-    floquet_abs_max,
+    MINIMAL_PERIOD_TOL,
     newton_orbit,
+    stable_monodromy,
     state_scale,
     strobe_map,
 )
@@ -43,11 +43,14 @@ from .taylor import advance_state
 
 @njit(cache=True)
 def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
-    """Newton at period k, then reduce k to the minimal period. Returns (ok, k, residual)."""
+    """Newton at period k (:func:`.shooting.newton_orbit`, 12 steps), then reduce k to the minimal
+    period: a proper divisor d of k whose map returns within ``MINIMAL_PERIOD_TOL`` is refined
+    at period d. Accepted only if stable (:func:`.shooting.stable_monodromy`).
+    Returns (ok, k, residual)."""
     st, res = newton_orbit(z, k, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
     if st != STATUS_OK:
         return False, k, res
-    if floquet_abs_max(out_M) > 1.0 + STABILITY_TOL:
+    if not stable_monodromy(out_M):
         return False, k, res
     pz = np.empty(2)
     dummy = np.empty((0, 0))
@@ -57,10 +60,10 @@ def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
             continue
         if strobe_map(out_z, d, par, rtol, rtol, pz, dummy) != STATUS_OK:
             return False, k, res
-        if max(abs(pz[0] - out_z[0]), abs(pz[1] - out_z[1])) / sc < 1e-6:
+        if max(abs(pz[0] - out_z[0]), abs(pz[1] - out_z[1])) / sc < MINIMAL_PERIOD_TOL:
             z2 = out_z.copy()
             st, res = newton_orbit(z2, d, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
-            if st != STATUS_OK or floquet_abs_max(out_M) > 1.0 + STABILITY_TOL:
+            if st != STATUS_OK or not stable_monodromy(out_M):
                 return False, k, res
             return True, d, res
     return True, k, res

@@ -6,6 +6,13 @@ orbit solves ``G(z) = P^k(z) − z = 0``; Newton's method uses ``G'(z) = M − I
 matrix ``M = ∂P^k/∂z`` from the variational equation integrated through the contact events
 (:mod:`.flow`). The eigenvalues of ``M`` are the Floquet multipliers of the orbit.
 
+Defined here once, for every periodic orbit of the normal motion: the residual of the period map
+(:func:`map_residual`), the Newton step (:func:`newton_step`, the 2×2 solve of
+:func:`.linalg.solve2`), Newton's method with its callers' options (:func:`newton_map`;
+:func:`newton_orbit`), the stability rule (:data:`STABILITY_TOL`, :func:`stable_multipliers`,
+:func:`stable_monodromy`, :func:`is_stable`) and the minimal-period tolerance
+(:data:`MINIMAL_PERIOD_TOL`).
+
 References
 ----------
 T. S. Parker, L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer (1989),
@@ -20,11 +27,22 @@ import numpy as np
 from numba import njit
 
 from .flow import REC_WIDTH, advance, initial_mode
-from .status import STATUS_NEWTON_DIVERGED, STATUS_NEWTON_MAXITER, STATUS_NEWTON_SINGULAR, STATUS_OK
+from .linalg import solve2
+from .status import (
+    STATUS_NEWTON_DIVERGED,
+    STATUS_NEWTON_MAXITER,
+    STATUS_NEWTON_QUICK,
+    STATUS_NEWTON_SINGULAR,
+    STATUS_OK,
+)
 
 #: Stability rule of every periodic orbit: stable when max |Floquet multiplier| ≤ 1 + STABILITY_TOL
 #: (the tolerance absorbs the error of the monodromy at a fold or a period doubling).
 STABILITY_TOL = 1e-6
+
+#: A period-k orbit has the smaller period d (a proper divisor of k) when P^d returns within this
+#: relative distance (:func:`.settle.refine_stable_orbit`, :func:`.trace.continue_orbit`).
+MINIMAL_PERIOD_TOL = 1e-6
 
 
 MAX_STEPS_PER_PERIOD = 2_000_000
@@ -70,9 +88,30 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
     return STATUS_OK
 
 
+@njit(cache=True, inline='always')
+def map_residual(z, k, par, rtol, atol, pz, M):
+    """The residual ``g = P^k(z) − z`` of the period-k map and its Jacobian ``M − I`` (``M``,
+    the monodromy, written into ``M``; ``P^k(z)`` into ``pz``).
+
+    Returns
+    -------
+    status, g0, g1, scale, residual
+        A :mod:`.flow` status; ``g``; the state scale :func:`state_scale` at ``z``; the relative
+        closure ``|g|∞ / scale``.
+    """
+    st = strobe_map(z, k, par, rtol, atol, pz, M)
+    if st != STATUS_OK:
+        return st, 0.0, 0.0, 1.0, math.inf
+    g0 = pz[0] - z[0]
+    g1 = pz[1] - z[1]
+    sc = state_scale(z[0], z[1])
+    return STATUS_OK, g0, g1, sc, max(abs(g0), abs(g1)) / sc
+
+
 @njit(cache=True)
 def newton_step(M, g0, g1, sc):
-    """Newton correction dz of the period-k map's fixed point: (M − I) dz = −g.
+    """Newton correction dz of the period-k map's fixed point: (M − I) dz = −g
+    (:func:`.linalg.solve2`).
 
     ``M`` is the monodromy, ``g = P^k(z) − z`` and ``sc`` the state scale. Steps larger than 0.5
     (relative) are damped to 0.5; singular or diverging (> 10) steps fail.
@@ -82,15 +121,11 @@ def newton_step(M, g0, g1, sc):
     status, dz0, dz1, step
         ``step`` is the relative size before damping.
     """
-    a = M[0, 0] - 1.0
-    b = M[0, 1]
-    c = M[1, 0]
-    d = M[1, 1] - 1.0
-    det = a * d - b * c
-    if det == 0.0 or not math.isfinite(det):
+    ok, x0, x1 = solve2(M[0, 0] - 1.0, M[0, 1], M[1, 0], M[1, 1] - 1.0, g0, g1)
+    if not ok:
         return STATUS_NEWTON_SINGULAR, 0.0, 0.0, math.inf
-    dz0 = -(d * g0 - b * g1) / det
-    dz1 = -(-c * g0 + a * g1) / det
+    dz0 = -x0
+    dz1 = -x1
     step = max(abs(dz0), abs(dz1)) / sc
     if not math.isfinite(step) or step > 10.0:
         return STATUS_NEWTON_DIVERGED, 0.0, 0.0, step
@@ -100,9 +135,71 @@ def newton_step(M, g0, g1, sc):
     return STATUS_OK, dz0, dz1, step
 
 
+@njit(cache=True, inline='always')
+def newton_map(z0, k, par, rtol, atol, tol, max_evals, quick_step, out_z, out_M):
+    """Newton's method on the period-k map: the one Newton iteration of every periodic orbit.
+
+    Each evaluation integrates ``P^k`` with its monodromy (:func:`map_residual`); converged
+    when ``|P^k(z) − z|∞ ≤ tol · max(1, |z|∞)``; otherwise the damped step of
+    :func:`newton_step`. Options of the callers:
+
+    ``max_evals``
+        Largest number of map evaluations.
+    ``quick_step``
+        0: no step follows the last evaluation. > 0: a step follows every evaluation that has
+        not converged, and a step of relative size ≤ ``quick_step`` ends the run with
+        ``STATUS_NEWTON_QUICK`` (the closure after it is ~ step², which the caller checks on
+        its own run without the variational equations).
+
+    On return ``out_z`` holds the last evaluated iterate (after a quick step: the stepped
+    point) and ``out_M`` the monodromy of the last evaluation.
+
+    Returns
+    -------
+    status : int
+        ``STATUS_OK`` (converged), ``STATUS_NEWTON_QUICK``, a Newton failure
+        (``STATUS_NEWTON_SINGULAR``, ``_DIVERGED``, ``_MAXITER``) or a :mod:`.flow` status.
+    residual : float
+        The relative closure of the last completed evaluation (∞ before the first).
+    n_evals : int
+        Map evaluations done.
+    """
+    z = np.empty(2)
+    z[0] = z0[0]
+    z[1] = z0[1]
+    pz = np.empty(2)
+    M = np.empty((2, 2))
+    residual = math.inf
+    for it in range(max_evals):
+        st, g0, g1, sc, res = map_residual(z, k, par, rtol, atol, pz, M)
+        if st != STATUS_OK:
+            return st, residual, it + 1
+        residual = res
+        out_z[0] = z[0]
+        out_z[1] = z[1]
+        for i in range(2):
+            for j in range(2):
+                out_M[i, j] = M[i, j]
+        if residual <= tol:
+            return STATUS_OK, residual, it + 1
+        if it == max_evals - 1 and quick_step <= 0.0:
+            break
+        st, dz0, dz1, step = newton_step(M, g0, g1, sc)
+        if st != STATUS_OK:
+            return st, residual, it + 1
+        z[0] += dz0
+        z[1] += dz1
+        if quick_step > 0.0 and step <= quick_step:
+            out_z[0] = z[0]
+            out_z[1] = z[1]
+            return STATUS_NEWTON_QUICK, residual, it + 1
+    return STATUS_NEWTON_MAXITER, residual, max_evals
+
+
 @njit(cache=True)
 def newton_orbit(z0, k, par, rtol, atol, tol, max_iter, out_z, out_M):
-    """Newton shooting for a period-``k`` orbit started at ``z0``.
+    """Newton shooting for a period-``k`` orbit started at ``z0``: :func:`newton_map` with
+    ``max_iter`` steps (``max_iter + 1`` evaluations), no quick exit.
 
     Converged when ``|P^k(z) − z|∞ ≤ tol · max(1, |z|∞)``. On return ``out_z`` holds the last
     iterate and ``out_M`` its monodromy.
@@ -114,46 +211,34 @@ def newton_orbit(z0, k, par, rtol, atol, tol, max_iter, out_z, out_M):
     residual : float
         Relative closure ``|P^k(z) − z|∞ / max(1, |z|∞)`` at ``out_z``.
     """
-    z = np.empty(2)
-    z[0] = z0[0]
-    z[1] = z0[1]
-    pz = np.empty(2)
-    M = np.empty((2, 2))
-    residual = math.inf
-    for it in range(max_iter + 1):
-        st = strobe_map(z, k, par, rtol, atol, pz, M)
-        if st != STATUS_OK:
-            return st, residual
-        g0 = pz[0] - z[0]
-        g1 = pz[1] - z[1]
-        sc = state_scale(z[0], z[1])
-        residual = max(abs(g0), abs(g1)) / sc
-        out_z[0] = z[0]
-        out_z[1] = z[1]
-        for i in range(2):
-            for j in range(2):
-                out_M[i, j] = M[i, j]
-        if residual <= tol:
-            return STATUS_OK, residual
-        if it == max_iter:
-            break
-        st, dz0, dz1, _step = newton_step(M, g0, g1, sc)
-        if st != STATUS_OK:
-            return st, residual
-        z[0] += dz0
-        z[1] += dz1
-    return STATUS_NEWTON_MAXITER, residual
+    st, residual, _n = newton_map(z0, k, par, rtol, atol, tol, max_iter + 1, 0.0, out_z, out_M)
+    return st, residual
+
+
+@njit(cache=True, inline='always')
+def stable_multipliers(mu_abs_max):
+    """The stability rule (compiled): ``mu_abs_max ≤ 1 + STABILITY_TOL``; NaN is unstable."""
+    return mu_abs_max <= 1.0 + STABILITY_TOL
+
+
+@njit(cache=True, inline='always')
+def stable_monodromy(M):
+    """The stability rule on a 2×2 monodromy ``M``: :func:`stable_multipliers` of
+    :func:`floquet_abs_max`."""
+    return stable_multipliers(floquet_abs_max(M))
 
 
 def is_stable(floquet_abs_max):
-    """The stability rule: max |Floquet multiplier| ≤ 1 + :data:`STABILITY_TOL` [1].
+    """The stability rule: max |Floquet multiplier| ≤ 1 + :data:`STABILITY_TOL` [1], for Python
+    callers (the compiled :func:`stable_multipliers` itself, element by element).
 
-    ``floquet_abs_max`` is a number (returns a ``bool``) or an array (returns a bool array);
-    NaN is unstable. Compiled kernels compare with ``1.0 + STABILITY_TOL`` directly.
+    ``floquet_abs_max`` is a number (returns a ``bool``) or an array (returns a bool array of its
+    shape); NaN is unstable. Kernels call :func:`stable_multipliers` or :func:`stable_monodromy`.
     """
     mu = np.asarray(floquet_abs_max, dtype=float)
-    stable = mu <= 1.0 + STABILITY_TOL
-    return bool(stable) if stable.ndim == 0 else stable
+    if mu.ndim == 0:
+        return bool(stable_multipliers(float(mu)))
+    return stable_multipliers(np.ascontiguousarray(mu).reshape(-1)).reshape(mu.shape)
 
 
 @njit(cache=True)

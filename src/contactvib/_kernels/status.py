@@ -5,7 +5,7 @@ code into words with :func:`status_message` (error messages, stop reasons, datas
 Codes of the integration/Newton families are distinct, so one code says what failed:
 
 * flow (:mod:`.flow`, :mod:`.taylor`, and everything that integrates): 0–5;
-* Newton shooting of period-k orbits (:mod:`.shooting`): 10–12;
+* Newton shooting of period-k orbits (:mod:`.shooting`): 10–13;
 * the pseudo-arclength corrector of the continuation (:mod:`.continuation`): 20–22;
 * −1: the continuation's tangent turned too fast (set by the Python driver, not a kernel).
 
@@ -34,6 +34,8 @@ STATUS_INTERRUPTED = 6
 STATUS_NEWTON_DIVERGED = 10
 STATUS_NEWTON_SINGULAR = 11
 STATUS_NEWTON_MAXITER = 12
+#: Newton's step fell below the caller's quick-step size: closure to be checked by the caller.
+STATUS_NEWTON_QUICK = 13
 # ---------------------------------------------------------------- continuation corrector
 STATUS_SINGULAR = 20
 STATUS_DIVERGED = 21
@@ -68,6 +70,7 @@ MESSAGES = {
     ("status", STATUS_NEWTON_DIVERGED): "Newton shooting diverged",
     ("status", STATUS_NEWTON_SINGULAR): "Newton shooting: singular M - I",
     ("status", STATUS_NEWTON_MAXITER): "Newton shooting did not converge",
+    ("status", STATUS_NEWTON_QUICK): "Newton shooting: small step, closure unchecked",
     ("status", STATUS_SINGULAR): "singular Jacobian",
     ("status", STATUS_DIVERGED): "Newton diverged",
     ("status", STATUS_MAXITER): "Newton did not converge",

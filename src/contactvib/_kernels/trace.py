@@ -42,13 +42,22 @@ from numba import njit
 
 from .describe import NP_LYAPUNOV, NP_RECORD, describe_point, floquet_pair, lyapunov_strobe
 from .settle import refine_stable_orbit, settle
-from .shooting import STABILITY_TOL, floquet_abs_max, newton_orbit, newton_step, state_scale, strobe_map
+from .shooting import (
+    MINIMAL_PERIOD_TOL,
+    newton_map,
+    newton_orbit,
+    stable_monodromy,
+    state_scale,
+)
 from .status import (
     ORIGIN_JUMP,
     ORIGIN_NEWTON,
     ORIGIN_START,
     SETTLE_NONPERIODIC,
     SETTLE_PERIODIC,
+    STATUS_NEWTON_DIVERGED,
+    STATUS_NEWTON_QUICK,
+    STATUS_NEWTON_SINGULAR,
     STATUS_OK,
     STOP_FAILED,
     STOP_GRID_END,
@@ -96,50 +105,46 @@ def continue_orbit(zg, k, par, rtol, close_tol, rows, row, out_z, out_M):
     """Newton-correct the predicted period-k orbit point ``zg`` and describe it (row ``row`` of
     the :class:`.describe.TraceRows` ``rows``).
 
-    Each Newton iteration integrates the variational equations over k periods. Once a step is
-    below ``QUICK_STEP`` the corrected point is described (:func:`describe_point`, k periods
-    without variational equations) and that run's end state decides closure, which saves the
+    Newton on the period map (:func:`.shooting.newton_map`, at most 10 evaluations, each over k
+    periods with the variational equations) with a quick exit: once a step is below
+    ``QUICK_STEP`` the corrected point is described (:func:`describe_point`, k periods without
+    variational equations) and that run's end state decides closure, which saves the
     confirming variational integration; ``out_M`` is then the monodromy at the previous iterate
-    (relative state difference ≤ QUICK_STEP). Accepted only if the orbit closes to
-    ``close_tol``, is stable (|μ| ≤ 1 + STABILITY_TOL) and no proper divisor of k closes (minimal period,
-    checked on the described strobe points). Returns (accepted, closure).
+    (relative state difference ≤ QUICK_STEP); if it does not close, Newton goes on. Accepted
+    only if the orbit closes to ``close_tol``, is stable (:func:`.shooting.stable_monodromy`)
+    and no proper divisor of k closes (minimal period, checked on the described strobe points).
+    Returns (accepted, closure).
     """
     z = np.empty(2)
     z[0] = zg[0]
     z[1] = zg[1]
-    pz = np.empty(2)
+    zn = np.empty(2)
     zend = np.empty(2)
     M = np.empty((2, 2))
-    for _it in range(10):
-        if strobe_map(z, k, par, rtol, rtol, pz, M) != STATUS_OK:
+    n_evals = 0
+    while n_evals < 10:
+        st, res, n = newton_map(z, k, par, rtol, rtol, close_tol, 10 - n_evals, QUICK_STEP, zn, M)
+        n_evals += n
+        if st == STATUS_NEWTON_SINGULAR or st == STATUS_NEWTON_DIVERGED:
+            return False, res
+        if st != STATUS_OK and st != STATUS_NEWTON_QUICK:
             return False, math.inf
-        g0 = pz[0] - z[0]
-        g1 = pz[1] - z[1]
-        sc = state_scale(z[0], z[1])
-        res = max(abs(g0), abs(g1)) / sc
-        quick = False
-        if res > close_tol:
-            st, dz0, dz1, step = newton_step(M, g0, g1, sc)
-            if st != STATUS_OK:
-                return False, res
-            z[0] += dz0
-            z[1] += dz1
-            if step > QUICK_STEP:
-                continue
-            quick = True
-        if floquet_abs_max(M) > 1.0 + STABILITY_TOL:
+        quick = st == STATUS_NEWTON_QUICK
+        z[0] = zn[0]
+        z[1] = zn[1]
+        if not stable_monodromy(M):
             return False, res
         if describe_point(z, k, par, rtol, rows, row, zend) != STATUS_OK:
             return False, res
+        sc = state_scale(z[0], z[1])
         if quick:
-            sc = state_scale(z[0], z[1])
             res = max(abs(zend[0] - z[0]), abs(zend[1] - z[1])) / sc
             if res > close_tol:
                 continue
         for dd in range(1, k):
             if k % dd == 0:
                 dist = max(abs(rows.strobe[row, dd, 0] - z[0]), abs(rows.strobe[row, dd, 1] - z[1]))
-                if dist / sc < 1e-6:
+                if dist / sc < MINIMAL_PERIOD_TOL:
                     return False, res
         out_z[0] = z[0]
         out_z[1] = z[1]
@@ -209,7 +214,7 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
             return 2 if have else 1
         par_s[4] = r_new
         st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, np.int64(8), oz, oM)
-        if (st == STATUS_OK and floquet_abs_max(oM) <= 1.0 + STABILITY_TOL
+        if (st == STATUS_OK and stable_monodromy(oM)
                 and (not have or stays_on_branch(oz, zg, zc))):
             zq[0] = zc[0]
             zq[1] = zc[1]

@@ -29,6 +29,8 @@ import math
 
 import numpy as np
 
+from contactvib._kernels.roots import illinois_trial, illinois_update
+
 __all__ = ["fold_test", "pd_test", "ns_test", "locate_zero"]
 
 
@@ -54,6 +56,9 @@ def ns_test(M: np.ndarray) -> float:
 def locate_zero(func, a: float, b: float, fa: float, fb: float, xtol: float, max_iter: int = 60):
     """Zero of ``func`` on [a, b] (``fa``, ``fb`` of opposite sign) by the Illinois method.
 
+    The kernels' root finder (:mod:`contactvib._kernels.roots`) driven step by step
+    (``illinois_trial``, ``illinois_update``) rather than :func:`~contactvib._kernels.roots.illinois_root`
+    itself, because ``func`` is a Python callable (a corrector run onto the branch) that may fail:
     ``func(s)`` returns ``(value, payload)`` or ``None`` when it cannot be evaluated (then the
     bracket is bisected). Returns ``(s, value, payload)`` of the last evaluated point inside the
     bracket, or ``None`` when nothing could be evaluated.
@@ -63,9 +68,7 @@ def locate_zero(func, a: float, b: float, fa: float, fb: float, xtol: float, max
     for _ in range(max_iter):
         if abs(b - a) <= xtol:
             break
-        s = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
-        if not (min(a, b) < s < max(a, b)):
-            s = 0.5 * (a + b)
+        s = illinois_trial(a, b, fa, fb)
         out = func(s)
         if out is None:
             s = 0.5 * (a + b)
@@ -76,14 +79,5 @@ def locate_zero(func, a: float, b: float, fa: float, fb: float, xtol: float, max
         best = (s, fs, payload)
         if fs == 0.0:
             break
-        if (fs > 0) == (fb > 0):
-            b, fb = s, fs
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            a, fa = s, fs
-            if side == 1:
-                fb *= 0.5
-            side = 1
+        a, b, fa, fb, side = illinois_update(a, b, fa, fb, s, fs, side)
     return best
