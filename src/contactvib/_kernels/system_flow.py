@@ -24,6 +24,11 @@ the identity where the element's force is continuous at ξ = 0 (any law with pow
 or Hunt–Crossley damping of a spring with F_s(0) = 0). Its determinant is 1 (Δa has no position
 part), so Liouville's formula det Φ = exp(∫ trace J dτ) holds across the switches.
 
+The DOP853 step itself — stage states, the 8th-order solution, the error norm, the step-size
+controller, the landing on an interval's end and the dense output — is :mod:`.dop853`'s, shared
+with the 1-DOF flow and the friction contact; only the right-hand side, the elements' events and
+the modes are this module's.
+
 Kernels never raise on the caller's behalf: they return integer status codes (:mod:`.status`).
 
 References
@@ -43,7 +48,18 @@ import numpy as np
 from numba import njit
 
 from .contact import P_DAMPING, P_SPRING, contact_force, contact_partials, force, force_partials
-from .flow import E3, E5, A, B, C, dense_root, dense_value, interpolant
+from .dop853 import (
+    C,
+    dense_value,
+    error_norm,
+    interpolant,
+    landing_step,
+    next_step,
+    solution,
+    stage_state,
+    step_factor,
+)
+from .flow import dense_root
 from .status import (
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -57,10 +73,6 @@ from .status import (
 #: ``paper[i]``: row i is the power spring with power damping (its scalar path, :func:`.contact.force`).
 SystemArrays = namedtuple("SystemArrays", ("Kx", "Cx", "g0", "gb", "r", "U", "gam", "Aw", "rows", "paper"))
 
-_SAFETY = 0.9
-_MIN_FACTOR = 0.2
-_MAX_FACTOR = 10.0
-_ERR_EXP = -1.0 / 8.0
 _H_AFTER_EVENT = 0.05  # step cap right after a switching instant [τ]; the controller adapts
 #: Steps allowed per unit of τ·r/2π (one excitation period) by the callers below.
 MAX_STEPS_PER_PERIOD = 2_000_000
@@ -208,11 +220,7 @@ def _stages(sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv):
 def _stage_loop(paper, sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv):
     """The stages of :func:`_stages` for ``paper`` (a constant) True or False."""
     for s in range(s_first, s_last):
-        for i in range(N):
-            acc = 0.0
-            for j in range(s):
-                acc += A[s, j] * K[j, i]
-            ys[i] = y[i] + h * acc
+        stage_state(K, y, h, s, N, ys)
         rhs_row(paper, sa, mode, t + C[s] * h, ys, K, s, nvar, Jx, Jv)
 
 
@@ -224,28 +232,11 @@ def _rk_step(sa, mode, t, y, f, h, rtol, atol, K, ys, ynew, fnew, Jx, Jv):
     for i in range(N):
         K[0, i] = f[i]
     _stages(sa, mode, t, y, h, K, ys, 1, 12, N, nvar, Jx, Jv)
-    for i in range(N):
-        acc = 0.0
-        for j in range(12):
-            acc += B[j] * K[j, i]
-        ynew[i] = y[i] + h * acc
+    solution(K, y, h, N, ynew)
     rhs(sa, mode, t + h, ynew, fnew, nvar, Jx, Jv)
     for i in range(N):
         K[12, i] = fnew[i]
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(N):
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(13):
-            a5 += E5[j] * K[j, i]
-            a3 += E3[j] * K[j, i]
-        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * N)
+    return error_norm(K, y, ynew, h, N, atol, rtol)
 
 
 @njit(cache=True)
@@ -378,19 +369,6 @@ def _record(rec, irec, t, h, mode, y, F):
 
 
 @njit(cache=True)
-def _step_factor(err, rejected):
-    """Step-size factor after a step with error norm ``err`` (as :mod:`.flow`'s controller)."""
-    if not (err < 1.0):
-        if not math.isfinite(err):
-            return _MIN_FACTOR
-        return max(_MIN_FACTOR, _SAFETY * err**_ERR_EXP)
-    factor = _MAX_FACTOR if err == 0.0 else min(_MAX_FACTOR, _SAFETY * err**_ERR_EXP)
-    if rejected:
-        factor = min(1.0, factor)
-    return factor
-
-
-@njit(cache=True)
 def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
     """Integrate ``y`` in place from τ = ``t`` to exactly ``t_end``, switching element modes.
 
@@ -446,8 +424,7 @@ def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
             status = STATUS_MAX_STEPS
             break
         remaining = t_end - t
-        landing = h >= remaining * (1.0 - 1e-12)
-        h_try = remaining if landing else h
+        h_try, landing = landing_step(h, remaining)
         if h_try < 1e-15 * span:
             if landing:
                 t = t_end
@@ -456,10 +433,10 @@ def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
             break
         err = _rk_step(sa, mode, t, y, f, h_try, rtol, atol, K, ys, ynew, fnew, Jx, Jv)
         if not (err < 1.0):
-            h = h_try * _step_factor(err, rejected)
+            h = h_try * step_factor(err, rejected)
             rejected = True
             continue
-        h_next = h_try * _step_factor(err, rejected)
+        h_next = h_try * step_factor(err, rejected)
         rejected = False
         theta, which = _event_fraction(sa, mode, t, y, ynew, h_try, K, ys, F, E, eo, record, fresh, Jx, Jv)
         if which >= 0:
@@ -490,7 +467,7 @@ def advance(sa, y, t, t_end, mode, h, rtol, atol, rec, irec, max_steps):
         for i in range(N):
             y[i] = ynew[i]
             f[i] = fnew[i]
-        h = max(h_next, h) if landing else h_next
+        h = next_step(h, h_next, landing)
         n_steps += 1
         finite = True
         for i in range(n2):
