@@ -4,7 +4,7 @@
 The orbit the search finds on the 2-DOF file system (P_a = 2 N, f_e = 0.2 Hz: the stop is hit
 once a period) is confirmed periodic by scipy with located events (``scipy_system``: solve_ivp
 DOP853, rtol 1e-11): one period from its point returns to it to 1e-8 of the state's size
-[measured 2e-10], with at least two switches of the stop."""
+[measured 3e-11], with at least two switches of the stop."""
 
 import json
 from pathlib import Path
