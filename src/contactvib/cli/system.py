@@ -47,7 +47,9 @@ def system_option(f):
                         help="A structure of several coordinates with contact elements instead of the paper's slider: "
                              "rocking (the slide unit on two patches of area S/2 at +-a; --set a=[m], J=[kg m^2], "
                              "e=[m], the force's offset) or a TOML system file (docs: formats); with a file the "
-                             "force level is --pa-newton [N].")(f)
+                             "force level is --pa-newton [N]. With --system the search's defaults are 64 starts "
+                             "and 400 periods, and --from-state takes Q1,Q2,.. QDOT1,QDOT2,.. in um or urad, "
+                             "mm/s or mrad/s.")(f)
 
 
 def system_given() -> bool:
@@ -62,7 +64,7 @@ def _given(name: str) -> bool:
 
 
 def _load(settings: tuple):
-    """(System, Q [N] or None, the system's label) of --system."""
+    """(System, the slider's ContactModel or None, the system's label) of --system."""
     from contactvib.model.rocking import ROCKING_PARAMETERS, rocking_system
 
     name = _SYSTEM.get()["system"]
@@ -79,7 +81,7 @@ def _load(settings: tuple):
                 rest.append(item)
         model = parse_model(tuple(rest))
         system = mapped_options({k: f"--set {k}" for k in ROCKING_PARAMETERS}, rocking_system, model, **own)
-        return system, model.Q, "rocking"
+        return system, model, "rocking"
     for param, option in _MODEL_ONLY.items():
         if _given(param):
             raise InputError(f"--system {name} and {option}: a system file carries its own laws; {option} belongs "
@@ -95,10 +97,12 @@ def _load(settings: tuple):
                          + f": {e.allowed}") from None
 
 
-def _excitation(system, Q, label, pa, pa_newton, fe) -> tuple[float, float, str]:
-    """(P_a [N], f_e [Hz], a text of the level) of --pa or --pa-newton and --fe."""
+def _excitation(model, label, pa, pa_newton, fe) -> tuple[float, float, str]:
+    """(P_a [N], f_e [Hz], a text of the level) of --pa or --pa-newton and --fe; ``model`` the
+    slider of --system rocking (Q = M g), None for a file (no Q)."""
     from contactvib.model.system import check_excitation
 
+    Q = None if model is None else model.Q
     if pa is not None and pa_newton is not None:
         raise InputError("--pa and --pa-newton: give one of them, not both")
     if Q is None and pa is not None:
@@ -119,13 +123,13 @@ def _excitation(system, Q, label, pa, pa_newton, fe) -> tuple[float, float, str]
     return p, f_e, text
 
 
-def _modes_text(system, label) -> str:
+def _modes_text(system, model) -> str:
     f = system.linear_modes()
     text = "linear modes: " + ", ".join(f"{x:.4g}" for x in f) + " Hz"
-    if label == "rocking":
+    if model is not None:
         K = system.tangent_stiffness(system.static_state())
         heave, pitch = (math.sqrt(K[j, j] / system.M[j, j]) / (2.0 * math.pi) for j in (0, 1))
-        text += f" (heave {heave:.4g} Hz, pitch {pitch:.4g} Hz uncoupled; f_n0 = {heave:.4g} Hz)"
+        text += f" (heave {heave:.4g} Hz, pitch {pitch:.4g} Hz uncoupled; f_n0 = {model.f_n0:.4g} Hz)"
     return text
 
 
@@ -150,13 +154,13 @@ def _no_periodic(result) -> None:
 
 def system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, as_json) -> None:
     """``contactvib attractors --system ...``: the table, or the JSON contract with --json."""
-    system, Q, label = _load(settings)
-    p, f_e, level = _excitation(system, Q, label, pa, pa_newton, fe)
+    system, model, label = _load(settings)
+    p, f_e, level = _excitation(model, label, pa, pa_newton, fe)
     if not as_json:
         units = ", ".join(f"{c} [{u}]" for c, u in zip(system.coordinates, system.units))
         click.echo(f"system {label}: {system.n} coordinates ({units}), contacts "
                    f"{', '.join(c.name for c in system.contacts) or 'none'}; {level}, f_e = {f_e:g} Hz")
-        click.echo(_modes_text(system, label))
+        click.echo(_modes_text(system, model))
     result = _search(system, p, f_e, starts, seed, kmax, max_periods)
     if as_json:
         d = result.to_dict()
@@ -216,8 +220,8 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
     contact forces."""
     from contactvib.steady.system_orbits import simulate_system
 
-    system, Q, label = _load(settings)
-    p, f_e, level = _excitation(system, Q, label, pa, pa_newton, fe)
+    system, model, label = _load(settings)
+    p, f_e, level = _excitation(model, label, pa, pa_newton, fe)
     tag = f"{label.rsplit('/', 1)[-1].removesuffix('.toml')}_pa{p:.4g}N_fe{f_e:g}"
     if from_state is not None:
         q0, v0 = _from_state(system, from_state)
