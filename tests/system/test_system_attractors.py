@@ -18,6 +18,7 @@ from contactvib.model import ContactModel
 from contactvib.model.rocking import rocking_system
 from contactvib.model.system_file import load_system
 from contactvib.steady.system_attractors import find_system_attractors
+from contactvib.steady.system_orbits import period_map
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "two_dof_stop.toml"
 DOF_KEYS = {"name", "unit", "min", "max", "app", "h1"}
@@ -109,3 +110,22 @@ def test_simulate_cli_refusals(args, words, capsys, tmp_path):
     rc = main(["simulate", "--fe", "1300", *args, "--out", str(tmp_path)])
     err = capsys.readouterr().err.strip()
     assert rc == 2 and len(err.splitlines()) == 1 and words in err, err
+
+
+def test_the_rocking_orbits_come_in_mirror_pairs():
+    """At 0.65 Q, 360 Hz the unit (e = 0) rocks on a period-1 orbit besides the paper's small one;
+    its mirror image (θ → −θ: front and rear patch exchanged) is an orbit with the same
+    multipliers, and each patch carries Q/2 on average."""
+    m = ContactModel()
+    s = rocking_system(m)
+    r = find_system_attractors(s, 0.65 * m.Q, 360.0, n_starts=16)
+    rocking = [a for a in r if a.to_dict()["dofs"][1]["app"] > 1.0]
+    assert rocking and all(a.period == 1 and a.stable for a in rocking)
+    a = rocking[0]
+    mirror = a.orbit.z * np.array([1.0, -1.0, 1.0, -1.0])
+    pm = period_map(s, 0.65 * m.Q, 360.0, mirror, 1)
+    size = np.array([m.y0, m.y0 / 0.05, m.y0 * m.omega_n0, m.y0 * m.omega_n0 / 0.05])
+    assert np.max(np.abs(pm.z - mirror) / size) < 1e-9
+    assert np.sort(np.abs(np.linalg.eigvals(pm.monodromy))) == pytest.approx(
+        np.sort(np.abs(a.floquet_multipliers)), rel=1e-6)
+    assert [c["mean_force_n"] for c in a.to_dict()["contacts"]] == pytest.approx([m.Q / 2] * 2, rel=1e-9)
