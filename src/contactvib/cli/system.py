@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextvars
 import math
+import sys
 
 import click
 
@@ -140,8 +141,22 @@ def _search(system, p, f_e, starts, seed, kmax, max_periods):
           "seed": parse_int("--seed", seed, 0), "kmax": parse_int("--kmax", kmax, 1),
           "max_periods": MAX_PERIODS_DEFAULT if max_periods.strip().lower() == "auto"
           else parse_int("--max-periods", max_periods, 1, symbol="max_periods")}
-    with ctrl_c():
-        return mapped_options(_SEARCH, find_system_attractors, system, p, f_e, **kw)
+    bar = []
+
+    def progress(done, total):  # a bar on a terminal's stderr, gone when the search ends
+        if not done and sys.stderr.isatty():
+            from tqdm import tqdm
+
+            bar.append(tqdm(total=total, unit="start", file=sys.stderr, leave=False, desc="attractor search"))
+        elif bar:
+            bar[0].update(done - bar[0].n)
+
+    try:
+        with ctrl_c():
+            return mapped_options(_SEARCH, find_system_attractors, system, p, f_e, progress=progress, **kw)
+    finally:
+        while bar:
+            bar.pop().close()
 
 
 def _no_periodic(result) -> None:
