@@ -49,7 +49,8 @@ def system_option(f):
                              "rocking (the slide unit on two patches of area S/2 at +-a; --set a=[m], J=[kg m^2], "
                              "e=[m], the force's offset) or a TOML system file (docs: formats); with a file the "
                              "force level is --pa-newton [N]. With --system the search's defaults are 64 starts "
-                             "and 400 periods, and --from-state takes Q1,Q2,.. QDOT1,QDOT2,.. in um or urad, "
+                             "and, for --max-periods auto, 1.5 times the slowest linear decay to 1e-7 (at least "
+                             "400 periods), and --from-state takes Q1,Q2,.. QDOT1,QDOT2,.. in um or urad, "
                              "mm/s or mrad/s.")(f)
 
 
@@ -135,11 +136,11 @@ def _modes_text(system, model) -> str:
 
 
 def _search(system, p, f_e, starts, seed, kmax, max_periods):
-    from contactvib.steady.system_attractors import MAX_PERIODS_DEFAULT, STARTS_DEFAULT, find_system_attractors
+    from contactvib.steady.system_attractors import STARTS_DEFAULT, find_system_attractors
 
     kw = {"n_starts": STARTS_DEFAULT if not _given("starts") else parse_int("--starts", starts, 1, symbol="n_starts"),
           "seed": parse_int("--seed", seed, 0), "kmax": parse_int("--kmax", kmax, 1),
-          "max_periods": MAX_PERIODS_DEFAULT if max_periods.strip().lower() == "auto"
+          "max_periods": None if max_periods.strip().lower() == "auto"
           else parse_int("--max-periods", max_periods, 1, symbol="max_periods")}
     bar = []
 

@@ -43,6 +43,7 @@ from contactvib.steady.system_orbits import (
 )
 
 __all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "check_system_search",
+           "default_max_periods",
            "SAME_TOL", "MEASURE_SAMPLES", "STARTS_DEFAULT", "MAX_PERIODS_DEFAULT"]
 
 #: Two orbits are the same when a stroboscopic point of one is within this of one of the other's
@@ -50,9 +51,11 @@ __all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "c
 SAME_TOL = 1e-6
 #: Samples per excitation period of the measured orbit.
 MEASURE_SAMPLES = 512
-#: Defaults of the search: random starts, transient limit [periods].
+#: Defaults of the search: random starts, least transient limit [periods] (``default_max_periods``),
+#: the limit's largest default.
 STARTS_DEFAULT = 64
 MAX_PERIODS_DEFAULT = 400
+MAX_PERIODS_AUTO_MAX = 20_000
 #: Largest number of starts and of periods per start.
 STARTS_MAX = 100_000
 MAX_PERIODS_MAX = 1_000_000
@@ -69,7 +72,8 @@ class SystemAttractor:
     strobe : ndarray (k, 2n)
         Its stroboscopic points [SI].
     minima_per_period : int
-        Local minima of the first contact's deflection over one period of the orbit.
+        Local minima of the first contact's deflection (of the first coordinate without a contact)
+        over one period of the orbit.
     basin_fraction : float
         Fraction of the starts that settled on it.
     hits : int
@@ -156,6 +160,25 @@ class SystemAttractorSet:
         return json.dumps(self.to_dict(), **kw)
 
 
+def default_max_periods(system: System, fe_hz: float, settle_tol: float = 1e-7) -> int:
+    """The transient limit [periods]: 1.5 times the periods the slowest mode of the system
+    linearised at its static state (contacts engaged there with their stiffness and damping)
+    takes to decay by ``settle_tol``; at least ``MAX_PERIODS_DEFAULT``, at most
+    ``MAX_PERIODS_AUTO_MAX`` (also for an undamped mode)."""
+    qs = system.static_state()
+    n = system.n
+    Kt = system.tangent_stiffness(qs)
+    Ct = np.array(system.C) + sum((c.damping_rate(c.deflection(qs)) * np.outer(c.w, c.w) for c in system.contacts),
+                                  np.zeros((n, n)))
+    Minv = np.linalg.inv(system.M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ Kt, -Minv @ Ct]])
+    sigma = float(np.min(-np.real(np.linalg.eigvals(A))))
+    if not sigma > 0.0:
+        return MAX_PERIODS_AUTO_MAX
+    periods = 1.5 * math.log(1.0 / settle_tol) * fe_hz / sigma
+    return int(min(MAX_PERIODS_AUTO_MAX, max(MAX_PERIODS_DEFAULT, math.ceil(periods))))
+
+
 def check_system_search(n_starts=STARTS_DEFAULT, seed=0, kmax=8, max_periods=MAX_PERIODS_DEFAULT) -> tuple:
     """The search's settings, checked: (n_starts, seed, kmax, max_periods)."""
     return (check_int("n_starts", n_starts, 1, STARTS_MAX), check_int("seed", seed, 0),
@@ -222,7 +245,7 @@ def _strobes(sa, form, x, k, rtol) -> np.ndarray:
 
 
 def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_starts: int = STARTS_DEFAULT,
-                           seed: int = 0, kmax: int = 8, max_periods: int = MAX_PERIODS_DEFAULT,
+                           seed: int = 0, kmax: int = 8, max_periods: int | None = None,
                            settle_tol: float = 1e-7, rtol: float = 1e-10, progress=None) -> SystemAttractorSet:
     """The periodic attractors of ``system`` under P_a cos(2π f_e t) by a multi-start search.
 
@@ -235,8 +258,8 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
         Random starts in the box (module docstring) and the generator's seed.
     kmax : int
         Largest period [excitation periods] detected (1..64).
-    max_periods : int
-        Transient limit per start [periods].
+    max_periods : int, optional
+        Transient limit per start [periods]; default :func:`default_max_periods`.
     settle_tol : float
         Relative repetition of the stroboscopic points that counts as settled.
     rtol : float
@@ -247,8 +270,10 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
     if not isinstance(system, System):
         raise ParameterError("system", system, "must be a contactvib.model.System")
     pa, fe = check_excitation(pa_newton, fe_hz)
-    n_starts, seed, kmax, max_periods = check_system_search(n_starts, seed, kmax, max_periods)
     settle_tol = check_range("settle_tol", settle_tol, 0.0, False, upper=1e-3)
+    if max_periods is None:
+        max_periods = default_max_periods(system, fe, settle_tol)
+    n_starts, seed, kmax, max_periods = check_system_search(n_starts, seed, kmax, max_periods)
     rtol = check_range("rtol", rtol, 1e-14, True, upper=1e-6)
     form = system.kernel_form(pa, fe)
     sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)
@@ -321,7 +346,7 @@ def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> Sy
     t = h.t_ms[:-1] * 1e-3
     h1 = 2.0 * np.abs(q @ np.exp(-2j * math.pi * fe * t)) / t.size
     si = q / np.array([DISPLAY_UNITS[u][1] for u in system.units])[:, None]
-    minima = _minima(system.directions[0] @ si) if system.contacts else 0
+    minima = _minima(system.directions[0] @ si if system.contacts else si[0])
     open_ = ~h.in_contact[:, :-1]
     mean_f = mean_contact_forces(system, pa, fe, orbit.z, k)
     cols = dict(dof_name=system.coordinates, dof_unit=h.q_units, dof_min=q.min(axis=1), dof_max=q.max(axis=1),
