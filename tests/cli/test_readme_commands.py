@@ -113,6 +113,21 @@ REDUCED: dict[str, list[str]] = {
         ["attractors", "--pa", "0.3", "--fe", "1000", "--law", "table", "--law-file",
          str(README.parent / "examples" / "gw_table.csv"), "--damping", "hunt-crossley", "--set", "alpha=34.4",
          "--starts", "8", "--no-seeds"],
+    "contactvib attractors --system rocking --pa 0.65 --fe 360":
+        ["attractors", "--system", "rocking", "--pa", "0.65", "--fe", "360", "--starts", "8"],
+    "contactvib attractors --system rocking --pa 0.5 --fe 1300 --set e=0.01 --json":
+        ["attractors", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--json",
+         "--starts", "4"],
+    "contactvib simulate --system rocking --pa 0.5 --fe 1300 --set e=0.01 --from-state 0.3,2 0,0 --periods 20 "
+    "--out rock/":
+        ["simulate", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--from-state",
+         "0.3,2", "0,0", "--periods", "4", "--out", "rock/"],
+    "contactvib attractors --system examples/two_dof_stop.toml --pa-newton 2 --fe 0.2":
+        ["attractors", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "2", "--fe", "0.2",
+         "--starts", "4"],
+    "contactvib simulate --system examples/two_dof_stop.toml --pa-newton 2 --fe 0.2 --out stop/":
+        ["simulate", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "2", "--fe", "0.2",
+         "--starts", "4", "--out", "stop/"],
     "contactvib attractors --pa 0.65 --fe 700 --preload 2":
         ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
     "contactvib attractors --fe 1200 --base-um 0.05":
@@ -371,6 +386,23 @@ def _check_query(stdout: str, pa: float = 0.65, fe: float = 360.0) -> None:
         assert QUERY_KEYS <= set(a), sorted(QUERY_KEYS - set(a))
 
 
+def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
+    """``--system``: the JSON's attractors with their ``dofs`` and ``contacts``, the table's header,
+    or the figures of ``simulate`` (a pair per trajectory or attractor)."""
+    if "--json" in args:
+        d = json.loads(stdout)
+        assert {"natural_frequencies_hz", "n_unsettled", "attractors"} <= set(d)
+        for a in d["attractors"]:
+            assert {"period", "floquet_multipliers", "stable", "basin_fraction", "dofs", "contacts"} <= set(a)
+    elif args[0] == "attractors":
+        assert stdout.startswith("system ") and "linear modes:" in stdout
+    else:
+        pngs = _figures(folder, "*.png", 2)
+        assert len(pngs) % 2 == 0 and len(list(folder.glob("*_forces.png"))) == len(pngs) // 2
+        if "--from-state" not in args:
+            assert len(json.loads((folder / "attractors.json").read_text())["attractors"]) == len(pngs) // 2
+
+
 def _check_attractors_table(stdout: str, pa: float | None, fe: float, law: str | None = None) -> None:
     """The table's header (P_a, or the base motion when ``pa`` is None), the model line of a law
     other than the paper's (naming ``law``), the column heads and a first row."""
@@ -576,6 +608,8 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         assert_figure_file(folder / "random_response.png")
         with xr.open_dataset(folder / "random.nc") as d:
             assert d.sizes[next(iter(d["y_um"].dims))] > 100
+    elif "--system" in args:
+        _check_system(args, out, folder)
     elif cmd == "attractors" and "--json" in args:
         _attractors_json(json.loads(out), 0.65, 360.0)
     elif cmd == "attractors":

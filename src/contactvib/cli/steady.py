@@ -24,6 +24,7 @@ from contactvib.cli.common import (
     scoped_options,
     search_options,
 )
+from contactvib.cli.system import system_attractors, system_given, system_option, system_simulate
 from contactvib.model import LEVEL_TAGS, ContactModel, ParameterError
 
 #: Options of the attractor search, by find_attractors' parameter names.
@@ -138,11 +139,15 @@ def _none_settled(result) -> None:
 
 
 @click.command()
+@system_option
 @operating_point_options
 @search_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
 def attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, as_json):
     """All coexisting attractors at one operating point (P_a, f_e)."""
+    if system_given():
+        system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, as_json)
+        return
     model = parse_model(settings)
     exc = parse_excitation(model, pa, pa_newton, fe)
     if as_json:
@@ -253,6 +258,7 @@ def _simulate_random(model, force, duration, out) -> None:
 
 
 @click.command()
+@system_option
 @operating_point_options
 @search_options
 @click.option("--out", "out", default="simulate", show_default=True, type=click.Path(file_okay=False),
@@ -266,6 +272,9 @@ def simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
              from_state, periods):
     """Time histories and phase portraits (one figure per attractor, as Figs. 4–9); with
     --random-psd the response to a random band-limited Gaussian force."""
+    if system_given():
+        system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, out, from_state, periods)
+        return
     model = parse_model(settings)
     random = _random_force(seed)
     if random is not None:

@@ -45,10 +45,13 @@ from contactvib.model.laws import (
     register_law,
 )
 from contactvib.model.oscillator import PAPER_DEFAULTS, PARAMETER_UNITS, ZETA_MAX, ContactModel, Excitation
+from contactvib.model.rocking import rocking_system
 from contactvib.model.system import ContactElement, System
+from contactvib.model.system_file import load_system
 from contactvib.model.units import Units
 
-__all__ = ["ContactModel", "System", "ContactElement", "Excitation", "ParameterError", "PowerLaw", "ExponentialLaw",
+__all__ = ["ContactModel", "System", "ContactElement", "rocking_system", "load_system",
+           "Excitation", "ParameterError", "PowerLaw", "ExponentialLaw",
            "TableLaw", "ClearanceLaw", "PowerSpring", "SpringLaw", "LawParameter", "register_law", "law_names",
            "law_class", "PAPER_DEFAULTS", "PARAMETER_UNITS",
            "ZETA_MAX", "Units", "check_finite", "check_range", "check_int", "check_choice",

@@ -1,0 +1,363 @@
+"""The attractors of a :class:`~contactvib.model.system.System` at one operating point: a
+multi-start search.
+
+Starts are drawn in a box about the static state (q_s, 0) in the scaled state of the compiled
+form (``contactvib.model.system_kernel``: each coordinate in its length L_j, set by the contacts'
+static deflections, each rate in L_j ω): half-widths of 2, or 1.5 times the linear response to
+the force where that is larger. Each start is settled by integrating period by period until its
+stroboscopic points repeat with a period k ≤ kmax (every one of the last k points within
+``settle_tol`` of the point k periods before it, relative to max(1, |x|∞)) or it comes within
+``capture_tol`` of a stable orbit already found; a detected orbit is refined by Newton shooting
+(:func:`~contactvib.steady.system_orbits.periodic_orbit`), which gives its Floquet multipliers.
+Equal orbits (the same period and a common stroboscopic point within ``SAME_TOL``) are grouped;
+a start that settles on nothing within ``max_periods`` periods, or whose orbit Newton's method
+cannot refine, is unsettled and never reported as an attractor.
+
+Each attractor is measured on ``MEASURE_SAMPLES`` samples per period of its orbit (extrema to
+about 3e-5 of the range), its mean contact forces by Gauss–Legendre quadrature on every
+integration step (:func:`~contactvib.steady.system_orbits.mean_contact_forces`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from contactvib._kernels import system_map as km
+from contactvib._kernels.status import STATUS_OK
+from contactvib._kernels.system_flow import system_arrays
+from contactvib.errors import ComputationError
+from contactvib.model import ParameterError, check_int, check_range
+from contactvib.model.checks import KMAX_SEARCH_MAX
+from contactvib.model.system import System, check_excitation
+from contactvib.steady.results import dofs_and_contacts
+from contactvib.steady.system_orbits import (
+    DISPLAY_UNITS,
+    SystemOrbit,
+    mean_contact_forces,
+    periodic_orbit,
+    simulate_system,
+)
+
+__all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "check_system_search",
+           "default_max_periods",
+           "SAME_TOL", "MEASURE_SAMPLES", "STARTS_DEFAULT", "MAX_PERIODS_DEFAULT"]
+
+#: Two orbits are the same when a stroboscopic point of one is within this of one of the other's
+#: (relative to max(1, |x|∞) in the scaled state).
+SAME_TOL = 1e-6
+#: Samples per excitation period of the measured orbit.
+MEASURE_SAMPLES = 512
+#: Defaults of the search: random starts, least transient limit [periods] (``default_max_periods``),
+#: the limit's largest default.
+STARTS_DEFAULT = 64
+MAX_PERIODS_DEFAULT = 400
+MAX_PERIODS_AUTO_MAX = 20_000
+#: Largest number of starts and of periods per start.
+STARTS_MAX = 100_000
+MAX_PERIODS_MAX = 1_000_000
+
+
+@dataclass(frozen=True, eq=False)
+class SystemAttractor:
+    """A periodic attractor of a system; displacements in display units (µm, µrad).
+
+    Attributes
+    ----------
+    orbit : SystemOrbit
+        The refined orbit (SI state at phase 0, monodromy, multipliers).
+    strobe : ndarray (k, 2n)
+        Its stroboscopic points [SI].
+    minima_per_period : int
+        Local minima of the first contact's deflection (of the first coordinate without a contact)
+        over one period of the orbit.
+    basin_fraction : float
+        Fraction of the starts that settled on it.
+    hits : int
+        Starts that settled on it.
+    columns : dict
+        The keyword arguments of :func:`~contactvib.steady.results.dofs_and_contacts`.
+    """
+
+    orbit: SystemOrbit
+    strobe: np.ndarray
+    minima_per_period: int
+    basin_fraction: float
+    hits: int
+    columns: dict
+
+    @property
+    def period(self) -> int:
+        return self.orbit.k
+
+    @property
+    def floquet_multipliers(self) -> np.ndarray:
+        return self.orbit.floquet_multipliers
+
+    @property
+    def floquet_abs_max(self) -> float:
+        return float(np.max(np.abs(self.orbit.floquet_multipliers)))
+
+    @property
+    def stable(self) -> bool:
+        return self.orbit.stable
+
+    def to_dict(self) -> dict:
+        """The JSON contract of ``contactvib attractors --system ... --json`` for this attractor."""
+        return {"period": int(self.period), "minima_per_period": int(self.minima_per_period),
+                "floquet_multipliers": [[float(m.real), float(m.imag)] for m in self.floquet_multipliers],
+                "floquet_abs_max": self.floquet_abs_max, "stable": bool(self.stable),
+                "basin_fraction": float(self.basin_fraction), "hits": int(self.hits),
+                "closure": float(self.orbit.closure), **dofs_and_contacts(**self.columns)}
+
+
+@dataclass(frozen=True, eq=False)
+class SystemAttractorSet:
+    """All periodic attractors found at one operating point, largest first-coordinate range first.
+
+    Attributes
+    ----------
+    attractors : tuple of SystemAttractor
+    natural_frequencies_hz : ndarray (n,)
+        :meth:`System.linear_modes`.
+    pa_newton, fe_hz : float
+        The excitation P_a [N], f_e [Hz].
+    n_starts, n_unsettled, n_failed : int
+        Starts; those that settled on no periodic orbit; those whose integration failed.
+    settings : dict
+        The search's settings.
+    """
+
+    attractors: tuple
+    natural_frequencies_hz: np.ndarray
+    pa_newton: float
+    fe_hz: float
+    n_starts: int
+    n_unsettled: int
+    n_failed: int
+    settings: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.attractors)
+
+    def __iter__(self):
+        return iter(self.attractors)
+
+    def to_dict(self) -> dict:
+        """The JSON contract of ``contactvib attractors --system ... --json``."""
+        return {"natural_frequencies_hz": [float(f) for f in self.natural_frequencies_hz],
+                "pa_newton": float(self.pa_newton), "fe_hz": float(self.fe_hz), "n_starts": int(self.n_starts),
+                "n_unsettled": int(self.n_unsettled), "n_failed": int(self.n_failed),
+                "unsettled_fraction": self.n_unsettled / max(self.n_starts, 1),
+                "max_periods": int(self.settings.get("max_periods", 0)),
+                "units": {"m": "um", "rad": "urad", "force": "N", "f": "Hz"},
+                "attractors": [a.to_dict() for a in self.attractors]}
+
+    def to_json(self, **kw) -> str:
+        return json.dumps(self.to_dict(), **kw)
+
+
+def default_max_periods(system: System, fe_hz: float, settle_tol: float = 1e-7) -> int:
+    """The transient limit [periods]: 1.5 times the periods the slowest mode of the system
+    linearised at its static state (contacts engaged there with their stiffness and damping)
+    takes to decay by ``settle_tol``; at least ``MAX_PERIODS_DEFAULT``, at most
+    ``MAX_PERIODS_AUTO_MAX`` (also for an undamped mode)."""
+    qs = system.static_state()
+    n = system.n
+    Kt = system.tangent_stiffness(qs)
+    Ct = np.array(system.C) + sum((c.damping_rate(c.deflection(qs)) * np.outer(c.w, c.w) for c in system.contacts),
+                                  np.zeros((n, n)))
+    Minv = np.linalg.inv(system.M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ Kt, -Minv @ Ct]])
+    sigma = float(np.min(-np.real(np.linalg.eigvals(A))))
+    if not sigma > 0.0:
+        return MAX_PERIODS_AUTO_MAX
+    periods = 1.5 * math.log(1.0 / settle_tol) * fe_hz / sigma
+    return int(min(MAX_PERIODS_AUTO_MAX, max(MAX_PERIODS_DEFAULT, math.ceil(periods))))
+
+
+def check_system_search(n_starts=STARTS_DEFAULT, seed=0, kmax=8, max_periods=MAX_PERIODS_DEFAULT) -> tuple:
+    """The search's settings, checked: (n_starts, seed, kmax, max_periods)."""
+    return (check_int("n_starts", n_starts, 1, STARTS_MAX), check_int("seed", seed, 0),
+            check_int("kmax", kmax, 1, KMAX_SEARCH_MAX), check_int("max_periods", max_periods, 1, MAX_PERIODS_MAX))
+
+
+def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) -> np.ndarray:
+    """``n`` scaled starts (rows of 2n) about the static state."""
+    sc, nq = form.scales, system.n
+    xs = sc.to_scaled(np.concatenate([system.static_state(), np.zeros(nq)]))
+    w = 2.0 * math.pi * fe
+    Kt = system.tangent_stiffness(system.static_state())
+    Ct = np.array(system.C) + sum(c.damping_rate(c.deflection(system.static_state())) * np.outer(c.w, c.w)
+                                  for c in system.contacts)
+    try:
+        amp = np.abs(np.linalg.solve(Kt - w * w * system.M + 1j * w * Ct, system.b * pa)) / sc.length
+    except np.linalg.LinAlgError:
+        amp = np.zeros(nq)
+    half = np.maximum(2.0, 1.5 * np.where(np.isfinite(amp), amp, 0.0))
+    half = np.concatenate([half, half * max(1.0, w / sc.omega)])
+    rng = np.random.default_rng(seed)
+    return xs + rng.uniform(-1.0, 1.0, (n, 2 * nq)) * half
+
+
+def _closes(hist: list, k: int, tol: float) -> bool:
+    """Whether the last k stroboscopic points each repeat the one k periods before."""
+    if len(hist) < 2 * k + 1:
+        return False
+    return all(np.max(np.abs(hist[-1 - j] - hist[-1 - j - k])) <= tol * max(1.0, np.max(np.abs(hist[-1 - j])))
+               for j in range(k))
+
+
+def _near(x, points, tol) -> bool:
+    return bool(np.any(np.max(np.abs(points - x), axis=1) <= tol * max(1.0, float(np.max(np.abs(x))))))
+
+
+def _settle(sa, x, kmax, max_periods, tol, capture, rtol):
+    """Integrate period by period: ("periodic", k, x), ("captured", index, x) or ("unsettled", 0, x)."""
+    hist = [x]
+    out, phi = np.empty(x.size), np.empty((0, 0))
+    for _ in range(max_periods):
+        st = km.strobe_map(sa, np.ascontiguousarray(hist[-1]), 1, rtol, rtol, out, phi)
+        if st != STATUS_OK:
+            raise ComputationError("the settling of a start failed", stage="integration")
+        hist.append(out.copy())
+        del hist[:-2 * kmax - 1]
+        for i, pts in capture:
+            if _near(hist[-1], pts, 1e-4):
+                return "captured", i, hist[-1]
+        for k in range(1, kmax + 1):
+            if _closes(hist, k, tol):
+                return "periodic", k, hist[-1]
+    return "unsettled", 0, hist[-1]
+
+
+def _strobes(sa, form, x, k, rtol) -> np.ndarray:
+    """The k scaled stroboscopic points of the orbit through x."""
+    pts, out, phi = [x], np.empty(x.size), np.empty((0, 0))
+    for _ in range(k - 1):
+        if km.strobe_map(sa, np.ascontiguousarray(pts[-1]), 1, rtol, rtol, out, phi) != STATUS_OK:
+            raise ComputationError("the stroboscopic points of an orbit", stage="integration")
+        pts.append(out.copy())
+    return np.array(pts)
+
+
+def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_starts: int = STARTS_DEFAULT,
+                           seed: int = 0, kmax: int = 8, max_periods: int | None = None,
+                           settle_tol: float = 1e-7, rtol: float = 1e-10, progress=None) -> SystemAttractorSet:
+    """The periodic attractors of ``system`` under P_a cos(2π f_e t) by a multi-start search.
+
+    Parameters
+    ----------
+    system : System
+    pa_newton, fe_hz : float
+        P_a [N] ≥ 0, f_e [Hz] > 0.
+    n_starts, seed : int
+        Random starts in the box (module docstring) and the generator's seed.
+    kmax : int
+        Largest period [excitation periods] detected (1..64).
+    max_periods : int, optional
+        Transient limit per start [periods]; default :func:`default_max_periods`.
+    settle_tol : float
+        Relative repetition of the stroboscopic points that counts as settled.
+    rtol : float
+        Integrator tolerance while settling (Newton refines at 1e-12).
+    progress : callable, optional
+        ``progress(done, total)`` after each start (and once with 0 before the first).
+    """
+    if not isinstance(system, System):
+        raise ParameterError("system", system, "must be a contactvib.model.System")
+    pa, fe = check_excitation(pa_newton, fe_hz)
+    settle_tol = check_range("settle_tol", settle_tol, 0.0, False, upper=1e-3)
+    if max_periods is None:
+        max_periods = default_max_periods(system, fe, settle_tol)
+    n_starts, seed, kmax, max_periods = check_system_search(n_starts, seed, kmax, max_periods)
+    rtol = check_range("rtol", rtol, 1e-14, True, upper=1e-6)
+    form = system.kernel_form(pa, fe)
+    sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)
+    found: list[dict] = []
+    n_unsettled = n_failed = 0
+    if progress is not None:
+        progress(0, n_starts)
+    for j, x0 in enumerate(_start_box(system, form, pa, fe, n_starts, seed)):
+        try:
+            capture = [(i, f["points"]) for i, f in enumerate(found) if f["orbit"].stable]
+            how, k, x = _settle(sa, x0, kmax, max_periods, settle_tol, capture, rtol)
+            if how == "captured":
+                found[k]["hits"] += 1
+            elif how == "unsettled":
+                n_unsettled += 1
+            else:
+                _add_orbit(system, pa, fe, sa, form, x, k, found)
+        except ComputationError as e:
+            if e.stage == "newton":
+                n_unsettled += 1
+            else:
+                n_failed += 1
+        if progress is not None:
+            progress(j + 1, n_starts)
+    attractors = [_measure(system, pa, fe, f, n_starts) for f in found]
+    attractors.sort(key=lambda a: -a.columns["dof_app"][0])
+    return SystemAttractorSet(attractors=tuple(attractors), natural_frequencies_hz=system.linear_modes(),
+                              pa_newton=pa, fe_hz=fe, n_starts=n_starts, n_unsettled=n_unsettled, n_failed=n_failed,
+                              settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
+                                        "settle_tol": settle_tol, "rtol": rtol})
+
+
+def _add_orbit(system, pa, fe, sa, form, x, k, found: list) -> None:
+    """Refine the settled point x (period k); count it on an equal orbit or add it to ``found``."""
+    orbit = periodic_orbit(system, pa, fe, form.scales.to_si(x), k)
+    xo = form.scales.to_scaled(orbit.z)
+    points = _strobes(sa, form, xo, k, 1e-12)
+    d = _least_period(points)
+    if d < k:  # settled first on a multiple of its period (a transient that turns by 2π/k)
+        orbit = periodic_orbit(system, pa, fe, orbit.z, d)
+        k, xo = d, form.scales.to_scaled(orbit.z)
+        points = _strobes(sa, form, xo, k, 1e-12)
+    for f in found:
+        if f["orbit"].k == k and _near(xo, f["points"], SAME_TOL * 100):
+            f["hits"] += 1
+            return
+    found.append({"orbit": orbit, "points": points, "hits": 1})
+
+
+def _least_period(points: np.ndarray) -> int:
+    """The least d dividing k = len(points) with points[d] = points[0] (to 100 SAME_TOL)."""
+    k = len(points)
+    for d in range(1, k):
+        if k % d == 0 and _near(points[0], points[d:d + 1], 100 * SAME_TOL):
+            return d
+    return k
+
+
+def _minima(d: np.ndarray) -> int:
+    """Local minima of a cyclic sample (strict on the left, the right may be level)."""
+    return int(np.sum((d < np.roll(d, 1)) & (d <= np.roll(d, -1))))
+
+
+def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> SystemAttractor:
+    orbit, n = f["orbit"], system.n
+    k = orbit.k
+    h = simulate_system(system, pa, fe, orbit.z[:n], orbit.z[n:], n_periods=k, samples_per_period=MEASURE_SAMPLES,
+                        rtol=1e-12)
+    q = h.q[:, :-1]
+    t = h.t_ms[:-1] * 1e-3
+    h1 = 2.0 * np.abs(q @ np.exp(-2j * math.pi * fe * t)) / t.size
+    si = q / np.array([DISPLAY_UNITS[u][1] for u in system.units])[:, None]
+    minima = _minima(system.directions[0] @ si if system.contacts else si[0])
+    open_ = ~h.in_contact[:, :-1]
+    mean_f = mean_contact_forces(system, pa, fe, orbit.z, k)
+    cols = dict(dof_name=system.coordinates, dof_unit=h.q_units, dof_min=q.min(axis=1), dof_max=q.max(axis=1),
+                dof_app=np.ptp(q, axis=1), dof_h1=h1, contact_name=h.contacts,
+                contact_loses_contact=open_.any(axis=1), contact_loss_frac=open_.mean(axis=1),
+                contact_mean_force_n=mean_f)
+    return SystemAttractor(orbit=orbit, strobe=_points_si(f["points"], system, pa, fe), minima_per_period=minima,
+                           basin_fraction=f["hits"] / n_starts, hits=f["hits"], columns=cols)
+
+
+def _points_si(points: np.ndarray, system: System, pa: float, fe: float) -> np.ndarray:
+    """Scaled stroboscopic points (rows) in SI."""
+    sc = system.kernel_form(pa, fe).scales
+    return np.array([sc.to_si(p) for p in points])
