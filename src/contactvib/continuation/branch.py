@@ -196,7 +196,8 @@ class Branch:
     def from_xarray(cls, ds) -> Branch:
         """The branch of a :meth:`to_xarray` dataset; the names written before the one naming
         scheme (fe, pa, app, ymin, ymax, mu_re/mu_im, x/xdot, minima) are read too. Special points
-        come back without multipliers and state (the file keeps their JSON entries only)."""
+        come back without multipliers and state (the file keeps their JSON entries only, ``dofs`` and
+        ``contacts`` included)."""
         def col(name):
             for n in (name, _OLD_NAMES.get(name)):
                 if n is not None and n in ds.variables:
@@ -208,7 +209,8 @@ class Branch:
         specials = [SpecialPoint(type=d["type"], fe_hz=d["fe_hz"], pa_over_q=d["pa_over_q"],
                                  app_um=d["app_um"], period=d["period"], branch=d["branch"],
                                  floquet_multipliers=np.full(2, np.nan, complex),
-                                 state=np.full(2, np.nan))
+                                 state=np.full(2, np.nan),
+                                 measures={k: d[k] for k in ("dofs", "contacts") if k in d})
                     for d in json.loads(attrs.get("special_points", "[]"))]
         stops = [Stop(d["fe_hz"], d["pa_over_q"], d["reason"], d["branch"])
                  for d in json.loads(attrs.get("stops", "[]"))]
