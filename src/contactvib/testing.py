@@ -310,7 +310,7 @@ def model_ode(model, excitation):
     """The :class:`ContactODE` of a ``contactvib`` model and excitation, built from their SI
     parameters alone (the law's formulas written here: power, exponential, table through scipy's
     own PCHIP; any other registered law through its own SI :meth:`SpringLaw.contact_force
-    <contactvib.model.laws.SpringLaw.contact_force>`, never the compiled kernels; power or
+    <contactvib.model.SpringLaw.contact_force>`, never the compiled kernels; power or
     Hunt–Crossley damping; force, harmonics or base excitation). Its coordinate is the contact's
     deflection δ = y − y_e (y_e the law's engagement point, 0 but for a clearance).
 

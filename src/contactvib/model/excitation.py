@@ -32,7 +32,7 @@ LEVEL_KINDS = {
 
 
 def check_excitation(excitation, model: ExcitedModel | None = None) -> Excitation:
-    """``excitation`` checked to be an :class:`Excitation` (of a model equal to ``model``, where
+    """``excitation`` checked to be an :class:`~contactvib.Excitation` (of a model equal to ``model``, where
     given): the operating point of a verb at one point. Returns it."""
     if model is not None and not all(hasattr(type(model), a) for a in _MODEL_MEMBERS):
         raise ParameterError("model", model, "must be a ContactModel")

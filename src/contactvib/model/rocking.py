@@ -29,7 +29,7 @@ ROCKING_CONTACTS = ("front", "rear")
 
 
 def rocking_system(model, a: float = 0.05, J: float | None = None, e: float = 0.0) -> System:
-    """The slide unit of ``model`` (a :class:`~contactvib.model.ContactModel`) on two patches.
+    """The slide unit of ``model`` (a :class:`~contactvib.ContactModel`) on two patches.
 
     Parameters
     ----------

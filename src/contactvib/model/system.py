@@ -7,7 +7,7 @@ Equation (q [m or rad] the coordinates, P(t) = P_a cos(2π f_e t) [N] the excita
 Each contact element i has a direction ``w_i`` (its deflection δ_i [m] is positive into the
 contact; w_i in m/m for a translation, m/rad for a rotation), an engagement point
 ``e_i = gap + law.engagement_m`` [m], a nominal area ``S_i`` [m²], a spring law of the registry
-(:mod:`contactvib.model.laws`, ``F_s(δ)`` [N]) and a damping law, and acts only while δ_i > 0:
+(``contactvib.model.laws``, ``F_s(δ)`` [N]) and a damping law, and acts only while δ_i > 0:
 ``F_i = F_s(δ_i) + S h_n δ_i^l δ̇_i`` (power damping) or ``F_s(δ_i) (1 + α δ̇_i)`` (Hunt–Crossley).
 Its generalised force ``−w_i F_i`` pushes the structure out of the contact.
 
@@ -85,7 +85,7 @@ class ContactElement:
     S : float
         Nominal area [m²] of the law (> 0).
     law : SpringLaw or str
-        The spring law: an object of :mod:`contactvib.model.laws` (``PowerSpring(c_n, m2)``,
+        The spring law: an object of ``contactvib.model.laws`` (``PowerSpring(c_n, m2)``,
         ``ClearanceLaw(c_lin, gap_um)``, ...) or a registered name (default parameters).
     damping : str
         ``"power"`` (``S h_n δ^l δ̇``) or ``"hunt-crossley"`` (``α F_s(δ) δ̇``).
@@ -271,7 +271,7 @@ class System:
     # ------------------------------------------------------------------ construction
     @classmethod
     def single_dof(cls, model) -> System:
-        """The paper's slider (a :class:`~contactvib.model.ContactModel`) as the n = 1 system: the
+        """The paper's slider (a :class:`~contactvib.ContactModel`) as the n = 1 system: the
         coordinate ``y`` [m], one contact ``"contact"`` with the model's law, area and damping,
         ``f0 = [M g + F_pre]``, ``b = [1]``."""
         if not all(hasattr(model, a) for a in ("spring_law", "M", "W", "S", "damping")):
@@ -317,7 +317,7 @@ class System:
 
     @property
     def reference_force(self) -> float:
-        """A force scale [N]: the largest |f0| component, or 1 N without a static load."""
+        """A force scale [N]: the largest absolute component of f0, or 1 N without a static load."""
         f = float(np.max(np.abs(self.f0)))
         return f if f > 0.0 else 1.0
 
@@ -404,14 +404,14 @@ class System:
 
     @cached_property
     def scales(self):
-        """The scales of the compiled form (:class:`~contactvib.model.system_kernel.SystemScales`)."""
+        """The scales of the compiled form (``contactvib.model.system_kernel.SystemScales``)."""
         from contactvib.model.system_kernel import system_scales
 
         return system_scales(self)
 
     def kernel_form(self, pa_newton: float, fe_hz: float):
         """The scaled form the compiled integrator runs at P_a = ``pa_newton`` [N], f_e = ``fe_hz``
-        [Hz] (:class:`~contactvib.model.system_kernel.KernelForm`)."""
+        [Hz] (``contactvib.model.system_kernel.KernelForm``)."""
         from contactvib.model.system_kernel import kernel_form, unit_form
 
         if "unit_form" not in self._cache:

@@ -158,8 +158,8 @@ def describe_orbit(excitation: Excitation, z, period: int | None, *, monodromy=N
     For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
     k-period; for a non-periodic attractor (of type ``kind``, "chaotic" or "quasi-periodic",
     with largest Lyapunov exponent ``lyapunov`` [1/period]) over ``n_periods_nonperiodic``
-    periods. The f_e amplitude (:func:`first_harmonic_um`) and the mean contact force
-    (:func:`mean_contact_force_n`) are measured over the same span.
+    periods. The f_e amplitude (``first_harmonic_um``) and the mean contact force
+    (``mean_contact_force_n``) are measured over the same span.
     """
     model = check_excitation(excitation).model
     u = model.units

@@ -167,7 +167,7 @@ class Attractor:
         motion). NaN where not measured.
 
     ``dofs`` and ``contacts`` of the JSON contract come from :meth:`dof_columns` through
-    :func:`dofs_and_contacts`.
+    ``dofs_and_contacts``.
     """
 
     period: int | None
@@ -194,7 +194,7 @@ class Attractor:
     mean_contact_force_n: float = math.nan
 
     def dof_columns(self) -> dict:
-        """The columns of :func:`dofs_and_contacts` for this attractor (one coordinate y [µm], one
+        """The columns of ``dofs_and_contacts`` for this attractor (one coordinate y [µm], one
         contact), named as the dataset's per-point variables."""
         return {"dof_name": DOF_NAMES, "dof_unit": DOF_UNITS, "dof_min": [self.ymin_um],
                 "dof_max": [self.ymax_um], "dof_app": [self.app_um], "dof_h1": [self.h1_um],
