@@ -59,7 +59,7 @@ from .dop853 import (
     stage_state,
     step_factor,
 )
-from .flow import dense_root
+from .flow import crosses_contact, dense_root
 from .status import (
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -248,14 +248,6 @@ def _dense(sa, mode, t, y, ynew, h, K, ys, F, Jx, Jv):
 
 
 @njit(cache=True)
-def _crosses(contact, xi):
-    """True where ξ lies on the far side of the switching surface for the element's mode."""
-    if contact:
-        return xi <= 0.0
-    return xi > 0.0
-
-
-@njit(cache=True)
 def _element_interpolant(sa, i, F, E):
     """E[7, 2]: the interpolant of (ξ_i, ξ_i') from the state's F[7, 2n]."""
     n = sa.Kx.shape[0]
@@ -285,7 +277,7 @@ def _event_fraction(sa, mode, t, y, ynew, h, K, ys, F, E, eo, record, fresh, Jx,
             return 0.0, i
         xi1, xv1 = element_state(sa, i, ynew)
         vflip = (xv0 < 0.0) != (xv1 < 0.0)
-        cross_end = _crosses(mode[i], xi1)
+        cross_end = crosses_contact(mode[i], xi1)
         if not (vflip or cross_end):
             continue
         if not have:
@@ -298,7 +290,7 @@ def _event_fraction(sa, mode, t, y, ynew, h, K, ys, F, E, eo, record, fresh, Jx,
         lo = 0.0
         if vflip:
             th_v = dense_root(E, eo, 1, 0.0, 0.0, 1.0)
-            if not fresh[i] and _crosses(mode[i], dense_value(E, eo, th_v, 0)):
+            if not fresh[i] and crosses_contact(mode[i], dense_value(E, eo, th_v, 0)):
                 th = dense_root(E, eo, 0, 0.0, 0.0, th_v)
             lo = th_v
         if th < 0.0 and cross_end:
