@@ -31,6 +31,7 @@ POSITIONAL = {
     "reproduce_paper": ["model"],
     "open_resonance": ["path"], "attractors_at": ["ds"], "animate": ["dataset", "out"], "open_levels": ["path"],
     "regime_maps": ["ds"], "fit": [],
+    "orbit_period": ["excitation"], "follow_cascade": ["model"], "cascades_at": ["model"],
 }
 
 
