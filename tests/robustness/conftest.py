@@ -17,6 +17,8 @@ COMPUTATIONS = [
     "contactvib.continuation.diagram.bifurcation_diagram",
     "contactvib.continuation.evolution.evolution",
     "contactvib.frequency.harmonic_balance.hb_continuation",
+    "contactvib.frequency.system_hb.system_hb_continuation",
+    "contactvib.continuation.cascade.cascades_at",
     "contactvib.frequency.perturbation.perturbation_series",
     "contactvib.sweeps.regimes.evolution_curves",
     "contactvib.sweeps.regimes.regime_maps",

@@ -28,7 +28,7 @@ from contactvib.cli.common import (
 )
 from contactvib.model import ParameterError
 
-__all__ = ["system_option", "system_given", "system_attractors", "system_simulate"]
+__all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "system_hbm"]
 
 #: The --system option of the command being run.
 _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", default=None)
@@ -262,3 +262,57 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
                    f"|mu|max={a.floquet_abs_max:.4f}")
     click.echo(str(out / "attractors.json"))
     _no_periodic(result)
+
+
+def _level(model, label, pa, pa_newton) -> tuple[float, str]:
+    """(P_a [N], a text of the level) of --pa or --pa-newton (:func:`_excitation` without f_e)."""
+    p, _f, text = _excitation(model, label, pa, pa_newton, "1")
+    return p, text
+
+
+def system_hbm(pa, pa_newton, settings, harmonics, n_time, fmin, fmax, energy_tol, plot, measure, out,
+               as_json) -> None:
+    """``contactvib hbm --system ...``: the harmonic-balance branch of a system across
+    [--fmin, --fmax], continued from --fmin upwards (folds passed), with the Floquet multipliers of
+    each point from one shooting period; the figure of one coordinate (--plot) by --measure."""
+    import json
+
+    from contactvib.frequency.system_hb import system_hb_continuation
+    from contactvib.model import HARMONICS_MAX
+
+    system, model, label = _load(settings)
+    p, level = _level(model, label, pa, pa_newton)
+    H = parse_int("--harmonics", harmonics, 1, HARMONICS_MAX)
+    nt = None if n_time is None else parse_int("--n-time", n_time, 4 * H + 2, symbol="n_time")
+    f1 = parse_number("--fmin", "f_min", fmin)
+    f2 = parse_number("--fmax", "f_max", fmax)
+    if not 0.0 < f1 < f2:
+        raise InputError(f"--fmax (f_max) = {show_value(f2)}: must be > --fmin = {show_value(f1)} > 0 Hz")
+    etol = parse_number("--energy-tol", "energy_tol", energy_tol)
+    names = list(system.coordinates)
+    coord = plot or names[0]
+    if coord not in names:
+        raise InputError(f"--plot {coord}: not a coordinate of --system {label} (its coordinates: {', '.join(names)})")
+    outp = checked_output_folder(out)
+    with ctrl_c():
+        br = mapped_options({"fmin_hz": "--fmin", "fmax_hz": "--fmax", "harmonics": "--harmonics",
+                             "n_time": "--n-time", "energy_tol": "--energy-tol"},
+                            system_hb_continuation, system, p, fmin_hz=f1, fmax_hz=f2, harmonics=H, n_time=nt,
+                            energy_tol=etol)
+    payload = {"system": label, "coordinates": names, **br.to_dict()}
+    (outp / "branch.json").write_text(json.dumps(payload))
+    from contactvib.plotting.figures import save_figure
+    from contactvib.plotting.system import system_hb_figure
+
+    tag = f"{label.rsplit('/', 1)[-1].removesuffix('.toml')}_pa{p:.4g}N_H{H}"
+    fig = system_hb_figure([("", br)], names.index(coord), measure,
+                           f"Harmonic balance of {label.rsplit('/', 1)[-1]}, {level}, H = {H}")
+    path = save_figure(fig, outp / f"hbm_{tag}_{coord}_{measure}.png")
+    if as_json:
+        echo_json(payload)
+        return
+    st = br.stable
+    click.echo(f"system {label}: {level}; {len(br.solutions)} points, f_e {br.fe_hz.min():.4g}.."
+               f"{br.fe_hz.max():.4g} Hz, {int((~st).sum())} unstable; {br.stop_reason}")
+    click.echo(_modes_text(system, model))
+    click.echo(str(path))
