@@ -153,6 +153,9 @@ REDUCED: dict[str, list[str]] = {
     "contactvib section --pa 0.75 --fe 816.5 --impacts --out sections/section.png --csv sections/section.csv":
         ["section", "--pa", "0.75", "--fe", "816.5", "--impacts", "--starts", "32", "--periods", "50",
          "--out", "sections/section.png", "--csv", "sections/section.csv"],
+    "contactvib section --pa 0.75 --fe 816.5 --attractor 2 --periods 5000 --impacts --out sections/chaos.png":
+        ["section", "--pa", "0.75", "--fe", "816.5", "--attractor", "0", "--periods", "50", "--impacts",
+         "--starts", "16", "--out", "sections/chaos.png"],
     "contactvib orbit-diagram --pa 0.75 --fe-from 808 --fe-to 820 --fe-step 0.1 --ylim -4 1 --out sections/od075.png":
         ["orbit-diagram", "--pa", "0.75", "--fe-from", "816", "--fe-to", "817", "--fe-step", "1", "--periods", "8",
          "--starts", "16", "--ylim", "-4", "1", "--out", "sections/od075.png"],
@@ -622,6 +625,9 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
             assert d.sizes[next(iter(d["y_um"].dims))] > 100
     elif "--system" in args:
         _check_system(args, out, folder)
+    elif cmd == "section" and "--attractor" in args:
+        assert_figure_file(workdir / m.group(1))
+        assert len(out.splitlines()) == 4 and out.splitlines()[2].split()[0] == "0"
     elif cmd == "section":
         assert_figure_file(workdir / m.group(1))
         lines = (workdir / "sections" / "section.csv").read_text().splitlines()

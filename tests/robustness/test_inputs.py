@@ -74,7 +74,7 @@ OPTIONS = {
                "--max-periods": "value", "--starts": "value"},
     "section": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                 "--starts": "value", "--seed": "value", "--kmax": "value", "--max-periods": "value",
-                "--periods": "value", "--csv": "value"},
+                "--periods": "value", "--csv": "value", "--attractor": "value"},
     "orbit-diagram": {"--pa": "value", "--fe": "value", "--set": "set", "--vary": "value", "--fe-from": "value",
                       "--fe-to": "value", "--fe-step": "value", "--pa-from": "value", "--pa-to": "value",
                       "--pa-step": "value", "--periods": "value", "--search-every": "value", "--starts": "value",

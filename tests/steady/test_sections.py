@@ -140,3 +140,22 @@ def test_orbit_diagram_settings_refused(kw, symbol):
     assert e.value.symbol == symbol
     if symbol == "df" and kw.get("stop") == 1e6:
         assert str(MAX_GRID_POINTS) in e.value.allowed
+
+
+def test_orbit_diagram_in_pa_is_the_attractors_at_each_level():
+    """--vary pa, a search at every point: at each P_a of the grid the diagram holds each of the
+    search's periodic orbits once, as its k points (strobe points to 1e-6 µm)."""
+    model = ContactModel()
+    st = OrbitDiagramSettings(vary="pa", start=0.6, stop=0.65, step=0.05, n_periods=16, search_every=1,
+                              n_starts=64)
+    ds = orbit_diagram(model, fe_hz=360.0, settings=st)
+    assert ds.attrs["vary"] == "pa" and np.all(ds["fe_hz"].values == 360.0)
+    for pa in (0.6, 0.65):
+        sel = np.isclose(ds["pa_over_q"].values, pa)
+        ys, periods = ds["y_um"].values[sel], ds["period"].values[sel]
+        found = find_attractors(Excitation(model, pa, 360.0), n_starts=64)
+        assert ys.size == sum(a.period for a in found)  # each orbit once, as its k points
+        for att in found:
+            for y in att.strobe_y_um:
+                j = np.argmin(np.abs(ys - y))
+                assert abs(ys[j] - y) < 1e-6 and periods[j] == att.period

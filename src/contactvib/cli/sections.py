@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -17,6 +18,7 @@ from contactvib.cli.common import (
     mapped_options,
     operating_point_options,
     parse_excitation,
+    parse_int,
     parse_model,
     parse_number,
     search_options,
@@ -49,12 +51,14 @@ def _periods(text: str, option: str = "--periods") -> int:
 @search_options
 @click.option("--periods", default="1000", show_default=True,
               help="Excitation periods integrated per non-periodic attractor (a period-k orbit: its k periods).")
+@click.option("--attractor", "only", default=None, metavar="I",
+              help="Draw and write only attractor I (its number in the table, as contactvib attractors lists it).")
 @click.option("--impacts", is_flag=True, help="Add the impact map: phase and velocity at each contact loss.")
 @click.option("--out", default=None, metavar="FILE.png",
               help="Figure file (.png, .svg, .pdf); default section_pa<P>_fe<F>.png.")
 @click.option("--csv", "csv_path", default=None, metavar="FILE.csv", help="Write one row per point (units header).")
 @click.option("--json", "as_json", is_flag=True, help="Print the points as one JSON object.")
-def section(pa, pa_newton, fe, settings, periods, impacts, out, csv_path, as_json, **search):
+def section(pa, pa_newton, fe, settings, periods, impacts, out, csv_path, as_json, only, **search):
     """Stroboscopic Poincaré section (y, dy/dt at t = k/f_e) of every attractor at (P_a, f_e); with
     --impacts the impact map (excitation phase and dy/dt at each contact loss)."""
     from contactvib.cli.steady import search_settings
@@ -62,6 +66,7 @@ def section(pa, pa_newton, fe, settings, periods, impacts, out, csv_path, as_jso
     model = parse_model(settings)
     exc = parse_excitation(model, pa, pa_newton, fe)
     n = _periods(periods)
+    index = None if only is None else parse_int("--attractor", only, 0, symbol="attractor")
     starts, seed, kmax, max_periods, no_seeds = (search[k] for k in ("starts", "seed", "kmax", "max_periods",
                                                                       "no_seeds"))
     search_settings(starts, seed, kmax, max_periods)
@@ -70,8 +75,13 @@ def section(pa, pa_newton, fe, settings, periods, impacts, out, csv_path, as_jso
     found = search_attractors(model, exc, starts, seed, kmax, max_periods, no_seeds)
     from contactvib.steady.sections import poincare_sections
 
+    if index is not None and index >= len(found):
+        raise InputError(f"--attractor (attractor) = {index}: must be an integer in 0..{len(found) - 1} "
+                         f"({len(found)} attractors found)")
     with ctrl_c():
         result = poincare_sections(exc, found, n_periods=n)
+    if index is not None:
+        result = dataclasses.replace(result, sections=[result[index]])
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.sections import section_figure
 
@@ -81,7 +91,7 @@ def section(pa, pa_newton, fe, settings, periods, impacts, out, csv_path, as_jso
     if as_json:
         echo_json(result.to_dict(impacts))
         return
-    click.echo(f"{result.level}, f_e = {result.fe_hz:g} Hz: {len(result)} attractors")
+    click.echo(f"{result.level}, f_e = {result.fe_hz:g} Hz: {len(found)} attractors")
     click.echo(f"{'#':>2} {'kind':>14} {'points':>7} {'losses':>7} {'lambda1 [1/period]':>19}")
     for s in result:
         kind = f"period {s.period}" if s.period is not None else s.kind

@@ -42,7 +42,7 @@ def _level_tex(level: str) -> str:
 
 
 def _legend_text(i: int, section) -> str:
-    return f"{i}: {section.label}, λ1 = {section.lambda1:.3g}/period"
+    return f"#{i} {section.label}, λ1 = {section.lambda1:.3g}/period"
 
 
 def plot_section(sections, ax=None, legend: bool = True):
@@ -56,7 +56,7 @@ def plot_section(sections, ax=None, legend: bool = True):
     ax.set_ylabel("dy/dt at t = k/$f_e$ [mm/s]")
     ax.set_title("stroboscopic section", fontsize=10)
     if legend:
-        ax.legend(fontsize=8, loc="best", markerscale=1.0, title="attractor: points", title_fontsize=8)
+        ax.legend(fontsize=8, loc="best", markerscale=1.0, title="attractor: stroboscopic points", title_fontsize=8)
     return ax
 
 
@@ -67,7 +67,7 @@ def plot_impact_map(sections, ax=None, legend: bool = False):
     colours = label_colours(len(sections))
     for i, s in enumerate(sections):
         if s.loss_phase_rad.size:
-            text = f"{s.index}: {_count(s.loss_phase_rad.size, 'loss', 'losses')}"
+            text = f"#{s.index}: {_count(s.loss_phase_rad.size, 'loss', 'losses')}"
             ax.plot(s.loss_phase_fraction, s.loss_ydot_mm_s, label=text, **_style(i, s, colours[i]))
     ax.set_xlim(0.0, 1.0)
     ax.set_xlabel("excitation phase at contact loss [fraction of the period]")

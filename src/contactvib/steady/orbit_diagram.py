@@ -152,6 +152,22 @@ def _periodic(excitation: Excitation, z, k: int, rtol: float):
     return (z_orb, mu) if is_stable(float(np.max(np.abs(mu)))) else None
 
 
+def _minimal_period(strobe: np.ndarray, k: int, tol: float = 1e-7) -> int:
+    """The smallest divisor d of k with the orbit's strobe point d equal to point 0 (relative ``tol``)."""
+    scale = max(1.0, float(np.max(np.abs(strobe))))
+    for d in range(1, k):
+        if k % d == 0 and float(np.max(np.abs(strobe[d] - strobe[0]))) <= tol * scale:
+            return d
+    return k
+
+
+def _monodromy(excitation: Excitation, z, k: int, rtol: float) -> np.ndarray:
+    M = np.empty((2, 2))
+    st = strobe_map(np.asarray(z, float).copy(), np.int64(k), excitation.kernel_parameters(), rtol, rtol,
+                    np.empty(2), M)
+    return M if st == STATUS_OK else np.full((2, 2), np.nan)
+
+
 def _follow(excitation: Excitation, z, settle: int, settings: OrbitDiagramSettings, rtol: float) -> _Track | None:
     """Settle ``settle`` periods from ``z``, record ``n_periods``: the attractor reached (id −1),
     or None where the integration fails."""
@@ -168,6 +184,10 @@ def _follow(excitation: Excitation, z, settle: int, settings: OrbitDiagramSettin
     if orbit is not None:
         z_orb, mu = orbit
         one = trajectory_points(excitation, z_orb, k, rtol=rtol)
+        d = _minimal_period(one.strobe, k)
+        if d < k:  # Newton on P^k reached an orbit of period d, a divisor of k: describe it as such
+            mu = np.linalg.eigvals(_monodromy(excitation, z_orb, d, rtol))
+            k, one = d, trajectory_points(excitation, z_orb, d, rtol=rtol)
         return _Track(-1, k, one.strobe, one.loss_tau, one.loss_v, z_orb,
                       largest_exponent(excitation, z_orb, k, multipliers=mu, rtol=rtol))
     if not np.all(np.isfinite(pts.strobe)):
