@@ -46,7 +46,7 @@ def _legend_text(i: int, section) -> str:
 
 
 def plot_section(sections, ax=None, legend: bool = True):
-    """The stroboscopic section of every attractor of a :class:`~contactvib.steady.sections.SectionSet`."""
+    """The stroboscopic section of every attractor of a :class:`~contactvib.SectionSet`."""
     ax = axes_or_new(ax, (6.5, 5.0))
     colours = label_colours(len(sections))
     for i, s in enumerate(sections):
@@ -101,7 +101,7 @@ def _norm(lam: np.ndarray):
 
 
 def plot_orbit_diagram(ds, measure: str = "y", ax=None, colorbar: bool = True):
-    """The orbit diagram of :func:`contactvib.steady.orbit_diagram.orbit_diagram`: stroboscopic y
+    """The orbit diagram of :func:`contactvib.orbit_diagram`: stroboscopic y
     (``measure`` ``"y"``) or ẏ at contact loss (``"v-loss"``) against the varied parameter, coloured
     by λ1."""
     ax = axes_or_new(ax, (8.0, 5.0))

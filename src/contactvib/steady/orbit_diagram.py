@@ -9,7 +9,7 @@ recorded as the k points of that orbit; otherwise the recorded points are the at
 points a fresh search adds attractors that appeared; the grid is walked up, then down again from
 the attractors at its end (an attractor found late is followed back); an attractor that has become the same as an
 earlier one (same orbit, or overlapping clouds) is dropped. Each attractor's points are coloured
-by λ1 (:func:`contactvib.steady.sections.largest_exponent`).
+by λ1 (``contactvib.steady.sections.largest_exponent``).
 
 The grid points follow each other (each continues from the previous one's states); the one level
 of parallelism is the search's (numba threads over its starts).
@@ -63,7 +63,7 @@ class OrbitDiagramSettings:
         ``"fe"`` (f_e [Hz] from ``start`` to ``stop``) or ``"pa"`` (P_a [Q]).
     start, stop, step : float
         The grid ``start, start + step, …`` up to ``stop`` (included within 1e-9 of a step);
-        ``start < stop``, ``step > 0``, at most :data:`MAX_GRID_POINTS` points.
+        ``start < stop``, ``step > 0``, at most ``MAX_GRID_POINTS`` (5000) points.
     n_periods : int
         Transient periods before each record, and periods recorded (≥ 2).
     search_every : int

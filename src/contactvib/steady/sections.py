@@ -6,11 +6,11 @@ distinct points, a non-periodic attractor a cloud (chaos) or a closed curve (qua
 motion). The impact map is the sequence of states at each contact loss (the instants where the
 deflection y returns to the contact's engagement point from inside the contact): the excitation's
 phase φ = 2π f_e t mod 2π there and the velocity ẏ at the loss. Both come from the step records
-of the compiled DOP853 flow (:mod:`contactvib._kernels.flow`), whose contact switches are located
+of the compiled DOP853 flow (``contactvib._kernels.flow``), whose contact switches are located
 on the dense output and land the step exactly on them.
 
 λ1, the largest Lyapunov exponent of the stroboscopic map [1/excitation period], is
-:func:`largest_exponent`: the one place it is computed for the sections and the orbit diagram.
+``largest_exponent``: the one place it is computed for the sections and the orbit diagram.
 
 Units: y [µm], ẏ [mm/s], phase [rad] and [fraction of the period], λ1 [1/period].
 """
@@ -51,7 +51,7 @@ def largest_exponent(excitation: Excitation, z, period: int | None = None, *, mu
     A period-k orbit (``period`` = k): λ1 = ln(max |μ|) / k, μ its Floquet ``multipliers`` (the
     eigenvalues of the k-period monodromy; without them the orbit is refined by Newton shooting
     from ``z``). Otherwise (``period`` None) the tangent-vector estimate of
-    :func:`contactvib._kernels.describe.lyapunov_strobe` over ``NP_LYAPUNOV`` (64) periods from
+    ``contactvib._kernels.describe.lyapunov_strobe`` over ``NP_LYAPUNOV`` (64) periods from
     ``z`` (Benettin et al. 1980). NaN where the integration fails.
     """
     z = np.asarray(z, float)
@@ -68,7 +68,7 @@ def largest_exponent(excitation: Excitation, z, period: int | None = None, *, mu
 
 @dataclass(frozen=True)
 class TrajectoryPoints:
-    """Stroboscopic points and contact losses of a trajectory (nondimensional, :mod:`.flow`).
+    """Stroboscopic points and contact losses of a trajectory (nondimensional, as the kernels').
 
     Attributes
     ----------
@@ -100,7 +100,7 @@ def _losses(rec: np.ndarray):
 
 def trajectory_points(excitation: Excitation, z, n_periods: int, *, rtol: float = SECTION_RTOL) -> TrajectoryPoints:
     """Integrate ``n_periods`` from the nondimensional state ``z`` at phase 0 and keep the
-    stroboscopic points and the contact losses (:class:`TrajectoryPoints`); records of at most
+    stroboscopic points and the contact losses (``TrajectoryPoints``); records of at most
     64 periods are held at once."""
     par = excitation.kernel_parameters()
     T = excitation.tau_period
@@ -149,7 +149,7 @@ class AttractorSection:
     loss_ydot_mm_s : ndarray
         ẏ at each contact loss [mm/s] (≤ 0: leaving the contact).
     lambda1 : float
-        Largest Lyapunov exponent of the stroboscopic map [1/excitation period] (:func:`largest_exponent`).
+        Largest Lyapunov exponent of the stroboscopic map [1/excitation period] (``largest_exponent``).
     """
 
     index: int
@@ -230,7 +230,7 @@ class SectionSet:
         return out
 
     def to_csv(self, path, impacts: bool = False):
-        """Write :meth:`rows` as CSV with a ``#`` header of the operating point and the units."""
+        """Write ``rows()`` as CSV with a ``#`` header of the operating point and the units."""
         cols = ["attractor", "kind", "map", "period", "k", "y_um", "ydot_mm_s", "phase_rad", "phase_frac",
                 "v_loss_mm_s"]
         lines = [f"# contactvib section: {self.level}, f_e = {self.fe_hz:g} Hz; stroboscopic points at "
@@ -264,7 +264,7 @@ def _cell(v) -> str:
 
 
 def check_section_periods(n_periods) -> int:
-    """``n_periods`` of :func:`poincare_sections`: an integer ≥ 1 whose points fit in memory."""
+    """``n_periods`` of ``poincare_sections``: an integer ≥ 1 whose points fit in memory."""
     n = check_int("n_periods", n_periods, 1)
     check_memory("n_periods", n, float(n) * _BYTES_PER_PERIOD, MEMORY_MAX // _BYTES_PER_PERIOD)
     return n
