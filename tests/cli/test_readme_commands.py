@@ -159,9 +159,10 @@ REDUCED: dict[str, list[str]] = {
     "contactvib orbit-diagram --pa 0.75 --fe-from 808 --fe-to 820 --fe-step 0.1 --ylim -4 1 --out sections/od075.png":
         ["orbit-diagram", "--pa", "0.75", "--fe-from", "816", "--fe-to", "817", "--fe-step", "1", "--periods", "8",
          "--starts", "16", "--ylim", "-4", "1", "--out", "sections/od075.png"],
-    "contactvib orbit-diagram --pa 0.8 --fe-from 395 --fe-to 440 --fe-step 0.25 --ylim -1 1 --out sections/od08.png":
+    ("contactvib orbit-diagram --pa 0.8 --fe-from 370 --fe-to 445 --fe-step 0.25 --ylim -0.1 0.4 "
+     "--out sections/od08.png"):
         ["orbit-diagram", "--pa", "0.8", "--fe-from", "420", "--fe-to", "421", "--fe-step", "1", "--periods", "8",
-         "--starts", "16", "--ylim", "-1", "1", "--out", "sections/od08.png"],
+         "--starts", "16", "--ylim", "-0.1", "0.4", "--out", "sections/od08.png"],
     "contactvib orbit-diagram --pa 0.75 --fe-from 812 --fe-to 818 --fe-step 0.5 --out od_quick.png":
         ["orbit-diagram", "--pa", "0.75", "--fe-from", "812", "--fe-to", "813", "--fe-step", "1", "--periods", "8",
          "--starts", "16", "--out", "od_quick.png"],
