@@ -159,3 +159,26 @@ def test_orbit_diagram_in_pa_is_the_attractors_at_each_level():
             for y in att.strobe_y_um:
                 j = np.argmin(np.abs(ys - y))
                 assert abs(ys[j] - y) < 1e-6 and periods[j] == att.period
+
+
+@pytest.mark.slow  # two spawned processes: ~15 s on 2 shared cores
+def test_orbit_diagram_in_two_processes_equals_one():
+    """Two worker processes (parts 358–360 and 360–361 Hz, a search at every point) give the same
+    points (1e-6 µm) and periods as one process, each attractor with one id per point."""
+    from contactvib.steady.diagram_pool import split_grid
+
+    assert split_grid(4, 2) == [(0, 2), (2, 3)] and split_grid(121, 2) == [(0, 60), (60, 120)]
+    st = OrbitDiagramSettings(start=358.0, stop=361.0, step=1.0, n_periods=8, search_every=1, n_starts=64)
+    one = orbit_diagram(ContactModel(), pa_over_q=0.65, settings=st)
+    two = orbit_diagram(ContactModel(), pa_over_q=0.65, settings=st, workers=2)
+
+    def points(ds):
+        return np.array(sorted(zip(ds["grid_index"].values, ds["period"].values, ds["y_um"].values)))
+
+    a, b = points(one), points(two)
+    assert a.shape == b.shape
+    np.testing.assert_array_equal(a[:, :2], b[:, :2])
+    np.testing.assert_allclose(a[:, 2], b[:, 2], rtol=0, atol=1e-6)
+    for ds in (one, two):
+        pairs = list(zip(ds["grid_index"].values.tolist(), ds["attractor"].values.tolist(), ds["k"].values.tolist()))
+        assert len(pairs) == len(set(pairs))

@@ -164,6 +164,9 @@ def _progress_bar(total_hint: str):
               help="A fresh attractor search every this many grid points (the first one always).")
 @click.option("--starts", default="256", show_default=True, help="Random starts of each search.")
 @click.option("--kmax", default="8", show_default=True, help="Largest period searched and detected.")
+@click.option("--workers", default="2", show_default=True,
+              help="Processes, each walking a contiguous part of the grid (one numba thread each); 1: one "
+                   "process, the searches on the numba threads.")
 @click.option("--measure", type=click.Choice(["y", "v-loss"]), default="y", show_default=True,
               help="Plot the stroboscopic y [um], or dy/dt at each contact loss [mm/s].")
 @click.option("--ylim", nargs=2, default=None, metavar="LO HI", help="Vertical range of the figure [um or mm/s].")
@@ -175,9 +178,10 @@ def orbit_diagram(settings, vary, pa, fe, measure, ylim, out, csv_path, nc_path,
     """Orbit diagram: every attractor's stroboscopic y (or dy/dt at contact loss) against f_e or P_a,
     each attractor followed from grid point to grid point, coloured by the largest Lyapunov
     exponent λ1 [1/period]."""
-    from contactvib.model import Excitation
+    from contactvib.model import WORKERS_MAX, Excitation
 
     model = parse_model(settings)
+    n_workers = parse_int("--workers", grid.pop("workers"), 1, WORKERS_MAX, symbol="workers")
     sset = _diagram_settings(vary, grid, *(grid[k] for k in ("periods", "search_every", "starts", "kmax")))
     if vary == "fe":
         fixed = parse_number("--pa", "P_a/Q", pa)
@@ -200,7 +204,8 @@ def orbit_diagram(settings, vary, pa, fe, measure, ylim, out, csv_path, nc_path,
 
     kw = {"pa_over_q": fixed} if vary == "fe" else {"fe_hz": fixed}
     with ctrl_c():
-        ds = mapped_options(names, run, model, settings=sset, progress=_progress_bar("orbit diagram"), **kw)
+        ds = mapped_options(names, run, model, settings=sset, workers=n_workers,
+                            progress=_progress_bar("orbit diagram"), **kw)
     from contactvib.plotting.figures import save_figure
     from contactvib.plotting.sections import orbit_diagram_figure
     from contactvib.steady.orbit_diagram import write_csv

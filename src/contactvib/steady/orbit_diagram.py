@@ -22,24 +22,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from contactvib._kernels.shooting import is_stable, strobe_map
-from contactvib._kernels.status import STATUS_OK
-from contactvib.errors import ComputationError
 from contactvib.model import (
     KMAX_SEARCH_MAX,
+    WORKERS_MAX,
     ContactModel,
-    Excitation,
     ParameterError,
     check_choice,
     check_int,
     check_range,
 )
-from contactvib.steady.sections import SECTION_RTOL, largest_exponent, trajectory_points
+from contactvib.steady.follow import excitation_at_point, walk_grid
+from contactvib.steady.sections import SECTION_RTOL
 
 __all__ = ["OrbitDiagramSettings", "orbit_diagram", "write_csv", "VARY", "MAX_GRID_POINTS"]
 
@@ -47,8 +44,6 @@ __all__ = ["OrbitDiagramSettings", "orbit_diagram", "write_csv", "VARY", "MAX_GR
 VARY = ("fe", "pa")
 #: Most grid points of one diagram.
 MAX_GRID_POINTS = 5000
-#: Relative repetition of the recorded strobe points below which a period is tried by Newton.
-PERIOD_DETECT_TOL = 1e-2
 #: Most strobe points recorded per attractor and grid point.
 MAX_PERIODS = 100_000
 
@@ -110,118 +105,9 @@ class OrbitDiagramSettings:
         return self.start + self.step * np.arange(n)
 
 
-@dataclass
-class _Track:
-    """One followed attractor at one grid point (nondimensional)."""
-
-    id: int
-    period: int | None
-    strobe: np.ndarray
-    loss_tau: np.ndarray
-    loss_v: np.ndarray
-    z: np.ndarray
-    lambda1: float
-
-
-def _detect_period(strobe: np.ndarray, kmax: int, tol: float = PERIOD_DETECT_TOL) -> int | None:
-    """The smallest k ≤ kmax with the recorded points repeating after k periods to ``tol``."""
-    n = strobe.shape[0]
-    scale = max(1.0, float(np.max(np.abs(strobe))))
-    for k in range(1, min(kmax, n - 1) + 1):
-        if float(np.max(np.abs(strobe[k:] - strobe[:-k]))) <= tol * scale:
-            return k
-    return None
-
-
-def _settle(excitation: Excitation, z, n_periods: int, rtol: float) -> np.ndarray | None:
-    out = np.empty(2)
-    st = strobe_map(np.asarray(z, float).copy(), np.int64(n_periods), excitation.kernel_parameters(), rtol, rtol,
-                    out, np.empty((0, 0)))
-    return out if st == STATUS_OK and np.all(np.isfinite(out)) else None
-
-
-def _periodic(excitation: Excitation, z, k: int, rtol: float):
-    """The stable period-k orbit that Newton shooting reaches from ``z``: (z, multipliers), or None."""
-    from contactvib.steady.orbits import refine_orbit
-
-    try:
-        z_orb, M, _res = refine_orbit(excitation, z, k)
-    except ComputationError:
-        return None
-    mu = np.linalg.eigvals(M)
-    return (z_orb, mu) if is_stable(float(np.max(np.abs(mu)))) else None
-
-
-def _minimal_period(strobe: np.ndarray, k: int, tol: float = 1e-7) -> int:
-    """The smallest divisor d of k with the orbit's strobe point d equal to point 0 (relative ``tol``)."""
-    scale = max(1.0, float(np.max(np.abs(strobe))))
-    for d in range(1, k):
-        if k % d == 0 and float(np.max(np.abs(strobe[d] - strobe[0]))) <= tol * scale:
-            return d
-    return k
-
-
-def _monodromy(excitation: Excitation, z, k: int, rtol: float) -> np.ndarray:
-    M = np.empty((2, 2))
-    st = strobe_map(np.asarray(z, float).copy(), np.int64(k), excitation.kernel_parameters(), rtol, rtol,
-                    np.empty(2), M)
-    return M if st == STATUS_OK else np.full((2, 2), np.nan)
-
-
-def _follow(excitation: Excitation, z, settle: int, settings: OrbitDiagramSettings, rtol: float) -> _Track | None:
-    """Settle ``settle`` periods from ``z``, record ``n_periods``: the attractor reached (id −1),
-    or None where the integration fails."""
-    try:
-        if settle:
-            z = _settle(excitation, z, settle, rtol)
-            if z is None:
-                return None
-        pts = trajectory_points(excitation, z, settings.n_periods, rtol=rtol)
-    except ComputationError:
-        return None
-    k = _detect_period(pts.strobe, max(settings.kmax, settings.n_periods // 2))
-    orbit = _periodic(excitation, pts.z_end, k, rtol) if k is not None else None
-    if orbit is not None:
-        z_orb, mu = orbit
-        one = trajectory_points(excitation, z_orb, k, rtol=rtol)
-        d = _minimal_period(one.strobe, k)
-        if d < k:  # Newton on P^k reached an orbit of period d, a divisor of k: describe it as such
-            mu = np.linalg.eigvals(_monodromy(excitation, z_orb, d, rtol))
-            k, one = d, trajectory_points(excitation, z_orb, d, rtol=rtol)
-        return _Track(-1, k, one.strobe, one.loss_tau, one.loss_v, z_orb,
-                      largest_exponent(excitation, z_orb, k, multipliers=mu, rtol=rtol))
-    if not np.all(np.isfinite(pts.strobe)):
-        return None
-    return _Track(-1, None, pts.strobe, pts.loss_tau, pts.loss_v, pts.z_end,
-                  largest_exponent(excitation, pts.z_end, rtol=rtol))
-
-
-def _same(a: _Track, b: _Track) -> bool:
-    from contactvib.steady.attractors import same_cloud
-    from contactvib.steady.orbits import same_orbit
-
-    if a.period is not None and b.period is not None:
-        return a.period == b.period and same_orbit(a.strobe, b.strobe)
-    if a.period is None and b.period is None:
-        return same_cloud(a.strobe, b.strobe)
-    return False
-
-
-def _search(excitation: Excitation, settings: OrbitDiagramSettings) -> list:
-    from contactvib.steady.attractors import UnsettledWarning, find_attractors
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UnsettledWarning)
-        found = find_attractors(excitation, n_starts=settings.n_starts, kmax=settings.kmax)
-    return [a.state for a in found]
-
-
-def _excitation(model: ContactModel, settings: OrbitDiagramSettings, fixed: float, value: float) -> Excitation:
-    return Excitation(model, value, fixed) if settings.vary == "pa" else Excitation(model, fixed, value)
-
-
 def orbit_diagram(model: ContactModel, *, pa_over_q: float | None = None, fe_hz: float | None = None,
-                  settings: OrbitDiagramSettings | None = None, rtol: float = SECTION_RTOL, progress=None):
+                  settings: OrbitDiagramSettings | None = None, rtol: float = SECTION_RTOL, workers: int = 1,
+                  progress=None):
     """The orbit diagram of ``model`` along f_e at ``pa_over_q`` (``settings.vary = "fe"``) or
     along P_a at ``fe_hz`` (``"pa"``).
 
@@ -236,26 +122,32 @@ def orbit_diagram(model: ContactModel, *, pa_over_q: float | None = None, fe_hz:
         ``loss_period``, ``phase_frac`` [fraction of the period], ``v_loss_mm_s`` [mm/s],
         ``loss_lambda1``. Writable with ``to_netcdf``.
 
-    ``progress``, if given, is called as ``progress(done, total)`` after each grid point.
+    ``workers`` > 1 walks that many contiguous parts of the grid in as many processes (one numba
+    thread each: the one level of parallelism), each part from its own search, overlapping its
+    neighbour by one grid point where the attractors of both are matched (their ids joined);
+    with one worker the searches use the numba threads. ``progress``, if given, is called as
+    ``progress(done, total)`` after each grid point (each part, with workers).
     """
     settings = settings or OrbitDiagramSettings()
+    workers = check_int("workers", workers, 1, WORKERS_MAX)
     fixed_symbol = "P_a/Q" if settings.vary == "fe" else "f_e"
     fixed = pa_over_q if settings.vary == "fe" else fe_hz
     if fixed is None:
         raise ParameterError(fixed_symbol, None, "must be given (the parameter held fixed)")
     grid = settings.grid()
     for v in (grid[0], grid[-1]):  # both ends are operating points the model accepts
-        _excitation(model, settings, fixed, v)
+        excitation_at_point(model, settings, fixed, v)
     u = model.units
-    per_point: list[list[_Track]] = [[] for _ in grid]
-    ids = [0]
-    tracks = _walk(model, settings, fixed, grid, range(grid.size), [], ids, per_point, rtol, progress, 2 * grid.size)
-    _walk(model, settings, fixed, grid, range(grid.size - 1, -1, -1), tracks, ids, per_point, rtol, progress,
-          2 * grid.size, offset=grid.size)
+    if workers > 1 and grid.size >= 2 * workers:
+        from contactvib.steady.diagram_pool import walk_in_pool
+
+        per_point = walk_in_pool(model, settings, fixed, grid, rtol, workers, progress)
+    else:
+        per_point = walk_grid(model, settings, fixed, grid, rtol, progress)
     cols: dict[str, list] = {k: [] for k in ("grid_index", "attractor", "period", "k", "x", "v", "lambda1")}
     loss: dict[str, list] = {k: [] for k in ("grid_index", "attractor", "period", "phase", "v", "lambda1")}
     for i, kept in enumerate(per_point):
-        period_tau = _excitation(model, settings, fixed, float(grid[i])).tau_period
+        period_tau = excitation_at_point(model, settings, fixed, float(grid[i])).tau_period
         for t in kept:
             n, m = t.strobe.shape[0], t.loss_tau.size
             for name, val in (("grid_index", i), ("attractor", t.id), ("period", t.period or 0),
@@ -268,31 +160,6 @@ def orbit_diagram(model: ContactModel, *, pa_over_q: float | None = None, fe_hz:
             loss["phase"].append(np.mod(t.loss_tau, period_tau) / period_tau)
             loss["v"].append(t.loss_v)
     return _dataset(model, settings, fixed, grid, cols, loss, u)
-
-
-def _walk(model, settings, fixed, grid, order, tracks, ids, per_point, rtol, progress, total, offset=0):
-    """Follow ``tracks`` over the grid points in ``order`` (a search at every ``search_every``-th
-    of them, the first included unless tracks are handed in), adding each point's attractors to
-    ``per_point`` where no attractor there is the same; returns the tracks at the last point."""
-    for j, i in enumerate(order):
-        exc = _excitation(model, settings, fixed, float(grid[i]))
-        cands = [(t.id, t.z, settings.n_periods if j or not tracks else 0) for t in tracks]
-        if j % settings.search_every == 0 and not (j == 0 and tracks):
-            cands += [(-1, z, 0) for z in _search(exc, settings)]
-        kept: list[_Track] = []
-        for ident, z, settle in cands:
-            t = _follow(exc, z, settle, settings, rtol)
-            if t is None or any(_same(t, o) for o in kept):
-                continue
-            if ident < 0:
-                ident, ids[0] = ids[0], ids[0] + 1
-            t.id = ident
-            kept.append(t)
-        tracks = kept
-        per_point[i].extend(t for t in kept if not any(_same(t, o) for o in per_point[i]))
-        if progress is not None:
-            progress(offset + j + 1, total)
-    return tracks
 
 
 def _cat(parts: list, dtype) -> np.ndarray:
