@@ -182,3 +182,22 @@ def test_orbit_diagram_in_two_processes_equals_one():
     for ds in (one, two):
         pairs = list(zip(ds["grid_index"].values.tolist(), ds["attractor"].values.tolist(), ds["k"].values.tolist()))
         assert len(pairs) == len(set(pairs))
+
+
+def test_a_long_period_orbit_called_chaotic_by_the_search_is_found_periodic():
+    """0.9 Q, 1300 Hz: the search (kmax 8) calls one attractor chaotic; its section repeats after
+    12 periods and is drawn as a stable period-12 orbit (12 points, λ1 < 0). Independent check:
+    scipy (rtol 1e-12, located switches) returns to the first point after 12 periods (1e-6)."""
+    exc = Excitation(ContactModel(), 0.9, 1300.0)
+    found = find_attractors(exc, n_starts=512)
+    chaotic = [i for i, a in enumerate(found) if a.kind == "chaotic"]
+    assert chaotic
+    s = poincare_sections(exc, found, n_periods=400)[chaotic[0]]
+    assert s.period == 12 and s.kind == "periodic" and s.search_kind == "chaotic"
+    assert s.y_um.size == 12 and s.lambda1 < 0
+    assert s.label == "period 12: 12 points (the search: chaotic)"
+    u = exc.model.units
+    z0 = np.array(u.state(s.y_um[0], s.ydot_mm_s[0]))
+    fc, ff = power_law_rhs(exc.kernel_parameters())
+    tr = integrate_modes(fc, ff, z0, 0.0, 12 * exc.tau_period, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(tr.y, z0, rtol=0, atol=1e-6)

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactvib._kernels.shooting import is_stable, strobe_map
+from contactvib._kernels.shooting import strobe_map
 from contactvib._kernels.status import STATUS_OK
 from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation
-from contactvib.steady.sections import SECTION_RTOL, largest_exponent, trajectory_points
+from contactvib.steady.sections import SECTION_RTOL, largest_exponent, stable_orbit_in, trajectory_points
 
 __all__ = ["Track", "walk_grid", "same_attractor", "excitation_at_point", "PERIOD_DETECT_TOL"]
 
@@ -38,49 +38,11 @@ class Track:
     lambda1: float
 
 
-def _detect_period(strobe: np.ndarray, kmax: int, tol: float = PERIOD_DETECT_TOL) -> int | None:
-    """The smallest k ≤ kmax with the recorded points repeating after k periods to ``tol``."""
-    n = strobe.shape[0]
-    scale = max(1.0, float(np.max(np.abs(strobe))))
-    for k in range(1, min(kmax, n - 1) + 1):
-        if float(np.max(np.abs(strobe[k:] - strobe[:-k]))) <= tol * scale:
-            return k
-    return None
-
-
 def _settle(excitation: Excitation, z, n_periods: int, rtol: float) -> np.ndarray | None:
     out = np.empty(2)
     st = strobe_map(np.asarray(z, float).copy(), np.int64(n_periods), excitation.kernel_parameters(), rtol, rtol,
                     out, np.empty((0, 0)))
     return out if st == STATUS_OK and np.all(np.isfinite(out)) else None
-
-
-def _periodic(excitation: Excitation, z, k: int, rtol: float):
-    """The stable period-k orbit that Newton shooting reaches from ``z``: (z, multipliers), or None."""
-    from contactvib.steady.orbits import refine_orbit
-
-    try:
-        z_orb, M, _res = refine_orbit(excitation, z, k)
-    except ComputationError:
-        return None
-    mu = np.linalg.eigvals(M)
-    return (z_orb, mu) if is_stable(float(np.max(np.abs(mu)))) else None
-
-
-def _minimal_period(strobe: np.ndarray, k: int, tol: float = 1e-7) -> int:
-    """The smallest divisor d of k with the orbit's strobe point d equal to point 0 (relative ``tol``)."""
-    scale = max(1.0, float(np.max(np.abs(strobe))))
-    for d in range(1, k):
-        if k % d == 0 and float(np.max(np.abs(strobe[d] - strobe[0]))) <= tol * scale:
-            return d
-    return k
-
-
-def _monodromy(excitation: Excitation, z, k: int, rtol: float) -> np.ndarray:
-    M = np.empty((2, 2))
-    st = strobe_map(np.asarray(z, float).copy(), np.int64(k), excitation.kernel_parameters(), rtol, rtol,
-                    np.empty(2), M)
-    return M if st == STATUS_OK else np.full((2, 2), np.nan)
 
 
 def _follow(excitation: Excitation, z, settle: int, settings, rtol: float) -> Track | None:
@@ -94,15 +56,9 @@ def _follow(excitation: Excitation, z, settle: int, settings, rtol: float) -> Tr
         pts = trajectory_points(excitation, z, settings.n_periods, rtol=rtol)
     except ComputationError:
         return None
-    k = _detect_period(pts.strobe, max(settings.kmax, settings.n_periods // 2))
-    orbit = _periodic(excitation, pts.z_end, k, rtol) if k is not None else None
+    orbit = stable_orbit_in(excitation, pts, max(settings.kmax, settings.n_periods // 2), PERIOD_DETECT_TOL, rtol)
     if orbit is not None:
-        z_orb, mu = orbit
-        one = trajectory_points(excitation, z_orb, k, rtol=rtol)
-        d = _minimal_period(one.strobe, k)
-        if d < k:  # Newton on P^k reached an orbit of period d, a divisor of k: describe it as such
-            mu = np.linalg.eigvals(_monodromy(excitation, z_orb, d, rtol))
-            k, one = d, trajectory_points(excitation, z_orb, d, rtol=rtol)
+        k, z_orb, mu, one = orbit
         return Track(-1, k, one.strobe, one.loss_tau, one.loss_v, z_orb,
                       largest_exponent(excitation, z_orb, k, multipliers=mu, rtol=rtol))
     if not np.all(np.isfinite(pts.strobe)):

@@ -25,14 +25,16 @@ import numpy as np
 from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib._kernels.flow import REC_MODE, REC_T, REC_V, REC_X
 from contactvib._kernels.orbit import record_steps, sample_records
+from contactvib._kernels.shooting import is_stable, strobe_map
 from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib.errors import ComputationError
 from contactvib.model import Excitation, check_excitation, check_int, check_range
 from contactvib.model.checks import MEMORY_MAX, check_memory
 from contactvib.steady.results import Attractor, AttractorSet
 
-__all__ = ["largest_exponent", "trajectory_points", "TrajectoryPoints", "AttractorSection",
-           "SectionSet", "poincare_sections", "check_section_periods", "SECTION_RTOL"]
+__all__ = ["largest_exponent", "trajectory_points", "TrajectoryPoints", "AttractorSection", "SectionSet",
+           "poincare_sections", "check_section_periods", "repeating_period", "stable_orbit_in", "SECTION_RTOL",
+           "SECTION_PERIOD_TOL"]
 
 #: Integrator tolerance of the sections (the reference test uses it against scipy at 1e-10).
 SECTION_RTOL = 1e-10
@@ -127,6 +129,63 @@ def trajectory_points(excitation: Excitation, z, n_periods: int, *, rtol: float 
     return TrajectoryPoints(np.vstack(strobe), np.concatenate(taus), np.concatenate(vs), cur)
 
 
+def repeating_period(strobe: np.ndarray, kmax: int, tol: float) -> int | None:
+    """The smallest k ≤ kmax with the strobe points (n, 2) repeating after k periods to ``tol``
+    (relative to max(1, |points|∞)), or None."""
+    n = strobe.shape[0]
+    scale = max(1.0, float(np.max(np.abs(strobe))))
+    for k in range(1, min(kmax, n - 1) + 1):
+        if float(np.max(np.abs(strobe[k:] - strobe[:-k]))) <= tol * scale:
+            return k
+    return None
+
+
+def _stable_newton(excitation: Excitation, z, k: int):
+    """The stable period-k orbit that Newton shooting reaches from ``z``: (z, multipliers), or None."""
+    from contactvib.steady.orbits import refine_orbit
+
+    try:
+        z_orb, M, _res = refine_orbit(excitation, z, k)
+    except ComputationError:
+        return None
+    mu = np.linalg.eigvals(M)
+    return (z_orb, mu) if is_stable(float(np.max(np.abs(mu)))) else None
+
+
+def _minimal_period(strobe: np.ndarray, k: int, tol: float = 1e-7) -> int:
+    """The smallest divisor d of k with the orbit's strobe point d equal to point 0 (relative ``tol``)."""
+    scale = max(1.0, float(np.max(np.abs(strobe))))
+    for d in range(1, k):
+        if k % d == 0 and float(np.max(np.abs(strobe[d] - strobe[0]))) <= tol * scale:
+            return d
+    return k
+
+
+def _monodromy(excitation: Excitation, z, k: int, rtol: float) -> np.ndarray:
+    M = np.empty((2, 2))
+    st = strobe_map(np.asarray(z, float).copy(), np.int64(k), excitation.kernel_parameters(), rtol, rtol,
+                    np.empty(2), M)
+    return M if st == STATUS_OK else np.full((2, 2), np.nan)
+
+
+def stable_orbit_in(excitation: Excitation, pts: TrajectoryPoints, kmax: int, tol: float, rtol: float = SECTION_RTOL):
+    """The stable periodic orbit that a recorded trajectory ``pts`` approaches: its points repeat
+    after k ≤ kmax periods to ``tol`` (:func:`repeating_period`), Newton shooting on P^k from the
+    last state converges (closure 1e-10) to a stable orbit, described by its minimal period d | k.
+    Returns ``(d, z, multipliers, TrajectoryPoints over d periods)`` or None."""
+    k = repeating_period(pts.strobe, kmax, tol)
+    orbit = _stable_newton(excitation, pts.z_end, k) if k is not None else None
+    if orbit is None:
+        return None
+    z_orb, mu = orbit
+    one = trajectory_points(excitation, z_orb, k, rtol=rtol)
+    d = _minimal_period(one.strobe, k)
+    if d < k:  # Newton on P^k reached an orbit of period d, a divisor of k: describe it as such
+        mu = np.linalg.eigvals(_monodromy(excitation, z_orb, d, rtol))
+        one = trajectory_points(excitation, z_orb, d, rtol=rtol)
+    return d, z_orb, mu, one
+
+
 @dataclass(frozen=True)
 class AttractorSection:
     """The stroboscopic section and impact map of one attractor.
@@ -150,6 +209,9 @@ class AttractorSection:
         ẏ at each contact loss [mm/s] (≤ 0: leaving the contact).
     lambda1 : float
         Largest Lyapunov exponent of the stroboscopic map [1/excitation period] (``largest_exponent``).
+    search_kind : str
+        The search's kind where the section found a stable periodic orbit that the search
+        (periods up to its kmax) had classified as non-periodic; "" otherwise.
     """
 
     index: int
@@ -161,6 +223,7 @@ class AttractorSection:
     loss_phase_rad: np.ndarray
     loss_ydot_mm_s: np.ndarray
     lambda1: float
+    search_kind: str = ""
 
     @property
     def loss_phase_fraction(self) -> np.ndarray:
@@ -169,10 +232,12 @@ class AttractorSection:
 
     @property
     def label(self) -> str:
-        """``"period 3: 3 points"`` or ``"chaotic: 1000 points"``."""
+        """``"period 3: 3 points"``, ``"chaotic: 1000 points"`` or ``"period 12: 12 points (the search:
+        chaotic)"``."""
         n = self.y_um.size
         what = f"period {self.period}" if self.period is not None else self.kind
-        return f"{what}: {n} point{'s' if n != 1 else ''}"
+        note = f" (the search: {self.search_kind})" if self.search_kind else ""
+        return f"{what}: {n} point{'s' if n != 1 else ''}{note}"
 
 
 @dataclass(frozen=True)
@@ -250,7 +315,8 @@ class SectionSet:
             "fe_hz": self.fe_hz, "pa_over_q": self.pa_over_q, "y0_um": self.y0_um, "fn0_hz": self.fn0_hz,
             "n_periods": self.n_periods, "units": dict(self.units),
             "attractors": [{
-                "attractor": s.index, "kind": s.kind, "period": s.period, "n_periods": s.n_periods,
+                "attractor": s.index, "kind": s.kind, "search_kind": s.search_kind or None, "period": s.period,
+                "n_periods": s.n_periods,
                 "lambda1": s.lambda1, "y_um": s.y_um.tolist(), "ydot_mm_s": s.ydot_mm_s.tolist(),
                 **({"phase_rad": s.loss_phase_rad.tolist(), "v_loss_mm_s": s.loss_ydot_mm_s.tolist()}
                    if impacts else {})} for s in self.sections],
@@ -270,23 +336,41 @@ def check_section_periods(n_periods) -> int:
     return n
 
 
+#: Relative repetition of a non-periodic attractor's strobe points (the second half of its
+#: section) below which the section tries a periodic orbit by Newton shooting.
+SECTION_PERIOD_TOL = 1e-6
+
+
 def attractor_section(excitation: Excitation, attractor: Attractor, index: int = 0, *, n_periods: int = 1000,
                       rtol: float = SECTION_RTOL) -> AttractorSection:
     """The section and impact map of one ``attractor`` of ``excitation``: a period-k orbit over k
-    periods from its state (its k points), a non-periodic attractor over ``n_periods``."""
+    periods from its state (its k points), a non-periodic attractor over ``n_periods``.
+
+    A non-periodic attractor whose strobe points repeat after k ≤ n_periods/4 periods (to
+    :data:`SECTION_PERIOD_TOL` over the second half) and that Newton shooting refines to a stable
+    period-k orbit (a period beyond the search's kmax) is drawn as that orbit: its k points, λ1 from
+    its Floquet multipliers, ``search_kind`` the search's verdict."""
     u = excitation.model.units
     n = attractor.period if attractor.period is not None else n_periods
     pts = trajectory_points(excitation, attractor.state, n, rtol=rtol)
-    phase = np.mod(pts.loss_tau, excitation.tau_period) * excitation.r
-    if attractor.period is not None:
-        lam = largest_exponent(excitation, attractor.state, attractor.period,
-                               multipliers=attractor.floquet_multipliers)
+    period, kind, search_kind = attractor.period, attractor.kind, ""
+    if period is not None:
+        lam = largest_exponent(excitation, attractor.state, period, multipliers=attractor.floquet_multipliers)
     else:
-        lam = attractor.lyapunov_per_period if math.isfinite(attractor.lyapunov_per_period) else \
-            largest_exponent(excitation, attractor.state)
-    return AttractorSection(index=index, kind=attractor.kind, period=attractor.period, n_periods=n,
+        tail = TrajectoryPoints(pts.strobe[n // 2:], pts.loss_tau, pts.loss_v, pts.z_end)
+        orbit = stable_orbit_in(excitation, tail, n // 4, SECTION_PERIOD_TOL, rtol) if n >= 8 else None
+        if orbit is not None:
+            period, z_orb, mu, pts = orbit
+            kind, search_kind, n = "periodic", attractor.kind, period
+            lam = largest_exponent(excitation, z_orb, period, multipliers=mu)
+        else:
+            lam = attractor.lyapunov_per_period if math.isfinite(attractor.lyapunov_per_period) else \
+                largest_exponent(excitation, attractor.state)
+    phase = np.mod(pts.loss_tau, excitation.tau_period) * excitation.r
+    return AttractorSection(index=index, kind=kind, period=period, n_periods=n,
                             y_um=u.position_um(pts.strobe[:, 0]), ydot_mm_s=pts.strobe[:, 1] * u.ydot_mm_s,
-                            loss_phase_rad=phase, loss_ydot_mm_s=pts.loss_v * u.ydot_mm_s, lambda1=float(lam))
+                            loss_phase_rad=phase, loss_ydot_mm_s=pts.loss_v * u.ydot_mm_s, lambda1=float(lam),
+                            search_kind=search_kind)
 
 
 def poincare_sections(excitation: Excitation, attractors: AttractorSet | None = None, *, n_periods: int = 1000,
