@@ -153,6 +153,8 @@ REDUCED: dict[str, list[str]] = {
     "contactvib section --pa 0.75 --fe 816.5 --impacts --out sections/section.png --csv sections/section.csv":
         ["section", "--pa", "0.75", "--fe", "816.5", "--impacts", "--starts", "32", "--periods", "50",
          "--out", "sections/section.png", "--csv", "sections/section.csv"],
+    "contactvib section --pa 0.9 --fe 1300":
+        ["section", "--pa", "0.9", "--fe", "1300", "--starts", "512", "--periods", "400"],
     "contactvib section --pa 0.75 --fe 816.5 --attractor 2 --periods 5000 --impacts --out sections/chaos.png":
         ["section", "--pa", "0.75", "--fe", "816.5", "--attractor", "0", "--periods", "50", "--impacts",
          "--starts", "16", "--out", "sections/chaos.png"],
@@ -626,6 +628,9 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
             assert d.sizes[next(iter(d["y_um"].dims))] > 100
     elif "--system" in args:
         _check_system(args, out, folder)
+    elif cmd == "section" and "--pa" in args and args[args.index("--pa") + 1] == "0.9":
+        assert_figure_file(workdir / "section_pa0.9_fe1300.png")
+        assert "chaotic by the search" in out and "stable period-12 orbit" in out
     elif cmd == "section" and "--attractor" in args:
         assert_figure_file(workdir / m.group(1))
         assert len(out.splitlines()) == 4 and out.splitlines()[2].split()[0] == "0"

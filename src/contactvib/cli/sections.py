@@ -98,8 +98,8 @@ def section(pa, pa_newton, fe, settings, periods, impacts, out, csv_path, as_jso
         click.echo(f"{s.index:>2} {kind:>14} {s.y_um.size:>7} {s.loss_phase_rad.size:>7} {s.lambda1:>19.4g}")
     for s in result:
         if s.search_kind:
-            click.echo(f"   #{s.index}: {s.search_kind} by the search (periods up to --kmax); its section repeats after "
-                       f"{s.period} periods and Newton shooting gives a stable period-{s.period} orbit")
+            click.echo(f"   #{s.index}: {s.search_kind} by the search (periods up to --kmax); its section repeats "
+                       f"after {s.period} periods and Newton shooting gives a stable period-{s.period} orbit")
     click.echo(str(out))
     if csv is not None:
         click.echo(str(csv))
