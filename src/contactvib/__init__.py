@@ -4,7 +4,8 @@ The public API: every verb and result type is importable from here, e.g.
 ``from contactvib import ContactModel, find_attractors, simulate``. Heavy modules (numba kernels,
 matplotlib) are imported on first use of a name that needs them.
 
-Verbs: :func:`find_attractors`, :func:`basins`, :func:`simulate`, :func:`attractor_history`,
+Verbs: :func:`find_attractors`, :func:`basins`, :func:`poincare_sections`, :func:`orbit_diagram`,
+:func:`simulate`, :func:`attractor_history`,
 :func:`refine_orbit`, :func:`describe_orbit`, :func:`continue_orbit`,
 :func:`continue_attractors`, :func:`switch_period_doubling`, :func:`bifurcation_diagram`,
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
@@ -32,6 +33,10 @@ _LAZY = {
     "attractor_history": ("contactvib.steady.simulate", "attractor_history"),
     "basins": ("contactvib.steady.basins", "basins"),
     "BasinMap": ("contactvib.steady.basins", "BasinMap"),
+    "poincare_sections": ("contactvib.steady.sections", "poincare_sections"),
+    "SectionSet": ("contactvib.steady.sections", "SectionSet"),
+    "orbit_diagram": ("contactvib.steady.orbit_diagram", "orbit_diagram"),
+    "OrbitDiagramSettings": ("contactvib.steady.orbit_diagram", "OrbitDiagramSettings"),
     "refine_orbit": ("contactvib.steady.orbits", "refine_orbit"),
     "describe_orbit": ("contactvib.steady.orbits", "describe_orbit"),
     "Attractor": ("contactvib.steady.results", "Attractor"),

@@ -150,6 +150,24 @@ REDUCED: dict[str, list[str]] = {
     "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
         ["attractors", "--pa", "0.5", "--fe", "700", "--set", "m2=1.5", "--set", "c_n=1e14",
          "--starts", "16"],
+    "contactvib section --pa 0.75 --fe 816.5 --impacts --out sections/section.png --csv sections/section.csv":
+        ["section", "--pa", "0.75", "--fe", "816.5", "--impacts", "--starts", "32", "--periods", "50",
+         "--out", "sections/section.png", "--csv", "sections/section.csv"],
+    "contactvib section --pa 0.9 --fe 1300":
+        ["section", "--pa", "0.9", "--fe", "1300", "--starts", "512", "--periods", "400"],
+    "contactvib section --pa 0.75 --fe 816.5 --attractor 2 --periods 5000 --impacts --out sections/chaos.png":
+        ["section", "--pa", "0.75", "--fe", "816.5", "--attractor", "0", "--periods", "50", "--impacts",
+         "--starts", "16", "--out", "sections/chaos.png"],
+    "contactvib orbit-diagram --pa 0.75 --fe-from 808 --fe-to 820 --fe-step 0.1 --ylim -4 1 --out sections/od075.png":
+        ["orbit-diagram", "--pa", "0.75", "--fe-from", "816", "--fe-to", "817", "--fe-step", "1", "--periods", "8",
+         "--starts", "16", "--ylim", "-4", "1", "--out", "sections/od075.png"],
+    ("contactvib orbit-diagram --pa 0.8 --fe-from 370 --fe-to 445 --fe-step 0.25 --ylim -0.1 0.4 "
+     "--out sections/od08.png"):
+        ["orbit-diagram", "--pa", "0.8", "--fe-from", "420", "--fe-to", "421", "--fe-step", "1", "--periods", "8",
+         "--starts", "16", "--ylim", "-0.1", "0.4", "--out", "sections/od08.png"],
+    "contactvib orbit-diagram --pa 0.75 --fe-from 812 --fe-to 818 --fe-step 0.5 --out od_quick.png":
+        ["orbit-diagram", "--pa", "0.75", "--fe-from", "812", "--fe-to", "813", "--fe-step", "1", "--periods", "8",
+         "--starts", "16", "--out", "od_quick.png"],
     "contactvib basins --pa 0.65 --fe 360 --grid 400x400 --out basins/":
         ["basins", "--pa", "0.65", "--fe", "360", "--grid", "12x10", "--starts", "32", "--out", "basins/"],
     "contactvib basins --pa 0.65 --fe 360 --grid 60x60 --json":
@@ -610,6 +628,19 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
             assert d.sizes[next(iter(d["y_um"].dims))] > 100
     elif "--system" in args:
         _check_system(args, out, folder)
+    elif cmd == "section" and "--pa" in args and args[args.index("--pa") + 1] == "0.9":
+        assert_figure_file(workdir / "section_pa0.9_fe1300.png")
+        assert "chaotic by the search" in out and "stable period-12 orbit" in out
+    elif cmd == "section" and "--attractor" in args:
+        assert_figure_file(workdir / m.group(1))
+        assert len(out.splitlines()) == 4 and out.splitlines()[2].split()[0] == "0"
+    elif cmd == "section":
+        assert_figure_file(workdir / m.group(1))
+        lines = (workdir / "sections" / "section.csv").read_text().splitlines()
+        assert "units" in lines[1] and lines[2].startswith("attractor,kind,map,period,k,y_um") and len(lines) > 3
+    elif cmd == "orbit-diagram":
+        assert_figure_file(workdir / m.group(1))
+        assert "grid points" in out
     elif cmd == "attractors" and "--json" in args:
         _attractors_json(json.loads(out), 0.65, 360.0)
     elif cmd == "attractors":

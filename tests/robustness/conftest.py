@@ -10,6 +10,7 @@ COMPUTATIONS = [
     "contactvib.steady.attractors.start_box",
     "contactvib.steady.simulate.simulate",
     "contactvib.steady.basins.basins",
+    "contactvib.steady.orbit_diagram.orbit_diagram",
     "contactvib.sweeps.resonance.resonance_dataset",
     "contactvib.sweeps.paper.reproduce_paper",
     "contactvib.sweeps.film.animate",
