@@ -94,8 +94,9 @@ for _name in ("attractors", "simulate", "basins", "perturbation", "friction"):
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 #: A system of several degrees of freedom (`rocking` or a TOML file) at one operating point.
-for _name in ("attractors", "simulate"):
+for _name in ("attractors", "simulate", "continue"):
     OPTIONS[_name]["--system"] = "value"
+OPTIONS["continue"].update({"--pa-newton": "value", "--coordinate": "value"})
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore"):
     OPTIONS[_name].update(LAW)
 #: What the levels hold (force, base-um, base-g): the sweeps, the continuation in f_e and hbm.

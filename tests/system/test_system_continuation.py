@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+import tomllib
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -172,7 +172,7 @@ class ScipyTwoDof:
                 tm = missed[0]
                 ts = sol.sol.ts
                 ta = ts[max(0, int(np.searchsorted(ts, tm)) - 1)]
-                t = brentq(lambda x: delta(x, sol.sol(x), on), ta, tm, xtol=1e-15, rtol=1e-15)
+                t = brentq(lambda x, f=sol.sol, m=on: delta(x, f(x), m), ta, tm, xtol=1e-15, rtol=1e-15)
                 # the short phase in steps of a quarter of its half-length (its end is then found)
                 s, on, hmax = sol.sol(t), not on, 0.25 * (tm - t)
                 continue
@@ -283,3 +283,12 @@ def test_cli_continue_system_bad_input(tmp_path, capsys, args, option):
     err = capsys.readouterr().err.strip()
     assert rc == 2
     assert len(err.splitlines()) == 1 and len(err) <= 400 and option in err
+
+
+def test_cli_system_attractors_exit_1_when_nothing_settles(capsys):
+    """As the slider's command: no start settled (1 period allowed) → one error line, status 1."""
+    rc = main(["attractors", "--system", str(TOML), "--pa-newton", str(PA_N), "--fe", "0.12", "--starts", "2",
+               "--max-periods", "1"])
+    err = capsys.readouterr().err.strip()
+    assert rc == 1
+    assert len(err.splitlines()) == 1 and err.startswith("contactvib: error: no periodic attractor")

@@ -162,12 +162,16 @@ def _search(system, p, f_e, starts, seed, kmax, max_periods):
             bar.pop().close()
 
 
-def _no_periodic(result) -> None:
+def _no_periodic(result, fatal: bool = False) -> None:
+    """One line on stderr when no start settled on a periodic orbit; with ``fatal`` (``attractors``
+    and ``simulate``, as the slider's commands) an error, exit status 1."""
     if not len(result):
-        click.echo(f"contactvib: no periodic attractor of period <= {result.settings['kmax']}: all "
-                   f"{result.n_starts} starts unsettled within {result.settings['max_periods']} periods "
-                   f"({result.n_failed} failed) - a non-periodic motion or a long transient; raise --max-periods "
-                   f"or --kmax", err=True)
+        click.echo(f"contactvib: {'error: ' if fatal else ''}no periodic attractor of period <= "
+                   f"{result.settings['kmax']}: all {result.n_starts} starts unsettled within "
+                   f"{result.settings['max_periods']} periods ({result.n_failed} failed) - a non-periodic motion "
+                   f"or a long transient; raise --max-periods or --kmax", err=True)
+        if fatal:
+            click.get_current_context().exit(1)
 
 
 def system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, as_json) -> None:
@@ -183,10 +187,10 @@ def system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_perio
     if as_json:
         d = result.to_dict()
         echo_json({"system": label, "coordinates": list(system.coordinates), **d})
-        _no_periodic(result)
+        _no_periodic(result, fatal=True)
         return
     _table(result)
-    _no_periodic(result)
+    _no_periodic(result, fatal=True)
 
 
 def _table(result) -> None:
@@ -263,7 +267,7 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
         click.echo(f"{paths[0]}  {paths[1]}  period={a.period} minima={a.minima_per_period} "
                    f"|mu|max={a.floquet_abs_max:.4f}")
     click.echo(str(out / "attractors.json"))
-    _no_periodic(result)
+    _no_periodic(result, fatal=True)
 
 
 #: Options of ``continue`` that no system continuation takes (click names).
@@ -292,8 +296,6 @@ def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max
                     cont) -> None:
     """``contactvib continue --system ...``: the branches through the orbits at --from-fe,
     continued in f_e (or P_a), with folds, period doublings and Neimark–Sacker points."""
-    from pathlib import Path
-
     from contactvib.continuation.system_shooting import SystemContinuationSettings
 
     for param, option in _NOT_SYSTEM_CONTINUE.items():
