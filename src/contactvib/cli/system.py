@@ -410,6 +410,6 @@ def _write_system(branches, out, tag, title, parameter, system, j):
     payload = {"special_points": [sp.to_dict() for b in branches for sp in b.special]}
     (out / f"special_points_{tag}.json").write_text(json.dumps(payload, indent=1))
     unit = branches[0].units[j] if branches else "um"
-    ylabel = f"peak-to-peak amplitude of ${system.coordinates[j]}$ [{unit.replace('u', 'µ', 1)}]"
+    ylabel = f"peak-to-peak amplitude of {system.coordinates[j]} [{unit.replace('u', 'µ', 1)}]"
     fig = save_figure(branches_figure(branches, title, parameter, ylabel=ylabel), out / f"branches_{tag}.png")
     return paths, fig
