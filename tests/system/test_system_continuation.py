@@ -46,6 +46,11 @@ from contactvib.model.system import System
 from contactvib.model.system_file import load_system
 from contactvib.steady.system_orbits import periodic_orbit
 
+try:
+    import tomllib
+except ImportError:  # Python 3.10
+    import tomli as tomllib
+
 ROOT = Path(__file__).resolve().parents[2]
 TOML = ROOT / "examples" / "two_dof_stop.toml"
 MODEL = ContactModel()

@@ -341,9 +341,9 @@ def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max
              else f"{label}: {level}, branches in $f_e$")
     paths, fig = _write_system(branches, outp, tag, title, "P_a_newton" if by_pa else "f_e", system, j)
     specials = [sp.to_dict() for b in branches for sp in b.special]
-    from contactvib.continuation.system_shooting import _stop_dict
+    from contactvib.continuation.system_branch import stop_dict
 
-    stops = [_stop_dict(st) for b in branches for st in b.stops]
+    stops = [stop_dict(st) for b in branches for st in b.stops]
     if as_json:
         echo_json({"system": label, "coordinates": list(system.coordinates), "special_points": specials,
                    "stops": stops})
