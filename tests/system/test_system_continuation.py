@@ -324,3 +324,13 @@ def test_two_dof_neimark_sacker_in_pa_is_one_in_fe():
     assert len(near) == 1
     assert near[0].fe_hz == pytest.approx(0.095, rel=1e-7)
     assert near[0].angle_over_2pi == pytest.approx(ns[0].angle_over_2pi, abs=1e-6)
+
+
+def test_a_period_k_branch_stops_where_it_merges_with_a_period_d_orbit():
+    """The period-1 orbit taken as a period-2 orbit: P(x) = x, so the branch stops at once."""
+    system = load_system(TOML)
+    z = periodic_orbit(system, PA_N, 0.085, linear_seed(system, PA_N, 0.085)).z
+    b = continue_system_orbit(system, PA_N, 0.085, z, 2, direction="up",
+                              settings=SystemContinuationSettings(fmin_hz=0.08, fmax_hz=0.09))
+    assert len(b) == 1 and b.period == 2
+    assert b.stops[0].reason.startswith("merges with the period-1 branch")

@@ -384,7 +384,7 @@ def _system_branches(system, p, f_e, s, parameter, n_pick, Q, j, log) -> list:
         if n_pick is not None and n_pick >= len(found):
             raise InputError(f"--attractor (attractor) = {n_pick}: must be an index 0..{len(found) - 1} of the "
                              f"{len(found)} attractors found at {f_e:g} Hz")
-        seeds = [a.orbit for a in found] if n_pick is None else [found[n_pick].orbit]
+        seeds = [a.orbit for a in found] if n_pick is None else [found.attractors[n_pick].orbit]
     if not seeds:
         raise InputError(f"--from-fe = {f_e:g} Hz: no periodic orbit to continue there (the attractor search "
                          "settled nowhere); choose another --from-fe")

@@ -17,8 +17,9 @@ Test functions of an accepted point, Φ's eigenvalues μ_1..μ_2n (the Floquet m
 
 A fold counts only where the parameter component of the branch tangent changes sign too. The
 Neimark–Sacker test is NaN without a complex pair; a located zero counts only where the pair is
-on the unit circle (| |μ| − 1 | ≤ NS_TOL), which drops the jumps of the product where a pair
-collides on the real axis. For n = 1 the three tests are those of :mod:`.bifurcations`.
+on the unit circle (| |μ| − 1 | ≤ LOCATED_TOL), which drops the jumps of the product where a pair
+collides on the real axis; likewise a fold or period doubling counts only with a multiplier at +1
+or −1. For n = 1 the three tests are those of :mod:`.bifurcations`.
 
 References
 ----------
@@ -55,12 +56,18 @@ from contactvib.model.checks import KMAX_SEARCH_MAX, SHOOTING_RTOL_RANGE
 from contactvib.model.system import System, check_excitation, check_state
 
 __all__ = ["SystemContinuationSettings", "SystemOrbitProblem", "continue_system_orbit", "linear_seed",
-           "system_tests", "SystemBranch", "SystemSpecialPoint", "SystemOrbitRecord", "FD_STEP", "NS_TOL"]
+           "system_tests", "SystemBranch", "SystemSpecialPoint", "SystemOrbitRecord", "FD_STEP", "LOCATED_TOL"]
 
 #: Relative step of the central difference of ∂P^k/∂q.
 FD_STEP = 1e-6
-#: A located Neimark–Sacker zero counts when a complex pair lies within this of |μ| = 1.
-NS_TOL = 1e-6
+#: A located zero counts where a multiplier lies within this of +1 (fold), −1 (period doubling)
+#: or a complex pair within this of |μ| = 1 (Neimark–Sacker); a sign change without it is a jump
+#: of the test function (a pair colliding on the real axis, a multiplier through infinity). Loose:
+#: at a grazing orbit a multiplier moves like the square root of the arclength.
+LOCATED_TOL = 1e-3
+#: A period-k orbit with |P^d(x) − x|∞ below this (relative to max(1, |x|∞)) for a proper divisor
+#: d of k has merged with the period-d branch: the branch stops there.
+MERGE_TOL = 1e-7
 #: Samples per excitation period of the measured orbit (extrema to about 3e-5 of the range).
 MEASURE_SAMPLES = 512
 
@@ -159,6 +166,13 @@ def _extrema(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     lo = np.array([vertex(r, int(np.argmin(r))) for r in q])
     hi = np.array([vertex(r, int(np.argmax(r))) for r in q])
     return np.minimum(lo, q.min(axis=1)), np.maximum(hi, q.max(axis=1))
+
+
+def _same(a: SystemSpecialPoint, b: SystemSpecialPoint) -> bool:
+    """One point located twice: a zero at the end of two brackets, or the same orbit met again as
+    its copy shifted by some periods (a period-k branch that comes back over itself)."""
+    return (a.type == b.type and abs(a.fe_hz - b.fe_hz) <= 1e-7 * abs(b.fe_hz)
+            and abs(a.pa_newton - b.pa_newton) <= 1e-7 * max(abs(b.pa_newton), 1e-300))
 
 
 def _sorted(mu: np.ndarray) -> np.ndarray:
@@ -270,6 +284,25 @@ class SystemOrbitProblem:
         app = float(pt.record.app[self.coordinate])
         if app > self.s.app_max:
             return f"amplitude bound reached (A_pp = {app:.4g} > {self.s.app_max:g})"
+        d = self.sub_period(pt.u)
+        if d is not None:
+            return (f"merges with the period-{d} branch (its orbit run {self.k // d} times) at "
+                    f"f_e = {pt.record.fe_hz:.6g} Hz, P_a = {pt.record.pa_newton:.6g} N")
+        return None
+
+    def sub_period(self, u) -> int | None:
+        """The least proper divisor d of k with |P^d(x) − x|∞ ≤ MERGE_TOL · max(1, |x|∞) (the
+        period-k orbit has become a period-d one), else None."""
+        x, q = u[:-1], float(u[-1])
+        scale = max(1.0, float(np.max(np.abs(x))))
+        for d in range(1, self.k):
+            if self.k % d:
+                continue
+            out = np.empty(x.size)
+            st = km.strobe_map(self._sa(q), np.ascontiguousarray(x, dtype=float), d, self.s.rtol, self.s.rtol,
+                               out, np.empty((0, 0)))
+            if st == STATUS_OK and float(np.max(np.abs(out - x))) <= MERGE_TOL * scale:
+                return d
         return None
 
     def check_step(self, a: Point, b: Point):
@@ -312,7 +345,8 @@ class SystemOrbitProblem:
         return str(stop.detail)
 
     def special(self, kind, pt: Point, value, bracket, branch_id) -> SystemSpecialPoint | None:
-        """The special point of a located event (None: a Neimark–Sacker zero off the unit circle)."""
+        """The special point of a located event; None where no multiplier is there (within
+        LOCATED_TOL of +1, −1 or the unit circle): a jump of the test function, not a zero."""
         r = pt.record
         mu = r.floquet_multipliers
         angle = math.nan
@@ -321,9 +355,11 @@ class SystemOrbitProblem:
             if not pairs.size:
                 return None
             c = pairs[int(np.argmin(np.abs(np.abs(pairs) - 1.0)))]
-            if abs(abs(c) - 1.0) > NS_TOL:
+            if abs(abs(c) - 1.0) > LOCATED_TOL:
                 return None
             angle = float(np.angle(c)) / (2.0 * math.pi)
+        elif np.min(np.abs(mu - (1.0 if kind == "fold" else -1.0))) > LOCATED_TOL:
+            return None
         z = self.scales.to_si(pt.u[:-1])
         pq = r.pa_newton / self.Q if self.Q else math.nan
         return SystemSpecialPoint(type=kind, fe_hz=r.fe_hz, pa_over_q=pq, app_um=float(r.app[self.coordinate]),
@@ -344,7 +380,13 @@ class SystemOrbitProblem:
         return dofs_and_contacts(**cols)
 
     def branch(self, points, specials, stops, branch_id, settings=None) -> SystemBranch:
-        """The points of one or two directions as a :class:`SystemBranch`."""
+        """The points of one or two directions as a :class:`SystemBranch` (a special point met
+        twice, :func:`_same`, kept once)."""
+        unique = []
+        for sp in specials:
+            if not any(_same(sp, other) for other in unique):
+                unique.append(sp)
+        specials = unique
         n = len(points)
         u = np.array([p.u for p in points])
         rec = [p.record for p in points]
