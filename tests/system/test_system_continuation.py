@@ -278,7 +278,9 @@ def test_cli_continue_system_json(tmp_path, capsys):
     for sp in d["special_points"]:
         assert [x["name"] for x in sp["dofs"]] == ["q1", "q2"] and sp["contacts"][0]["name"] == "stop"
         assert "pa_over_q" not in sp and sp["pa_newton"] == PA_N
-    assert len(list(out.glob("branch_*.nc"))) == 1 and len(list(out.glob("branches_*.png"))) == 1
+    # the period-1 branch and the period-2 branch between its period doublings
+    assert sorted(p.name.split("_")[1] for p in out.glob("branch_*.nc")) == ["b0", "b0.pd1"]
+    assert len(list(out.glob("branches_*.png"))) == 1
 
 
 @pytest.mark.parametrize("args, option", [
@@ -334,3 +336,26 @@ def test_a_period_k_branch_stops_where_it_merges_with_a_period_d_orbit():
                               settings=SystemContinuationSettings(fmin_hz=0.08, fmax_hz=0.09))
     assert len(b) == 1 and b.period == 2
     assert b.stops[0].reason.startswith("merges with the period-1 branch")
+
+
+def test_two_dof_period_two_branch_from_one_period_doubling_ends_at_the_other(two_dof_branch):
+    """Switched at the lower period doubling, the period-2 branch ends on the period-1 branch at
+    the upper one (1e-4 relative) [measured ≤ 3e-5: the last point before it passes]; its
+    points are fixed points of the scipy map over 2 periods (1e-7 of |z|∞) and not over 1."""
+    from contactvib.continuation.system_switch import switch_system_period_doubling
+
+    b = two_dof_branch
+    pd = sorted((sp for sp in b.special if sp.type == "period-doubling"), key=lambda sp: sp.fe_hz)
+    assert len(pd) == 2
+    b2 = switch_system_period_doubling(load_system(TOML), pd[0], settings=SystemContinuationSettings(
+        fmin_hz=0.08, fmax_hz=0.13))
+    assert b2.period == 2 and b2.stops[0].reason.startswith("merges with the period-1 branch")
+    assert b2.stops[0].fe_hz == pytest.approx(pd[1].fe_hz, rel=1e-4)
+    assert b2.fe_hz.min() == pytest.approx(pd[0].fe_hz, rel=1e-4)
+    ref = ScipyTwoDof(TOML)
+    for i in (len(b2) // 3, 2 * len(b2) // 3):
+        z, fe = b2.state[i], b2.fe_hz[i]
+        z1 = ref.period_map(z, fe, PA_N)
+        z2 = ref.period_map(z1, fe, PA_N)
+        scale = np.max(np.abs(z))
+        assert np.max(np.abs(z2 - z)) / scale < 1e-7 and np.max(np.abs(z1 - z)) / scale > 1e-3

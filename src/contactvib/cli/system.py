@@ -335,6 +335,8 @@ def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max
     msgs = []
     with ctrl_c():
         branches = _system_branches(system, p, f_e, s, "P_a" if by_pa else "f_e", n_pick, Q, j, msgs)
+        if not cont["no_switch"]:
+            branches += _switched(system, branches, s, "P_a" if by_pa else "f_e", Q, j, msgs)
     stem = label.rsplit("/", 1)[-1].removesuffix(".toml")
     tag = f"{stem}_pa{p:.4g}N_fe{f_e:g}" + ("_in_pa" if by_pa else "")
     title = (f"{label}: f_e = {f_e:g} Hz, branches in $P_a$" if by_pa
@@ -396,6 +398,27 @@ def _system_branches(system, p, f_e, s, parameter, n_pick, Q, j, log) -> list:
         except ComputationError as e:
             log(f"seed {i} (period {orbit.k}): {e}")
     return branches
+
+
+def _switched(system, branches, s, parameter, Q, j, log) -> list:
+    """The period-2k branches born at the period doublings of ``branches`` (one per doubling;
+    a doubling where a switched branch already ends is skipped)."""
+    from contactvib.continuation.system_switch import switch_system_period_doubling
+    from contactvib.errors import ComputationError
+
+    out = []
+    todo = [sp for b in branches for sp in b.special if sp.type == "period-doubling"]
+    for i, sp in enumerate(todo):
+        q = sp.fe_hz if parameter == "f_e" else sp.pa_newton
+        ends = [st.fe_hz if parameter == "f_e" else st.pa_over_q for b in out for st in b.stops]
+        if any(abs(e - q) <= 1e-4 * abs(q) for e in ends):
+            continue
+        try:
+            out.append(switch_system_period_doubling(system, sp, parameter=parameter, settings=s, Q=Q, coordinate=j,
+                                                     branch_id=f"{sp.branch}.pd{i + 1}"))
+        except ComputationError as e:
+            log(f"period doubling at f_e = {sp.fe_hz:.6g} Hz: {e}")
+    return out
 
 
 def _write_system(branches, out, tag, title, parameter, system, j):

@@ -206,6 +206,7 @@ class SystemOrbitProblem:
             self.bounds = (Bound(2 * system.n, settings.fmin_hz, settings.fmax_hz, "f_e"),)
         else:
             self.bounds = (Bound(2 * system.n, settings.pa_min, settings.pa_max, "P_a"),)
+        self.prev_d = None  # P^(k/2)(x) − x at the last accepted point (even k)
         self.corrector = CorrectorSettings(tol=settings.tol, max_iter=settings.max_iter, cons_tol=1e-9,
                                            max_step=1.0)
         self.steps = StepControl(ds=settings.ds, ds_min=settings.ds_min, ds_max=settings.ds_max,
@@ -306,6 +307,23 @@ class SystemOrbitProblem:
         return None
 
     def check_step(self, a: Point, b: Point):
+        """For even k: P^(k/2)(x) − x reverses (by more than 150°) while small — the branch
+        passed through the period-k/2 branch (a period doubling of it): stop there."""
+        if self.k % 2:
+            return None
+        x, q = b.u[:-1], float(b.u[-1])
+        out = np.empty(x.size)
+        st = km.strobe_map(self._sa(q), np.ascontiguousarray(x, dtype=float), self.k // 2, self.s.rtol, self.s.rtol,
+                           out, np.empty((0, 0)))
+        d = out - x if st == STATUS_OK else None
+        prev, self.prev_d = self.prev_d, d
+        if d is None or prev is None:
+            return None
+        na, nb = float(np.linalg.norm(prev)), float(np.linalg.norm(d))
+        small = min(na, nb) <= 0.2 * max(1.0, float(np.max(np.abs(x))))
+        if small and float(np.dot(prev, d)) < -0.866 * na * nb:
+            return (f"merges with the period-{self.k // 2} branch (period doubling near "
+                    f"f_e = {b.record.fe_hz:.6g} Hz, P_a = {b.record.pa_newton:.6g} N)")
         return None
 
     def fix_q(self, u_guess):
@@ -317,6 +335,7 @@ class SystemOrbitProblem:
     # ------------------------------------------------------------------ runs and results
     def run(self, start: Point, t_dir, branch_id: str):
         """One direction: (points, specials, stop)."""
+        self.prev_d = None
         out = continue_branch(self, start, t_dir, self.corrector, self.steps)
         specials = []
         for e in out.events:
