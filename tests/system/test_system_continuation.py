@@ -359,3 +359,16 @@ def test_two_dof_period_two_branch_from_one_period_doubling_ends_at_the_other(tw
         z2 = ref.period_map(z1, fe, PA_N)
         scale = np.max(np.abs(z))
         assert np.max(np.abs(z2 - z)) / scale < 1e-7 and np.max(np.abs(z1 - z)) / scale > 1e-3
+
+
+def test_cli_continue_rocking_in_q(tmp_path, capsys):
+    """--system rocking takes --pa in multiples of Q: each special point carries P_a/Q and P_a [N]."""
+    rc = main(["continue", "--system", "rocking", "--pa", "0.3", "--from-fe", "1000", "--fmin", "1000",
+               "--fmax", "1300", "--no-switch", "--out", str(tmp_path / "r"), "--json"])
+    assert rc == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["coordinates"] == ["y", "theta"] and d["special_points"]
+    for sp in d["special_points"]:
+        assert sp["pa_over_q"] == pytest.approx(0.3, rel=1e-12)
+        assert sp["pa_newton"] == pytest.approx(0.3 * MODEL.Q, rel=1e-12)
+        assert [c["name"] for c in sp["contacts"]] == ["front", "rear"]

@@ -21,6 +21,12 @@ on the unit circle (| |μ| − 1 | ≤ LOCATED_TOL), which drops the jumps of th
 collides on the real axis; likewise a fold or period doubling counts only with a multiplier at +1
 or −1. For n = 1 the three tests are those of :mod:`.bifurcations`.
 
+Each accepted point is measured on MEASURE_SAMPLES samples per period (each coordinate's extrema
+refined by the parabola through the extreme sample and its neighbours). A direction stops, besides
+the engine's stops, above the amplitude bound, or where a period-k branch merges with a period-d
+orbit: |P^d(x) − x| ≤ MERGE_TOL for a proper divisor d of k, or P^(k/2)(x) − x reversing while small
+(the branch passed through a period doubling of the period-k/2 branch).
+
 References
 ----------
 Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer (2004), Ch. 10.
@@ -68,7 +74,7 @@ LOCATED_TOL = 1e-3
 #: A period-k orbit with |P^d(x) − x|∞ below this (relative to max(1, |x|∞)) for a proper divisor
 #: d of k has merged with the period-d branch: the branch stops there.
 MERGE_TOL = 1e-7
-#: Samples per excitation period of the measured orbit (extrema to about 3e-5 of the range).
+#: Samples per excitation period of the measured orbit.
 MEASURE_SAMPLES = 512
 
 
