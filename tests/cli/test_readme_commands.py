@@ -117,7 +117,7 @@ REDUCED: dict[str, list[str]] = {
         ["attractors", "--system", "rocking", "--pa", "0.65", "--fe", "360", "--starts", "8"],
     "contactvib attractors --system rocking --pa 0.5 --fe 1300 --set e=0.01 --json":
         ["attractors", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--json",
-         "--starts", "4"],
+         "--starts", "24"],  # 6 of 64 starts settle (systems.md): 24 for one (an empty search exits 1)
     "contactvib simulate --system rocking --pa 0.5 --fe 1300 --set e=0.01 --from-state 0.3,2 0,0 --periods 20 "
     "--out rock/":
         ["simulate", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--from-state",
@@ -128,6 +128,13 @@ REDUCED: dict[str, list[str]] = {
     "contactvib simulate --system examples/two_dof_stop.toml --pa-newton 2 --fe 0.2 --out stop/":
         ["simulate", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "2", "--fe", "0.2",
          "--starts", "4", "--out", "stop/"],
+    "contactvib continue --system examples/two_dof_stop.toml --pa-newton 0.1 --from-fe 0.08 --fmin 0.08 "
+    "--fmax 0.14 --out sys_branch/":
+        ["continue", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--from-fe", "0.08",
+         "--fmin", "0.08", "--fmax", "0.1", "--out", "sys_branch/"],
+    "contactvib attractors --system examples/two_dof_stop.toml --pa-newton 0.1 --fe 0.095 --starts 8":
+        ["attractors", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fe", "0.095",
+         "--starts", "8"],
     "contactvib attractors --pa 0.65 --fe 700 --preload 2":
         ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
     "contactvib attractors --fe 1200 --base-um 0.05":
@@ -268,6 +275,9 @@ DATASET_ATTRS = {"model", "settings", "fn0_hz", "y0_um", "levels_pa_over_q"}
 BRANCH_VARS = {"fe_hz", "pa_over_q", "app_um", "ymin_um", "ymax_um", "floquet_re", "floquet_im",
                "stable", "state_x", "state_xdot", "minima_per_period", "contact_loss_fraction",
                "arclength"}
+#: A system's branch file (docs/tutorials/systems.md).
+SYSTEM_BRANCH_VARS = {"fe_hz", "pa_newton", "pa_over_q", "app", "qmin", "qmax", "contact_loss_fraction",
+                      "floquet_re", "floquet_im", "stable", "state", "arclength"}
 #: `continue/bifurcations --json` and `special_points_<tag>.json`.
 SPECIAL_KEYS = {"type", "fe_hz", "pa_over_q", "app_um", "period", "branch"}
 STOP_KEYS = {"fe_hz", "pa_over_q", "reason", "branch"}
@@ -414,6 +424,18 @@ def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
             assert {"period", "floquet_multipliers", "stable", "basin_fraction", "dofs", "contacts"} <= set(a)
     elif args[0] == "attractors":
         assert stdout.startswith("system ") and "linear modes:" in stdout
+    elif args[0] == "continue":  # docs/tutorials/systems.md: the branch file, special points, figure
+        (nc,) = folder.glob("branch_b0_*.nc")
+        with xr.open_dataset(nc) as b:
+            assert SYSTEM_BRANCH_VARS <= set(b.variables), sorted(SYSTEM_BRANCH_VARS - set(b.variables))
+        (js,) = folder.glob("special_points_*.json")
+        sps = json.loads(js.read_text())["special_points"]
+        assert "neimark-sacker" in {sp["type"] for sp in sps}
+        for sp in sps:
+            assert {"type", "fe_hz", "pa_newton", "period", "branch", "floquet_multipliers", "dofs",
+                    "contacts"} <= set(sp)
+        _figures(folder, "branches_*.png", 1)
+        assert "neimark-sacker" in stdout and "wrote 1 branch files" in stdout
     else:
         pngs = _figures(folder, "*.png", 2)
         assert len(pngs) % 2 == 0 and len(list(folder.glob("*_forces.png"))) == len(pngs) // 2

@@ -104,8 +104,9 @@ for _name in ("attractors", "simulate", "section", "basins", "perturbation", "fr
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 #: A system of several degrees of freedom (`rocking` or a TOML file) at one operating point.
-for _name in ("attractors", "simulate"):
+for _name in ("attractors", "simulate", "continue"):
     OPTIONS[_name]["--system"] = "value"
+OPTIONS["continue"].update({"--pa-newton": "value", "--coordinate": "value"})
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore",
               "orbit-diagram"):
     OPTIONS[_name].update(LAW)

@@ -31,6 +31,7 @@ from contactvib.cli.common import (
     parse_pa_level,
     parse_positive,
 )
+from contactvib.cli.system import system_continue, system_given, system_option
 from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, LEVEL_TAGS, SHOOTING_RTOL_RANGE, check_range, level_text
 from contactvib.model.checks import PA_MAX, PA_NOTE
 
@@ -173,8 +174,13 @@ def _summary(bset, parameter="f_e"):
 
 
 @click.command("continue")
+@system_option
 @click.option("--pa", default="0.65", show_default=True, metavar="Q",
               help="Excitation amplitude P_a as a multiple of Q = M g.")
+@click.option("--pa-newton", default=None, metavar="N",
+              help="Excitation amplitude P_a [N] of a --system (the level of a system file).")
+@click.option("--coordinate", default=None, metavar="NAME",
+              help="With --system: the coordinate whose A_pp is drawn (default the first).")
 @click.option("--from-fe", "from_fe", default="1200", show_default=True, metavar="HZ",
               help="Frequency of the seed: the attractors found there are continued.")
 @click.option("--attractor", default=None, metavar="N",
@@ -190,8 +196,23 @@ def _summary(bset, parameter="f_e"):
 @click.option("--out", default="branch", show_default=True, type=click.Path(file_okay=False),
               help="Output folder (NetCDF branch files, special points, figure).")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, **cont):
-    """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point."""
+def continue_(pa, pa_newton, coordinate, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, **cont):
+    """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point.
+
+    With --system (rocking or a TOML file) the structure's period-1 orbit at --from-fe (Newton
+    shooting from the linear response, else the attractors there) is continued between --fmin and
+    --fmax (default: half the lowest to 1.5 times the highest linear mode; --from-fe defaults to
+    --fmin) with its folds, period doublings and Neimark-Sacker points; --pa-min/--pa-max are in N
+    with --pa-newton, in Q with --pa (rocking). No branch switching at period doublings there.
+    """
+    if system_given():
+        system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max, coordinate, out, as_json,
+                        cont)
+        return
+    if pa_newton is not None:
+        raise InputError("--pa-newton: the force level [N] of --system; the slider's continuation takes --pa [Q]")
+    if coordinate is not None:
+        raise InputError("--coordinate: names a coordinate of --system; the slider has one (y)")
     model = parse_model(cont["settings"])
     dataset = cont["dataset"]
     kind = cont["level_kind"]
