@@ -118,3 +118,18 @@ def test_cli_hbm_system_bad_input(args, needle, tmp_path, capsys):
     assert main(["hbm", *args, "--out", str(tmp_path / "x")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and needle in err[0] and len(err[0]) <= 400
+
+
+def test_special_points_agree_with_the_shooting_continuation(stop):
+    """The stability changes of the HB branch (H = 24) lie at the special points that the shooting
+    continuation locates (continuation/system_shooting.py, checked against scipy there): the first
+    Neimark–Sacker point 0.092612 Hz, the period doubling 0.117581 Hz and the lower fold 0.103998 Hz,
+    to 2e-3 of f_e (the truncation where the stop closes for under 1 % of the period)."""
+    from contactvib.plotting.system import crossing_kind
+
+    br = system_hb_continuation(stop, 0.1, fmin_hz=0.085, fmax_hz=0.125, harmonics=24, energy_tol=1e-2)
+    st = br.stable
+    found = [(crossing_kind(br.solutions[i].floquet_multipliers, br.solutions[i + 1].floquet_multipliers),
+              0.5 * (br.fe_hz[i] + br.fe_hz[i + 1])) for i in np.where(st[1:] != st[:-1])[0]]
+    for kind, f_ref in (("Neimark–Sacker", 0.092612), ("period doubling", 0.117581), ("fold", 0.103998)):
+        assert any(k == kind and abs(f - f_ref) < 2e-3 * f_ref for k, f in found), (kind, found)
