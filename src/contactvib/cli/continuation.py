@@ -31,7 +31,8 @@ from contactvib.cli.common import (
     parse_pa_level,
     parse_positive,
 )
-from contactvib.cli.system import system_continue, system_given, system_option
+from contactvib.cli.system import system_given, system_option
+from contactvib.cli.system_branches import system_continue
 from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, LEVEL_TAGS, SHOOTING_RTOL_RANGE, check_range, level_text
 from contactvib.model.checks import PA_MAX, PA_NOTE
 

@@ -154,7 +154,7 @@ def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kin
     (with --system: the branch of a structure with contacts, from --fmin upwards)."""
     so = system_options
     if system_given():
-        from contactvib.cli.system import system_hbm
+        from contactvib.cli.system_branches import system_hbm
 
         ctx = click.get_current_context()
         given = {n: ctx.get_parameter_source(n) != click.core.ParameterSource.DEFAULT for n in ("pa", "energy_tol")}
