@@ -265,8 +265,13 @@ def continue_(pa, pa_newton, coordinate, from_fe, attractor, parameter, pa_min, 
 
 
 @click.command(cls=LevelsCommand)
+@system_option
 @click.option("--pa", multiple=True, default=("0.65",), show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
+@click.option("--pa-newton", default=None, metavar="N",
+              help="With --system: the force level P_a [N] (a system file defines no Q).")
+@click.option("--coordinate", default=None, metavar="NAME",
+              help="With --system: the coordinate whose A_pp the figures draw (default the first).")
 @click.option("--seed-fe", default=None, metavar="HZ,HZ,...",
               help="Seed frequencies [Hz] of the attractor searches (comma-separated).")
 @click.option("--cascade-fe", default=None, metavar="HZ",
@@ -282,6 +287,17 @@ def continue_(pa, pa_newton, coordinate, from_fe, attractor, parameter, pa_min, 
 def bifurcations(pa, seed_fe, cascade_fe, cascade_direction, out, as_json, **cont):
     """All branches, seeded from every attractor at several frequencies, for each P_a; with
     --cascade-fe, the period-doubling cascades from that frequency."""
+    if system_given():
+        from contactvib.cli.system_branches import system_bifurcations
+
+        if cascade_fe is not None:
+            raise InputError("--system and --cascade-fe: cascades are followed for the paper's slider")
+        given = click.get_current_context().get_parameter_source("pa") != click.core.ParameterSource.DEFAULT
+        return system_bifurcations(pa if given else None, cont.pop("pa_newton"), seed_fe, cont.pop("coordinate"),
+                                   out, as_json, cont)
+    for option in ("pa_newton", "coordinate"):
+        if cont.pop(option) is not None:
+            raise InputError(f"--{option.replace('_', '-')}: an option of --system only")
     model = parse_model(cont["settings"])
     kind = cont["level_kind"]
     levels = parse_levels(pa, kind)

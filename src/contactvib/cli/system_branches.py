@@ -25,7 +25,7 @@ from contactvib.cli.system import modes_text as _modes_text
 from contactvib.cli.system import option_given as _given
 from contactvib.cli.system import system_operating_point as _excitation
 
-__all__ = ["system_continue", "system_hbm"]
+__all__ = ["system_continue", "system_bifurcations", "system_hbm"]
 
 
 #: Options of ``continue`` that no system continuation takes (click names).
@@ -50,12 +50,35 @@ def _coordinate(system, text) -> int:
     raise InputError(f"--coordinate {text}: must be one of {', '.join(system.coordinates)}")
 
 
+def _frequency_range(system, cont) -> tuple[float, float]:
+    """--fmin/--fmax [Hz], by default half the lowest to 1.5 times the highest linear mode."""
+    modes = system.linear_modes()
+    f_lo = 0.5 * float(modes[modes > 0].min()) if np.any(modes > 0) else 1.0
+    f_hi = 1.5 * float(modes.max()) if np.any(modes > 0) else 100.0
+    fmin = parse_number("--fmin", "f_min", cont["fmin"]) if _given("fmin") else f_lo
+    fmax = parse_number("--fmax", "f_max", cont["fmax"]) if _given("fmax") else f_hi
+    if not (0.0 < fmin < fmax):
+        raise InputError(f"--fmin/--fmax = {fmin:g}/{fmax:g} Hz: must be 0 < --fmin < --fmax")
+    return fmin, fmax
+
+
+def _settings(cont, fmin, fmax, lo=0.0, hi=1e9):
+    """The SystemContinuationSettings of the continuation options."""
+    from contactvib.continuation.system_shooting import SystemContinuationSettings
+
+    n_pts = parse_int("--max-points", cont["max_points"], 2, symbol="max_points")
+    rtol = parse_number("--rtol", "rtol", cont["rtol"])
+    app_max = parse_number("--app-max", "app_max", cont["app_max"]) if _given("app_max") else 1e15
+    return mapped_options({"fmin_hz": "--fmin", "fmax_hz": "--fmax", "max_points": "--max-points", "rtol": "--rtol",
+                           "app_max": "--app-max", "pa_min": "--pa-min", "pa_max": "--pa-max"},
+                          SystemContinuationSettings, fmin_hz=fmin, fmax_hz=fmax, pa_min=lo, pa_max=hi,
+                          max_points=n_pts, rtol=rtol, tol=max(100 * rtol, 1e-10), app_max=app_max)
+
+
 def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max, coordinate, out, as_json,
                     cont) -> None:
     """``contactvib continue --system ...``: the branches through the orbits at --from-fe,
     continued in f_e (or P_a), with folds, period doublings and Neimark–Sacker points."""
-    from contactvib.continuation.system_shooting import SystemContinuationSettings
-
     for param, option in _NOT_SYSTEM_CONTINUE.items():
         if _given(param):
             raise InputError(f"--system and {option}: {option} draws over the slider's resonance dataset")
@@ -64,13 +87,7 @@ def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max
                          "P_a cos(2 pi f_e t) [N] (--pa-newton) or, for rocking, --pa [Q]")
     system, model, label = _load(cont["settings"])
     Q = None if model is None else model.Q
-    modes = system.linear_modes()
-    f_lo = 0.5 * float(modes[modes > 0].min()) if np.any(modes > 0) else 1.0
-    f_hi = 1.5 * float(modes.max()) if np.any(modes > 0) else 100.0
-    fmin = parse_number("--fmin", "f_min", cont["fmin"]) if _given("fmin") else f_lo
-    fmax = parse_number("--fmax", "f_max", cont["fmax"]) if _given("fmax") else f_hi
-    if not (0.0 < fmin < fmax):
-        raise InputError(f"--fmin/--fmax = {fmin:g}/{fmax:g} Hz: must be 0 < --fmin < --fmax")
+    fmin, fmax = _frequency_range(system, cont)
     fe_text = from_fe if _given("from_fe") else repr(fmin if parameter == "fe" else 0.5 * (fmin + fmax))
     p, f_e, level = _excitation(model, label, pa if _given("pa") else None, pa_newton, fe_text, "--from-fe")
     by_pa = parameter == "pa"
@@ -80,15 +97,9 @@ def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max
     if by_pa and not (lo <= p <= hi):
         raise InputError(f"--pa/--pa-newton: the seed's level {p:g} N must lie in [--pa-min, --pa-max] = "
                          f"[{lo:g}, {hi:g}] N")
-    n_pts = parse_int("--max-points", cont["max_points"], 2, symbol="max_points")
-    rtol = parse_number("--rtol", "rtol", cont["rtol"])
-    app_max = parse_number("--app-max", "app_max", cont["app_max"]) if _given("app_max") else 1e15
     j = _coordinate(system, coordinate)
     n_pick = None if attractor is None else parse_int("--attractor", attractor, 0)
-    s = mapped_options({"fmin_hz": "--fmin", "fmax_hz": "--fmax", "max_points": "--max-points", "rtol": "--rtol",
-                        "app_max": "--app-max", "pa_min": "--pa-min", "pa_max": "--pa-max"},
-                       SystemContinuationSettings, fmin_hz=fmin, fmax_hz=fmax, pa_min=lo, pa_max=hi,
-                       max_points=n_pts, rtol=rtol, tol=max(100 * rtol, 1e-10), app_max=app_max)
+    s = _settings(cont, fmin, fmax, lo, hi)
     outp = checked_output_folder(out)
     msgs = []
     with ctrl_c():
@@ -194,6 +205,89 @@ def _write_system(branches, out, tag, title, parameter, system, j):
     ylabel = f"peak-to-peak amplitude of {system.coordinates[j]} [{unit.replace('u', 'µ', 1)}]"
     fig = save_figure(branches_figure(branches, title, parameter, ylabel=ylabel), out / f"branches_{tag}.png")
     return paths, fig
+
+
+def _on_branch(branches, z, k: int, fe: float, tol: float = 0.05) -> bool:
+    """Whether the period-``k`` orbit through ``z`` [SI] at ``fe`` lies on one of ``branches``:
+    the state interpolated between two neighbouring points that bracket ``fe`` is within ``tol``
+    of ``z`` (relative to |z|∞: the interpolation between the continuation's points is good to
+    ~1e-2, distinct coexisting orbits differ by order 1)."""
+    scale = max(float(np.max(np.abs(z))), 1e-300)
+    for b in branches:
+        if b.period != k:
+            continue
+        f = b.fe_hz
+        for i in range(len(f) - 1):
+            lo, hi = sorted((f[i], f[i + 1]))
+            if lo <= fe <= hi:
+                w = 0.0 if hi == lo else (fe - f[i]) / (f[i + 1] - f[i])
+                zi = b.state[i] + w * (b.state[i + 1] - b.state[i])
+                if float(np.max(np.abs(zi - z))) <= tol * scale:
+                    return True
+    return False
+
+
+def system_bifurcations(pa_levels, pa_newton, seed_fe, coordinate, out, as_json, cont) -> None:
+    """``contactvib bifurcations --system ...``: every branch through the attractors found at the
+    seed frequencies (default: the linear modes inside the range), for each level, with the
+    period-2k branches of their period doublings; an attractor on a branch already followed is
+    not followed again."""
+    from contactvib.continuation.system_branch import stop_dict
+    from contactvib.continuation.system_shooting import continue_system_orbit
+    from contactvib.errors import ComputationError
+    from contactvib.steady.system_attractors import find_system_attractors
+
+    system, model, label = _load(cont["settings"])
+    Q = None if model is None else model.Q
+    fmin, fmax = _frequency_range(system, cont)
+    if pa_newton is not None and pa_levels:
+        raise InputError("--pa and --pa-newton: give one of them, not both")
+    texts = [pa_newton] if pa_newton is not None or not pa_levels else list(pa_levels)
+    levels = [_excitation(model, label, None if pa_newton is not None or t is None else t,
+                          pa_newton if pa_newton is not None else None, repr(fmin))[::2] for t in texts]
+    if seed_fe is None:
+        modes = system.linear_modes()
+        seeds = [float(f) for f in modes if fmin <= f <= fmax] or [0.5 * (fmin + fmax)]
+    else:
+        seeds = [parse_number("--seed-fe", "f_e", t) for t in seed_fe.split(",") if t.strip()]
+        bad = [f for f in seeds if not fmin <= f <= fmax]
+        if not seeds or bad:
+            raise InputError(f"--seed-fe: every seed frequency must lie in [--fmin, --fmax] = [{fmin:g}, {fmax:g}] Hz")
+    j = _coordinate(system, coordinate)
+    s = _settings(cont, fmin, fmax)
+    outp = checked_output_folder(out)
+    all_branches, msgs = [], []
+    with ctrl_c():
+        for p, level in levels:
+            branches = []
+            for fe in seeds:
+                for a in find_system_attractors(system, p, fe):
+                    if _on_branch(branches, a.orbit.z, a.orbit.k, fe):
+                        continue
+                    try:
+                        branches.append(continue_system_orbit(system, p, fe, a.orbit.z, a.orbit.k, settings=s,
+                                                              branch_id=f"b{len(branches)}", Q=Q,
+                                                              coordinate=j))
+                    except ComputationError as e:
+                        msgs.append(f"{level}, {fe:g} Hz, period {a.orbit.k}: {e}")
+            if not cont["no_switch"]:
+                branches += _switched(system, branches, s, "f_e", Q, j, msgs.append)
+            stem = label.rsplit("/", 1)[-1].removesuffix(".toml")
+            _write_system(branches, outp, f"{stem}_pa{p:.4g}N", f"{label}: {level}, all branches", "f_e", system, j)
+            all_branches += branches
+            if not as_json:
+                n_sp = sum(len(b.special) for b in branches)
+                click.echo(f"system {label}, {level}: {len(branches)} branches, {n_sp} special points")
+    result = {"system": label, "coordinates": list(system.coordinates),
+              "special_points": [sp.to_dict() for b in all_branches for sp in b.special],
+              "stops": [stop_dict(st) for b in all_branches for st in b.stops], "cascades": []}
+    (outp / "bifurcations.json").write_text(json.dumps(result, indent=1))
+    if as_json:
+        echo_json(result)
+        return
+    for m in msgs:
+        click.echo(f"note: {m}")
+    click.echo(f"wrote {outp}/")
 
 
 def _level(model, label, pa, pa_newton) -> tuple[float, str]:
