@@ -93,7 +93,7 @@ OPTIONS = {
                  "--ft": "value"},
     "fit": {"--static": "value", "--decay": "value", "--frf": "value", "--set": "set", "--fix": "value",
             "--bounds": "value", "--starts": "value", "--seed": "value", "--save-model": "value"},
-    "explore": {"--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
+    "explore": {"--system": "value", "--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
                 "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
 

@@ -21,6 +21,7 @@ from contactvib.cli.common import (
     parse_model,
     parse_positive,
 )
+from contactvib.cli.system import system_given, system_option
 
 
 @contextmanager
@@ -201,7 +202,57 @@ def _model_fields(point, path) -> None:
             point.fields[name] = repr(float(value))
 
 
+def _system_ops(label: str, has_q: bool):
+    """(check, find, history) of a system's page (:mod:`contactvib.explore.system_page`): the
+    fields read as ``attractors --system`` reads --pa (rocking, [Q]) or --pa-newton (a file, [N])
+    and --fe, the search with its defaults, each attractor's history as ``simulate --system``."""
+    import math
+
+    from contactvib.cli.system import load_system_option, system_operating_point
+    from contactvib.explore.state import BadInput
+
+    system, model, _label = load_system_option(())
+
+    def check(fields):
+        pa, fe = fields["pa"].strip(), fields["fe"].strip()
+        try:
+            p, f, level = system_operating_point(model, label, pa if has_q else None, None if has_q else pa, fe)
+        except InputError as e:
+            raise BadInput(f"contactvib: error: {e}") from None
+        return system, p, f, level
+
+    def find(system, p, fe):
+        from contactvib.steady.system_attractors import find_system_attractors
+
+        return find_system_attractors(system, p, fe)
+
+    def history(system, p, fe, a):
+        from contactvib.steady.system_orbits import simulate_system
+
+        n = a.period * max(1, math.ceil(4 / a.period))
+        return simulate_system(system, p, fe, a.orbit.z[:system.n], a.orbit.z[system.n:], n_periods=n)
+
+    return system, (check, find, history)
+
+
+def _serve_system(port, host, no_browser, limit, ready) -> None:
+    """``explore --system``: the page of a structure with contacts (:mod:`contactvib.explore.system_page`)."""
+    from contactvib.cli.system import system_label
+    from contactvib.explore.server import serve
+    from contactvib.explore.system_page import build_system_page
+
+    label = system_label()
+    has_q = label == "rocking"
+    system, ops = _system_ops(label, has_q)
+    modes = system.linear_modes()
+    fields = {"pa": "0.5" if has_q else "0.1",
+              "fe": "1300" if has_q else f"{float(modes[modes > 0][0]) if (modes > 0).any() else 1.0:.4g}"}
+    serve(None, port, host, not no_browser, limit, ready,
+          page=lambda: build_system_page(label, "Q" if has_q else "N", fields, ops, limit))
+
+
 @click.command()
+@system_option
 @click.argument("dataset", required=False)
 @click.option("--port", default="0", show_default=True, help="TCP port (0: a free one).")
 @click.option("--host", default="127.0.0.1", show_default=True,
@@ -240,6 +291,8 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
     if host not in ("127.0.0.1", "localhost"):
         click.echo(f"contactvib: warning: listening on {host}: the page is reachable from the network",
                    err=True)
+    if system_given() and dataset is not None:
+        raise InputError("--system and DATASET: a system's page shows its attractors; datasets belong to the slider")
     levels = None
     if dataset is not None:
         from contactvib.explore.dataset_view import DatasetLevels
@@ -250,6 +303,14 @@ def explore(dataset, port, host, no_browser, time_limit, graph_fmin, graph_fmax,
     def ready(url):
         click.echo(f"contactvib explore: {url} (Ctrl-C stops)", err=False)
 
+    if system_given():
+        try:
+            return _serve_system(port, host, no_browser, limit, ready)
+        except OSError as e:
+            raise InputError(f"--port {port}: cannot listen on {host}:{port}: {e.strerror or e}") from None
+        except KeyboardInterrupt:
+            click.echo("contactvib: interrupted", err=True)
+            return None
     try:
         ops = (_check, _find, _continue, partial(_level_inputs, grid=grid))
         serve(ops, port, host, not no_browser, limit, ready, levels, graph_limit, start, warm=partial(_warm, start))

@@ -29,7 +29,7 @@ from contactvib.cli.common import (
 from contactvib.model import ParameterError
 
 __all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "load_system_option",
-           "system_operating_point", "option_given", "modes_text"]
+           "system_operating_point", "option_given", "modes_text", "system_label"]
 
 #: The --system option of the command being run.
 _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", default=None)
@@ -276,3 +276,8 @@ load_system_option = _load
 system_operating_point = _excitation
 option_given = _given
 modes_text = _modes_text
+
+
+def system_label() -> str:
+    """The --system value of the command being run ("rocking" or the file's path)."""
+    return _SYSTEM.get()["system"]
