@@ -17,6 +17,7 @@ from contactvib.cli.film import animate
 from contactvib.cli.fit import fit
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.friction import friction
+from contactvib.cli.lyapunov import lyapunov
 from contactvib.cli.regimes import map_
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
@@ -45,7 +46,7 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
+for _command in (attractors, simulate, lyapunov, basins, resonance, atlas, query, paper, animate, continue_,
                  bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
     cli.add_command(_command)
 

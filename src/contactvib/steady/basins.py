@@ -190,7 +190,7 @@ def merge_blocks(model: ContactModel, excitation: Excitation, search: AttractorS
     described = [describe_orbit(excitation, g["z"], g["period"], monodromy=g["M"], closure=g["res"],
                                 basin_fraction=float(np.count_nonzero(labels == n_known + j)) / n,
                                 hits=int(np.count_nonzero(labels == n_known + j)), kind=g["type"],
-                                lyapunov=g["lyap"])
+                                spectrum=g["spectrum"])
                  for j, g in enumerate(new)]
     ys, vs = grid_axes(grid, box)
     return BasinMap(y_um=ys, ydot_mm_s=vs, labels=labels, attractors=[*search.attractors, *described],

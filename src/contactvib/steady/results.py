@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["TimeHistory", "Attractor", "AttractorSet", "dofs_and_contacts", "DOF_NAMES", "DOF_UNITS",
+__all__ = ["TimeHistory", "Attractor", "AttractorSet", "dofs_and_contacts", "lyapunov_fields",
+           "kaplan_yorke_dimension", "DOF_NAMES", "DOF_UNITS",
            "CONTACT_NAMES"]
 
 #: The model's coordinates (degrees of freedom) as results list them, and their display units:
@@ -67,6 +68,31 @@ def dofs_and_contacts(*, dof_name, dof_unit, dof_min, dof_max, dof_app, dof_h1, 
                 for n, lc, fr, fm in zip(contact_name, contact_loses_contact, contact_loss_frac,
                                          contact_mean_force_n, strict=True)]
     return {"dofs": dofs, "contacts": contacts}
+
+
+def kaplan_yorke_dimension(exponents) -> float | None:
+    """Kaplan–Yorke dimension of the flow's attractor from the map's exponents, the flow's zero
+    exponent added: D = j + Σ_{i≤j} λ_i / |λ_{j+1}|, j the last index with a non-negative partial
+    sum; None unless λ1 > 0."""
+    lam = np.sort(np.asarray(exponents, float))[::-1]
+    if lam.size == 0 or not lam[0] > 0.0:
+        return None
+    lam = np.sort(np.append(lam, 0.0))[::-1]
+    partial = np.cumsum(lam)
+    j = int(np.flatnonzero(partial >= 0.0)[-1]) + 1
+    if j >= lam.size:
+        return float(lam.size)
+    return float(j + partial[j - 1] / abs(lam[j]))
+
+
+def lyapunov_fields(attractor_type: str, exponents, stderr) -> dict:
+    """The Lyapunov keys of an attractor in the JSON contract: ``attractor_type``,
+    ``lyapunov_per_s`` (descending), ``lyapunov_stderr_per_s``, ``kaplan_yorke_dimension``
+    (None unless λ1 > 0); non-finite values None."""
+    return {"attractor_type": attractor_type,
+            "lyapunov_per_s": [_number(v) for v in exponents],
+            "lyapunov_stderr_per_s": [_number(v) for v in stderr],
+            "kaplan_yorke_dimension": kaplan_yorke_dimension(exponents)}
 
 
 @dataclass(frozen=True)
@@ -166,8 +192,13 @@ class Attractor:
         a periodic orbit it equals the static load W = Q + F_pre (the mean of the equation of
         motion). NaN where not measured.
 
-    ``dofs`` and ``contacts`` of the JSON contract come from :meth:`dof_columns` through
-    ``dofs_and_contacts``.
+    lyapunov_per_s, lyapunov_stderr_per_s : ndarray
+        The Lyapunov spectrum of the period map [1/s], descending, and the standard error of each
+        (``contactvib.steady.lyapunov``): ln |μ_i| / (k T) of a periodic orbit (standard errors 0),
+        Benettin's batch means of a non-periodic attractor; empty where not computed.
+
+    ``attractor_type`` and ``kaplan_yorke_dimension`` derive from them. ``dofs`` and ``contacts``
+    of the JSON contract come from :meth:`dof_columns` through ``dofs_and_contacts``.
     """
 
     period: int | None
@@ -192,6 +223,19 @@ class Attractor:
     slider_app_um: float | None = None
     h1_um: float = math.nan
     mean_contact_force_n: float = math.nan
+    lyapunov_per_s: np.ndarray = field(default_factory=lambda: np.empty(0))
+    lyapunov_stderr_per_s: np.ndarray = field(default_factory=lambda: np.empty(0))
+
+    @property
+    def attractor_type(self) -> str:
+        """"periodic", "quasi-periodic" or "chaotic" (the type the search earned: ``kind``)."""
+        return "periodic" if self.period is not None else self.kind
+
+    @property
+    def kaplan_yorke_dimension(self) -> float | None:
+        """Kaplan–Yorke dimension of the attractor in (y, ẏ, phase) where λ1 > 0, else None
+        (``contactvib.steady.lyapunov.kaplan_yorke``)."""
+        return kaplan_yorke_dimension(self.lyapunov_per_s)
 
     def dof_columns(self) -> dict:
         """The columns of ``dofs_and_contacts`` for this attractor (one coordinate y [µm], one
@@ -227,6 +271,7 @@ class Attractor:
             "lyapunov_per_period": (float(self.lyapunov_per_period)
                                     if math.isfinite(self.lyapunov_per_period) else None),
             "hits": int(self.hits),
+            **lyapunov_fields(self.attractor_type, self.lyapunov_per_s, self.lyapunov_stderr_per_s),
             "strobe_points": [
                 {"y_um": float(a), "ydot_mm_s": float(b)}
                 for a, b in zip(self.strobe_y_um, self.strobe_ydot_mm_s)
