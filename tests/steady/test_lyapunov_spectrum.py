@@ -97,9 +97,10 @@ def _monodromy_scipy(exc, z, k):
                                            (1, 0.38485318729978546, -0.030350598743973403)])
 def test_periodic_orbit_floquet_and_benettin(k, y_um, ydot):
     """Stable orbits at 0.75 Q, 816.5 Hz (periods 2, 3, 1): ln|μ_i|/T from the kernel's
-    multipliers equal those of scipy's variational equation to 1e-6 (relative); Benettin's exponents (~20 000 periods, batches of whole orbits)
-    agree with them within 4 standard errors + 1e-3 relative; their sum is the damping average
-    (Liouville) and the Floquet sum to 1e-6."""
+    multipliers equal those of scipy's variational equation to 1e-6 (relative); Benettin's
+    exponents (~20 000 periods, batches of whole orbits) agree with them within 4 standard
+    errors + 1e-3 relative; their sum is the damping average (Liouville) and the Floquet sum to
+    1e-6."""
     exc = MODEL.excitation(0.75, 816.5)
     z, M_kernel, _res = refine_orbit(exc, np.array(MODEL.units.state(y_um, ydot)), k)
     fl = floquet_spectrum(np.linalg.eigvals(M_kernel), k, exc.f_e)
