@@ -3,6 +3,8 @@ or of one trajectory (``--y0-um``/``--v0-mm-s``; with ``--system``, ``--from-sta
 
 from __future__ import annotations
 
+import contextvars
+
 import click
 
 from contactvib.cli.common import (
@@ -14,6 +16,7 @@ from contactvib.cli.common import (
     parse_excitation,
     parse_model,
     parse_number,
+    scoped_options,
     search_options,
 )
 from contactvib.cli.steady import search_attractors
@@ -52,6 +55,22 @@ def spectrum_row(i, kind: str, period, spec) -> str:
     return f"{i:>2} {kind:>14} {per:>6} {spec.method:>8}  {lam}  sum {spec.sum_per_s:+.6g}  damping {damp}  D_KY {ky}"
 
 
+#: The trajectory's start options of the command being run (kept out of its signature).
+_START: contextvars.ContextVar = contextvars.ContextVar("contactvib_lyapunov_start", default=None)
+
+
+def _start_options(f):
+    """--y0-um, --v0-mm-s, --from-state: one trajectory instead of the attractors; --transient."""
+    f = scoped_options(_START, ("y0_um", "v0_mm_s", "from_state", "transient"), f)
+    f = click.option("--transient", default=None, metavar="N",
+                     help="Periods integrated before the average (default: 0 from an attractor, 2000 from a "
+                          "state).")(f)
+    f = click.option("--from-state", nargs=2, default=None, metavar="Q1,.. QDOT1,..",
+                     help="With --system: one trajectory from this state (um or urad, mm/s or mrad/s).")(f)
+    f = click.option("--v0-mm-s", "v0_mm_s", default=None, help="Start of one trajectory: ẏ [mm/s] (with --y0-um).")(f)
+    return click.option("--y0-um", "y0_um", default=None, help="Start of one trajectory: y [um] (with --v0-mm-s).")(f)
+
+
 @click.command()
 @system_option
 @operating_point_options
@@ -60,15 +79,9 @@ def spectrum_row(i, kind: str, period, spec) -> str:
               help="Excitation periods of Benettin's average (at least 10 per batch).")
 @click.option("--batches", default="20", show_default=True,
               help="Batches of the average for the standard errors (>= 10).")
-@click.option("--transient", default=None, metavar="N",
-              help="Periods integrated before the average (default: 0 from an attractor, 2000 from a state).")
-@click.option("--y0-um", "y0_um", default=None, help="Start of one trajectory: y [um] (with --v0-mm-s).")
-@click.option("--v0-mm-s", "v0_mm_s", default=None, help="Start of one trajectory: ẏ [mm/s] (with --y0-um).")
-@click.option("--from-state", nargs=2, default=None, metavar="Q1,.. QDOT1,..",
-              help="With --system: one trajectory from this state (um or urad, mm/s or mrad/s).")
+@_start_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
-def lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, periods, batches, transient,
-             y0_um, v0_mm_s, from_state, as_json):
+def lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_seeds, periods, batches, as_json):
     """Lyapunov spectrum [1/s] of every attractor at (P_a, f_e), or of one trajectory.
 
     Benettin's QR method on the period map (its monodromy with the saltation at the contact
@@ -76,6 +89,7 @@ def lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
     orbit; each exponent with the standard error of its batch means. The sum of the exponents
     equals minus the time average of the contact's damping rate S h_n y^l / M (printed as
     "damping"). Chaotic: lambda_1 > 3 standard errors."""
+    y0_um, v0_mm_s, from_state, transient = (_START.get()[k] for k in ("y0_um", "v0_mm_s", "from_state", "transient"))
     kw = spectrum_settings(periods, batches, transient)
     if system_given():
         if y0_um is not None or v0_mm_s is not None:
@@ -92,7 +106,10 @@ def lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, no_se
 
     rows = []
     if y0_um is not None:
-        state = (parse_number("--y0-um", "y", y0_um), parse_number("--v0-mm-s", "ydot", v0_mm_s))
+        from contactvib.steady.simulate import check_start
+
+        y, yd = parse_number("--y0-um", "y", y0_um), parse_number("--v0-mm-s", "ydot", v0_mm_s)
+        state = mapped_options({"y": "--y0-um", "ydot": "--v0-mm-s"}, check_start, model, y, yd, 1)[:2]
         with ctrl_c():
             spec = mapped_options(_NAMES, lyapunov_spectrum, exc, state, **kw)
         rows.append((None, TRAJECTORY_TYPES[spec.attractor_type], None, spec))

@@ -122,14 +122,14 @@ class LyapunovSpectrum:
 
     @property
     def kaplan_yorke_dimension(self) -> float | None:
-        """:func:`kaplan_yorke` of the exponents (None unless λ1 > 0)."""
+        """The Kaplan–Yorke dimension of the exponents (``kaplan_yorke``; None unless λ1 > 0)."""
         return kaplan_yorke(self.exponents_per_s)
 
     @property
     def attractor_type(self) -> str:
         """"chaotic" when λ1 > SIGMA_FACTOR · stderr, else "periodic" (Floquet) or "quasi-periodic"
         where |λ1| ≤ SIGMA_FACTOR · stderr, "converging" below (the section's shape is not tested here:
-        :func:`attractor_type`)."""
+        ``attractor_type``)."""
         return attractor_type(self)
 
     def to_dict(self) -> dict:
@@ -184,7 +184,12 @@ def check_periods(periods, batches) -> tuple[int, int]:
     """``(periods, batches)`` checked: at least :data:`MIN_BATCHES` batches of at least
     :data:`MIN_PERIODS_PER_BATCH` periods each, for an error bar."""
     batches = check_int("batches", batches, MIN_BATCHES, 10_000)
-    periods = check_int("periods", periods, batches * MIN_PERIODS_PER_BATCH, 100_000_000)
+    periods = check_int("periods", periods, MIN_BATCHES * MIN_PERIODS_PER_BATCH, 100_000_000)
+    if periods < batches * MIN_PERIODS_PER_BATCH:
+        raise ParameterError("periods", periods, f"must be ≥ {MIN_PERIODS_PER_BATCH} × batches = "
+                             f"{batches * MIN_PERIODS_PER_BATCH} for an error bar ({MIN_PERIODS_PER_BATCH} "
+                             f"periods per batch; fewer batches, at least {MIN_BATCHES}, need fewer)",
+                             bounds=("batches",))
     return periods, batches
 
 
@@ -234,7 +239,7 @@ def lyapunov_spectrum(excitation: Excitation, state=None, *, periods: int = PERI
     excitation : Excitation
         The operating point (its model: ``excitation.model``).
     state : Attractor, (y_um, ydot_mm_s) or None
-        Where to start, at phase 0: an attractor of :func:`~contactvib.find_attractors` (a periodic
+        Where to start, at phase 0: an attractor of ``find_attractors`` (a periodic
         one gives its Floquet exponents unless ``method="benettin"``), a state y [µm], ẏ [mm/s],
         or None: the static equilibrium.
     periods : int
@@ -277,7 +282,7 @@ def system_lyapunov_spectrum(system, pa_newton: float, fe_hz: float, state=None,
                              periods: int = PERIODS_DEFAULT, transient_periods: int | None = None,
                              batches: int = BATCHES, rtol: float = RTOL_DEFAULT) -> LyapunovSpectrum:
     """The 2n exponents [1/s] of a System's period map under P_a cos(2π f_e t) (P_a = ``pa_newton``
-    [N]) by Benettin's method (:func:`lyapunov_spectrum`'s options); ``state``: a
+    [N]) by Benettin's method (``lyapunov_spectrum``'s options); ``state``: a
     ``SystemAttractor`` (its Floquet exponents), an SI state (q, q̇) of length 2n, or None: the
     static state. ``state`` of the result is scaled (``system.kernel_form(...).scales``)."""
     from contactvib._kernels.system_flow import system_arrays

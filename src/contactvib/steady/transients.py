@@ -85,6 +85,8 @@ SPREAD_RATIO_MIN = 0.8
 #: Periods of the search verdict's Benettin run, in batches for the error bar.
 VERDICT_PERIODS = 2000
 VERDICT_BATCHES = 10
+#: Contact fraction of the verdict's run below which a start is in free flight (rounding of 1 − flight/total).
+CONTACT_FRACTION_MIN = 1e-9
 #: Longest period sought in the strobe sequence of a start without a period ≤ kmax.
 LONG_PERIOD_MAX = 512
 #: Relative return distance of a strobe point that proposes a long period to Newton's method.
@@ -263,7 +265,7 @@ def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> Ver
     order, NaN rows allowed before the first): the module's rule, integrator tolerance ``rtol``."""
     try:
         spec = benettin(excitation, tail[-1], VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=False)
-        if not spec.contact_fraction > 0.0:
+        if not spec.contact_fraction > CONTACT_FRACTION_MIN:
             return Verdict("unsettled", "free flight: no contact", spec)
         after = strobe_points(excitation, spec.state, 2 * LONG_PERIOD_MAX + 1, rtol)
     except ComputationError:
