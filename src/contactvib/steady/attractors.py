@@ -15,10 +15,13 @@ Procedure
 3. Orbits are de-duplicated by the sameness rule (same period, stroboscopic sets equal to 1e-6
    relative in some cyclic order). A start that finds no period within ``max_periods`` (by
    default long enough for the linear decay in contact, :func:`.transients.transient_periods`)
-   is a non-periodic attractor only if its strobe cloud is recurrent and its largest Lyapunov
-   exponent is not negative (:func:`.transients.cloud_verdict`); otherwise it is *unsettled*:
-   counted in ``n_unsettled``, with an ``UnsettledWarning``, never reported as an
-   attractor. Non-periodic attractors are de-duplicated by the overlap of their clouds.
+   is judged by its Lyapunov spectrum over 2000 further periods (:func:`.transients.search_verdict`):
+   a stable orbit of period ≤ 512 in its strobe sequence is periodic (its true period); chaotic
+   when λ1 > 3 standard errors and its cloud is recurrent; quasi-periodic when |λ1| ≤ 3 standard
+   errors and its section is a closed curve; otherwise (a free flight that never touches the
+   contact, still converging, drifting) it is *unsettled*: counted in ``n_unsettled``, with an
+   ``UnsettledWarning``, never reported as an attractor. Non-periodic attractors are
+   de-duplicated by the overlap of their clouds.
 4. Two waves: the first ``FIRST_WAVE`` box starts and the seeds run to the end (step 2); the
    other box starts are stopped as soon as a stroboscopic point comes within ``capture_tol``
    (relative) of a strobe point of a stable periodic orbit found by the first wave, and are

@@ -150,8 +150,9 @@ class Attractor:
     period : int or None
         Minimal period in excitation periods (None: non-periodic).
     kind : str
-        ``"periodic"``, or for a proven non-periodic attractor ``"chaotic"`` (λ > 0.02) or
-        ``"quasi-periodic"`` (``|λ|`` ≤ 0.02); ``"non-periodic"`` when not classified.
+        ``"periodic"``, or for a proven non-periodic attractor ``"chaotic"`` (λ1 above 3 standard
+        errors of its Benettin estimate) or ``"quasi-periodic"`` (``|λ1|`` within 3 standard errors
+        and a stroboscopic section on a closed curve); ``"non-periodic"`` when not classified.
     minima_per_period : int or None
         Local minima of y(t) over the whole period-k orbit, counted cyclically.
     app_um, ymin_um, ymax_um : float
@@ -178,7 +179,7 @@ class Attractor:
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0, for reuse.
     lyapunov_per_period : float
         Largest Lyapunov exponent of the stroboscopic map [1/excitation period] of a
-        non-periodic attractor (NaN for periodic orbits).
+        non-periodic attractor, λ1/f_e of ``lyapunov_per_s`` (NaN for periodic orbits).
     slider_app_um : float or None
         Under base motion u(t): peak-to-peak amplitude [µm] of the slider's absolute displacement
         s = y + u over the orbit (what an accelerometer on the slider integrates to); None under
