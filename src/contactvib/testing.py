@@ -372,9 +372,9 @@ def model_ode(model, excitation):
 def power_law_variational_rhs(par):
     """The paper's nondimensional right-hand sides (contact, flight) of the state (x, x'), the
     variational equation Φ' = J Φ (Φ row-major, 4 entries) and the Liouville integral ∫ tr J dτ,
-    for ``par = (m2, l, c, p, r)`` with l ≥ 1 (the force is continuous at x = 0: no saltation)::
-
-        J = [[0, 1], [−(m2 x^(m2−1) + c l x^(l−1) x')/m2, −c x^l/m2]] in contact, [[0, 1], [0, 0]] in flight
+    for ``par = (m2, l, c, p, r)`` with l ≥ 1 (the force is continuous at x = 0: no saltation).
+    The Jacobian is J = [[0, 1], [−(m2 x^(m2−1) + c l x^(l−1) x')/m2, −c x^l/m2]] in contact and
+    [[0, 1], [0, 0]] in flight.
     """
     m2, l, c, p, r = (float(v) for v in par)
     contact_state, flight_state = power_law_rhs(par)

@@ -17,7 +17,7 @@ Procedure
    default long enough for the linear decay in contact, :func:`.transients.transient_periods`)
    is judged by its Lyapunov spectrum over 2000 further periods (:func:`.transients.search_verdict`):
    a stable orbit of period ≤ 512 in its strobe sequence is periodic (its true period); chaotic
-   when λ1 > 3 standard errors and its cloud is recurrent; quasi-periodic when |λ1| ≤ 3 standard
+   when λ1 > 3 standard errors and its cloud is recurrent; quasi-periodic when ``|λ1|`` ≤ 3 standard
    errors and its section is a closed curve; otherwise (a free flight that never touches the
    contact, still converging, drifting) it is *unsettled*: counted in ``n_unsettled``, with an
    ``UnsettledWarning``, never reported as an attractor. Non-periodic attractors are
@@ -109,7 +109,8 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
                    _n_periods, residual, z_star, monodromy, tail) -> tuple[int, int, int, np.ndarray]:
     """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
     period, strobe or tail, z, M, res, hits, box, type, spectrum) by the sameness rules, a start
-    without a period judged by :func:`.transients.search_verdict`; return the failures, the
+    without a period judged by :func:`.transients.search_verdict` unless its strobe cloud overlaps
+    one judged a non-periodic attractor already (:func:`.transients.same_cloud`); return the failures, the
     unsettled starts, the unsettled box starts and each start's group index (int64[N], −1 for
     failed and unsettled starts)."""
     n_failed = n_unsettled = n_unsettled_box = 0
@@ -117,7 +118,11 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
     for i in range(status.shape[0]):
         outcome = (int(status[i]), int(period[i]), z_star[i], monodromy[i], float(residual[i]))
         spectrum = None
-        if outcome[0] == SETTLE_NONPERIODIC:
+        known = None if outcome[0] != SETTLE_NONPERIODIC else \
+            next((j for j, g in enumerate(groups) if g["period"] is None and same_cloud(g["tail"], tail[i])), None)
+        if known is not None:
+            outcome = (SETTLE_CAPTURED, known, None, None, 0.0)  # on a cloud already judged an attractor
+        elif outcome[0] == SETTLE_NONPERIODIC:
             v = search_verdict(excitation, tail[i], rtol)
             spectrum = v.spectrum
             if v.kind == "unsettled":

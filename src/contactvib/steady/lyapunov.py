@@ -11,7 +11,7 @@ Method
     M_j Q_j = Q_{j+1} R_j (Gram–Schmidt) over N periods in one compiled loop
     (:mod:`contactvib._kernels.lyapunov`); λ_i = Σ_j ln R_j[i, i] / (N T) [1/s], in
     :data:`BATCHES` batches whose means give the standard error of each exponent.
-    A periodic orbit of period k has the exact exponents λ_i = ln |μ_i| / (k T) from its Floquet
+    A periodic orbit of period k has the exact exponents λ_i = ln ``|μ_i|`` / (k T) from its Floquet
     multipliers μ_i (:func:`floquet_spectrum`, standard error 0).
 
 Damping identity
@@ -22,7 +22,7 @@ Damping identity
     all 2n exponents is −⟨tr(M⁻¹ C(t))⟩, C with each element's current contact damping.
 
 Attractor type (the rule of the attractor search, factor :data:`SIGMA_FACTOR` = 3)
-    chaotic when λ1 > 3 · stderr(λ1); quasi-periodic when |λ1| ≤ 3 · stderr(λ1) and the
+    chaotic when λ1 > 3 · stderr(λ1); quasi-periodic when ``|λ1|`` ≤ 3 · stderr(λ1) and the
     stroboscopic section is a closed curve (:func:`closed_curve`; k curves visited in turn for a
     period-k torus); periodic when the strobe sequence closes on a stable orbit.
 
@@ -128,7 +128,7 @@ class LyapunovSpectrum:
     @property
     def attractor_type(self) -> str:
         """"chaotic" when λ1 > SIGMA_FACTOR · stderr, else "periodic" (Floquet) or "quasi-periodic"
-        where |λ1| ≤ SIGMA_FACTOR · stderr, "converging" below (the section's shape is not tested here:
+        where ``|λ1|`` ≤ SIGMA_FACTOR · stderr, "converging" below (the section's shape is not tested here:
         ``attractor_type``)."""
         return attractor_type(self)
 
@@ -153,7 +153,7 @@ def _number(x) -> float | None:
 
 def attractor_type(spec: LyapunovSpectrum, factor: float = SIGMA_FACTOR) -> str:
     """The type the spectrum alone earns: "periodic" (Floquet), "chaotic" (λ1 > factor · stderr),
-    "quasi-periodic" (|λ1| ≤ factor · stderr: a torus if its section is a closed curve) or
+    "quasi-periodic" (``|λ1|`` ≤ factor · stderr: a torus if its section is a closed curve) or
     "converging" (λ1 < −factor · stderr)."""
     if spec.method == "floquet":
         return "periodic"
@@ -171,7 +171,7 @@ def kaplan_yorke(exponents) -> float | None:
 
 
 def floquet_spectrum(multipliers, k: int, fe_hz: float, state=None) -> LyapunovSpectrum:
-    """The exponents ln |μ_i| / (k T) [1/s] of a period-k orbit (T = 1/f_e) from its Floquet
+    """The exponents ln ``|μ_i|`` / (k T) [1/s] of a period-k orbit (T = 1/f_e) from its Floquet
     multipliers, descending; standard errors 0 (no damping average: it would be Σλ_i itself)."""
     mu = np.abs(np.asarray(multipliers, complex))
     lam = np.sort(np.log(mu) * fe_hz / k)[::-1]

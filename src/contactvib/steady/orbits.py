@@ -161,7 +161,7 @@ def describe_orbit(excitation: Excitation, z, period: int | None, *, monodromy=N
     k-period; for a non-periodic attractor (of type ``kind``, "chaotic" or "quasi-periodic",
     with largest Lyapunov exponent ``lyapunov`` [1/period], or its Benettin ``spectrum``, a
     ``LyapunovSpectrum``, whose λ1/f_e then replaces it) over
-    ``n_periods_nonperiodic`` periods. A periodic orbit's exponents are ln |μ_i| / (k T) from its
+    ``n_periods_nonperiodic`` periods. A periodic orbit's exponents are ln ``|μ_i|`` / (k T) from its
     Floquet multipliers. The f_e amplitude (``first_harmonic_um``) and the mean contact force
     (``mean_contact_force_n``) are measured over the same span.
     """

@@ -195,7 +195,7 @@ class Attractor:
 
     lyapunov_per_s, lyapunov_stderr_per_s : ndarray
         The Lyapunov spectrum of the period map [1/s], descending, and the standard error of each
-        (``contactvib.steady.lyapunov``): ln |μ_i| / (k T) of a periodic orbit (standard errors 0),
+        (``contactvib.steady.lyapunov``): ln ``|μ_i|`` / (k T) of a periodic orbit (standard errors 0),
         Benettin's batch means of a non-periodic attractor; empty where not computed.
 
     ``attractor_type`` and ``kaplan_yorke_dimension`` derive from them. ``dofs`` and ``contacts``

@@ -83,7 +83,7 @@ class SystemAttractor:
     fe_hz : float
         The excitation frequency [Hz] (for the exponents per second).
 
-    Its JSON carries ``attractor_type`` ("periodic"), ``lyapunov_per_s`` (ln |μ_i| / (k T),
+    Its JSON carries ``attractor_type`` ("periodic"), ``lyapunov_per_s`` (ln ``|μ_i|`` / (k T),
     descending), ``lyapunov_stderr_per_s`` (zeros) and ``kaplan_yorke_dimension`` (null).
     """
 
@@ -118,7 +118,7 @@ class SystemAttractor:
 
     @property
     def lyapunov_per_s(self) -> np.ndarray:
-        """ln |μ_i| / (k T) [1/s] of the 2n Floquet multipliers, descending (T = 1/f_e)."""
+        """ln ``|μ_i|`` / (k T) [1/s] of the 2n Floquet multipliers, descending (T = 1/f_e)."""
         with np.errstate(divide="ignore"):
             return np.sort(np.log(np.abs(self.floquet_multipliers)) * self.fe_hz / self.period)[::-1]
 

@@ -37,7 +37,7 @@ The search's verdict (:func:`search_verdict`, used by the attractor search and t
       shooting to a stable orbit: *periodic* with its true period, however long;
     * λ1 > F · stderr and a recurrent cloud (the strobe window after the run lies in the one
       before it, as above): *chaotic*;
-    * |λ1| ≤ F · stderr and the strobe points on closed curves
+    * ``|λ1|`` ≤ F · stderr and the strobe points on closed curves
       (:func:`contactvib.steady.lyapunov.closed_curve`): *quasi-periodic*;
     * anything else (λ1 < −F · stderr without a period found, a drifting cloud): *unsettled*.
 """
