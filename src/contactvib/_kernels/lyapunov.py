@@ -105,7 +105,7 @@ def gram_schmidt(A, Q, logr):
 
 @njit(cache=True, nogil=True)
 def spectrum_map(z, par, rtol, n_transient, n_batches, per_batch, with_trace, out_log, out_trace,
-                 out_z, stop):
+                 out_z, out_strobe, stop):
     """Benettin's spectrum of the 1-DOF period map from ``z`` (phase 0).
 
     ``n_transient`` periods without the variational equation, then ``n_batches × per_batch``
@@ -115,7 +115,8 @@ def spectrum_map(z, par, rtol, n_transient, n_batches, per_batch, with_trace, ou
     Outputs: ``out_log[b, i]`` Σ ln R_ii over batch b [1]; ``out_trace[b]`` ∫ tr J dτ over batch b
     (:func:`trace_integral`; NaN when not ``with_trace`` or a period took more than
     :data:`REC_ROWS` steps); ``out_z`` the end state; ``out_z[2]`` the fraction of the
-    batches' time in contact.
+    batches' time in contact; ``out_strobe`` (m, 2) the last m stroboscopic points of the run
+    (m ≤ the periods averaged; m = 0 for none).
 
     Returns a :mod:`.flow` status (``STATUS_INTERRUPTED`` when stopped, ``STATUS_NONFINITE`` when a
     frame vector vanishes or overflows).
@@ -141,10 +142,11 @@ def spectrum_map(z, par, rtol, n_transient, n_batches, per_batch, with_trace, ou
     Q = np.eye(2)
     A = np.empty((2, 2))
     t_flight = 0.0
+    first_kept = n_batches * per_batch - out_strobe.shape[0]
     for b in range(n_batches):
         logr = np.zeros(2)
         tr = 0.0
-        for _ in range(per_batch):
+        for q in range(per_batch):
             y[2] = 1.0
             y[3] = 0.0
             y[4] = 0.0
@@ -158,6 +160,10 @@ def spectrum_map(z, par, rtol, n_transient, n_batches, per_batch, with_trace, ou
             elif with_trace:
                 tr += trace_integral(rec, irec, par)
             t_flight += tf
+            kept = b * per_batch + q - first_kept
+            if kept >= 0:
+                out_strobe[kept, 0] = y[0]
+                out_strobe[kept, 1] = y[1]
             for i in range(2):
                 for j in range(2):
                     A[i, j] = y[2 + 2 * i] * Q[0, j] + y[3 + 2 * i] * Q[1, j]

@@ -204,17 +204,20 @@ def _batch_stats(logs: np.ndarray, seconds: float) -> tuple[np.ndarray, np.ndarr
 
 
 def benettin(excitation: Excitation, z, periods: int, batches: int, transient: int = 0,
-             rtol: float = RTOL_DEFAULT, with_trace: bool = True) -> LyapunovSpectrum:
+             rtol: float = RTOL_DEFAULT, with_trace: bool = True,
+             strobe: np.ndarray | None = None) -> LyapunovSpectrum:
     """:func:`~contactvib._kernels.lyapunov.spectrum_map` from the nondimensional ``z`` (phase 0):
-    ``batches`` batches of ``periods // batches`` periods after ``transient`` periods."""
+    ``batches`` batches of ``periods // batches`` periods after ``transient`` periods; ``strobe``
+    (float[m, 2], m ≤ the periods averaged), if given, receives the run's last m strobe points."""
     per_batch = periods // batches
+    strobe = np.empty((0, 2)) if strobe is None else strobe
     logs = np.zeros((batches, 2))
     trace = np.zeros(batches)
     out = np.zeros(3)
     stop = new_stop_flag()
     st = run_interruptible(spectrum_map, np.asarray(z, float).copy(), excitation.kernel_parameters(), float(rtol),
-                           int(transient), int(batches), int(per_batch), bool(with_trace), logs, trace, out, stop,
-                           stop=stop)
+                           int(transient), int(batches), int(per_batch), bool(with_trace), logs, trace, out, strobe,
+                           stop, stop=stop)
     if st != STATUS_OK:
         raise ComputationError(f"the Lyapunov spectrum's integration failed ({status_message(st)})",
                                stage="integration")

@@ -33,10 +33,10 @@ The search's verdict (:func:`search_verdict`, used by the attractor search and t
     gives its spectrum with standard errors. Then, with F = ``SIGMA_FACTOR`` = 3:
 
     * never in contact over that run (a free flight): *unsettled*;
-    * a period k ≤ :data:`LONG_PERIOD_MAX` in the strobe sequence that follows, refined by Newton
-      shooting to a stable orbit: *periodic* with its true period, however long;
-    * λ1 > F · stderr and a recurrent cloud (the strobe window after the run lies in the one
-      before it, as above): *chaotic*;
+    * a period k ≤ :data:`LONG_PERIOD_MAX` in the strobe sequence of the run's end, refined by
+      Newton shooting to a stable orbit: *periodic* with its true period, however long;
+    * λ1 > F · stderr and a recurrent cloud (the strobe window at the run's end lies in the one
+      before the run, as above): *chaotic*;
     * ``|λ1|`` ≤ F · stderr and the strobe points on closed curves
       (:func:`contactvib.steady.lyapunov.closed_curve`): *quasi-periodic*;
     * anything else (λ1 < −F · stderr without a period found, a drifting cloud): *unsettled*.
@@ -54,7 +54,7 @@ from contactvib._kernels.settle import refine_stable_orbit
 from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation, ParameterError
 from contactvib.steady.lyapunov import LyapunovSpectrum, attractor_type, benettin, closed_curve
-from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE, strobe_points
+from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE
 
 __all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "nonperiodic_verdict", "WINDOW",
            "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO",
@@ -263,13 +263,14 @@ def long_period(excitation: Excitation, pts: np.ndarray):
 def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> Verdict:
     """The search's verdict on a start whose last strobe points are ``tail`` (nondimensional, time
     order, NaN rows allowed before the first): the module's rule, integrator tolerance ``rtol``."""
+    after = np.empty((2 * LONG_PERIOD_MAX + 1, 2))  # the run's last strobe points
     try:
-        spec = benettin(excitation, tail[-1], VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=False)
-        if not spec.contact_fraction > CONTACT_FRACTION_MIN:
-            return Verdict("unsettled", "free flight: no contact", spec)
-        after = strobe_points(excitation, spec.state, 2 * LONG_PERIOD_MAX + 1, rtol)
+        spec = benettin(excitation, tail[-1], VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=False,
+                        strobe=after)
     except ComputationError:
         return Verdict("unsettled", "integration failed")
+    if not spec.contact_fraction > CONTACT_FRACTION_MIN:
+        return Verdict("unsettled", "free flight: no contact", spec)
     typ = attractor_type(spec)
     cloud = after[-2 * WINDOW:]
     if typ == "chaotic":
