@@ -243,7 +243,7 @@ def test_sigint_interrupts_a_long_search_within_a_second(into_search):
 
 
 def test_sigint_in_the_nonperiodic_verdict_ends_the_run(monkeypatch, capsys):
-    """SIGINT while the chaotic starts' Lyapunov exponents are computed (after the starts'
+    """SIGINT while the chaotic starts' Lyapunov spectra are computed (after the starts'
     kernel has returned) is not lost: one line, exit 130, no table."""
     import contactvib.steady.attractors as search
 
@@ -254,8 +254,8 @@ def test_sigint_in_the_nonperiodic_verdict_ends_the_run(monkeypatch, capsys):
         signal.raise_signal(signal.SIGINT)
         return real(*args)
 
-    real = search.nonperiodic_verdict
-    monkeypatch.setattr(search, "nonperiodic_verdict", verdict)
+    real = search.search_verdict
+    monkeypatch.setattr(search, "search_verdict", verdict)
     rc = main(["attractors", "--pa", "0.65", "--fe", "232", "--starts", "64", "--no-seeds"])
     out, err = capsys.readouterr()
     assert calls == [1]

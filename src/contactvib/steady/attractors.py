@@ -16,7 +16,7 @@ Procedure
    relative in some cyclic order). A start that finds no period within ``max_periods`` (by
    default long enough for the linear decay in contact, :func:`.transients.transient_periods`)
    is judged by its Lyapunov spectrum over 2000 further periods (:func:`.transients.search_verdict`):
-   a stable orbit of period ≤ 512 in its strobe sequence is periodic (its true period); chaotic
+   a stable orbit of period kmax < k ≤ 512 in its strobe sequence is periodic (its true period); chaotic
    when λ1 > 3 standard errors and its cloud is recurrent; quasi-periodic when ``|λ1|`` ≤ 3 standard
    errors and its section is a closed curve; otherwise (a free flight that never touches the
    contact, still converging, drifting) it is *unsettled*: counted in ``n_unsettled``, with an
@@ -106,10 +106,10 @@ def ballistic_seeds(excitation: Excitation, max_flight_periods: int = 2):
 
 
 def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, status, period,
-                   _n_periods, residual, z_star, monodromy, tail) -> tuple[int, int, int, np.ndarray]:
+                   _n_periods, residual, z_star, monodromy, tail, kmax: int = 0) -> tuple[int, int, int, np.ndarray]:
     """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
     period, strobe or tail, z, M, res, hits, box, type, spectrum) by the sameness rules, a start
-    without a period judged by :func:`.transients.search_verdict` unless its strobe cloud overlaps
+    without a period ≤ ``kmax`` judged by :func:`.transients.search_verdict` unless its strobe cloud overlaps
     one judged a non-periodic attractor already (:func:`.transients.same_cloud`); return the failures, the
     unsettled starts, the unsettled box starts and each start's group index (int64[N], −1 for
     failed and unsettled starts)."""
@@ -123,7 +123,7 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
         if known is not None:
             outcome = (SETTLE_CAPTURED, known, None, None, 0.0)  # on a cloud already judged an attractor
         elif outcome[0] == SETTLE_NONPERIODIC:
-            v = search_verdict(excitation, tail[i], rtol)
+            v = search_verdict(excitation, tail[i], rtol, kmax)
             spectrum = v.spectrum
             if v.kind == "unsettled":
                 n_unsettled += 1
@@ -303,7 +303,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
             if progress is not None and (chunks > 1 or sl.stop == Z.shape[0]):
                 progress(done[0], n_starts + Zs.shape[0])
         out = parts[0] if len(parts) == 1 else tuple(np.concatenate(a) for a in zip(*parts))
-        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out)[:3]
+        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out, kmax=kmax)[:3]
 
     done = [0]
     if progress is not None:

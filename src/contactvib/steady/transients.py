@@ -33,8 +33,10 @@ The search's verdict (:func:`search_verdict`, used by the attractor search and t
     gives its spectrum with standard errors. Then, with F = ``SIGMA_FACTOR`` = 3:
 
     * never in contact over that run (a free flight): *unsettled*;
-    * a period k ≤ :data:`LONG_PERIOD_MAX` in the strobe sequence of the run's end, refined by
-      Newton shooting to a stable orbit: *periodic* with its true period, however long;
+    * a period kmax < k ≤ :data:`LONG_PERIOD_MAX` in the strobe sequence of the run's end, refined
+      by Newton shooting to a stable orbit of that minimal period: *periodic* with its true period,
+      however long (a start still converging onto an orbit of period ≤ kmax, which the settling
+      would have found within a longer ``max_periods``, stays unsettled);
     * λ1 > F · stderr and a recurrent cloud (the strobe window at the run's end lies in the one
       before the run, as above): *chaotic*;
     * ``|λ1|`` ≤ F · stderr and the strobe points on closed curves
@@ -242,27 +244,30 @@ class Verdict:
     cloud: np.ndarray | None = None
 
 
-def long_period(excitation: Excitation, pts: np.ndarray):
-    """A stable orbit of period k ≤ :data:`LONG_PERIOD_MAX` through the last of the strobe points
-    ``pts`` (time order): the shortest returns within :data:`LONG_PERIOD_TOL` refined by Newton's
-    method (:func:`~contactvib._kernels.settle.refine_stable_orbit`, minimal period); ``(k, z, M,
+def long_period(excitation: Excitation, pts: np.ndarray, kmin: int = 1):
+    """A stable orbit of minimal period ``kmin`` ≤ k ≤ :data:`LONG_PERIOD_MAX` through the last of
+    the strobe points ``pts`` (time order): the shortest returns k ≥ ``kmin`` within
+    :data:`LONG_PERIOD_TOL` refined by Newton's method
+    (:func:`~contactvib._kernels.settle.refine_stable_orbit`, minimal period); ``(k, z, M,
     residual)`` or None."""
     last = pts[-1]
     sc = max(1.0, float(np.max(np.abs(last))))
     kmax = min(LONG_PERIOD_MAX, pts.shape[0] - 1)
     d = np.max(np.abs(pts[-2:-kmax - 2:-1] - last), axis=1) / sc
+    d[:kmin - 1] = np.inf
     par = excitation.kernel_parameters()
     for k in (np.flatnonzero(d < LONG_PERIOD_TOL)[:LONG_PERIOD_TRIES] + 1):
         oz, oM = np.empty(2), np.zeros((2, 2))
         ok, kk, res = refine_stable_orbit(last.copy(), int(k), par, RTOL_REFINE, CLOSE_TOL, oz, oM)
-        if ok:
+        if ok and kk >= kmin:
             return int(kk), oz, oM, float(res)
     return None
 
 
-def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> Verdict:
+def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float, kmax: int = 0) -> Verdict:
     """The search's verdict on a start whose last strobe points are ``tail`` (nondimensional, time
-    order, NaN rows allowed before the first): the module's rule, integrator tolerance ``rtol``."""
+    order, NaN rows allowed before the first) that found no period ≤ ``kmax`` while settling: the
+    module's rule, integrator tolerance ``rtol``."""
     after = np.empty((2 * LONG_PERIOD_MAX + 1, 2))  # the run's last strobe points
     try:
         spec = benettin(excitation, tail[-1], VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=False,
@@ -277,7 +282,7 @@ def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -> Ver
         before = tail[np.all(np.isfinite(tail), axis=1)][-WINDOW:]
         why = _unsettled_cloud(np.vstack([before, after[-WINDOW:]])) if before.shape[0] == WINDOW else None
         return Verdict("unsettled", why, spec) if why else Verdict("chaotic", "λ1 > 3 stderr", spec, cloud=cloud)
-    found = long_period(excitation, after)
+    found = long_period(excitation, after, kmax + 1)
     if found is not None:
         k, z, M, res = found
         return Verdict("periodic", f"period {k}", spec, k, z, M, res)
