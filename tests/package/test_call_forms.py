@@ -30,7 +30,9 @@ POSITIONAL = {
     "hb_continuation": ["model"], "trace_level": ["model"], "resonance_dataset": ["model"],
     "reproduce_paper": ["model"],
     "open_resonance": ["path"], "attractors_at": ["ds"], "animate": ["dataset", "out"], "open_levels": ["path"],
-    "regime_maps": ["ds"], "fit": [],
+    "regime_maps": ["ds"], "fit": [], "poincare_sections": ["excitation", "attractors"],
+    "orbit_diagram": ["model"],
+    "orbit_period": ["excitation"], "follow_cascade": ["model"], "cascades_at": ["model"],
 }
 
 

@@ -19,6 +19,7 @@ from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.friction import friction
 from contactvib.cli.lyapunov import lyapunov
 from contactvib.cli.regimes import map_
+from contactvib.cli.sections import orbit_diagram, section
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
 from contactvib.errors import ComputationError
@@ -46,8 +47,8 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, lyapunov, basins, resonance, atlas, query, paper, animate, continue_,
-                 bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
+for _command in (attractors, simulate, lyapunov, section, orbit_diagram, basins, resonance, atlas, query, paper,
+                 animate, continue_, bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
     cli.add_command(_command)
 
 
