@@ -80,6 +80,8 @@ def test_too_short_a_limit_reports_unsettled_not_attractors():
     assert res.n_unsettled == res.n_box + res.n_seeds
     assert res.unsettled_fraction == 1.0
     assert res.to_dict()["n_unsettled"] == res.n_unsettled
+    # every start is still spiralling into the period-1 focus (|mu| = 0.983 per period)
+    assert res.to_dict()["unsettled_reasons"] == {"still converging": res.n_unsettled}
 
 
 def test_cli_exits_nonzero_when_nothing_settles(capsys):

@@ -71,11 +71,14 @@ def test_exponential_law_point_has_only_periodic_attractors():
     """The exponential law (c_e = 205.28, λ = 0.1 µm) at P_a = 1.033 N, 1563 Hz: bouncing
     transients that drift with the slow loss of energy per impact are unsettled; every listed
     attractor is periodic and touches the contact (y_max > 0); with the old 64-period λ rule
-    seven of them were listed as chaotic and several as quasi-periodic."""
+    nine were listed as chaotic (two of them in free flight, y_max < 0) and three as
+    quasi-periodic; the unsettled starts are counted by reason, some of them free flights."""
     model = ContactModel(law="exponential", c_e=205.27978893320068, lam=1e-07)
     exc = model.excitation(1.032993 / model.Q, 1563.0)
     res = _search(exc)
     assert len(res) >= 3
     assert all(a.attractor_type == "periodic" and a.ymax_um > 0.0 for a in res)
     assert res.n_unsettled > 0 and res.to_dict()["n_unsettled"] == res.n_unsettled
+    reasons = res.to_dict()["unsettled_reasons"]
+    assert sum(reasons.values()) == res.n_unsettled and reasons.get("free flight: no contact", 0) > 0
     assert not any(math.isnan(x) for a in res for x in a.lyapunov_per_s)

@@ -105,14 +105,16 @@ def ballistic_seeds(excitation: Excitation, max_flight_periods: int = 2):
     return np.array(Z, float).reshape(-1, 2), np.array(ph, float)
 
 
-def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, status, period,
-                   _n_periods, residual, z_star, monodromy, tail, kmax: int = 0) -> tuple[int, int, int, np.ndarray]:
-    """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
+def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, outcomes: tuple, *,
+                   kmax: int = 0, reasons: dict | None = None) -> tuple[int, int, int, np.ndarray]:
+    """Add the ``outcomes`` of :func:`settle_capture_many` (its tuple of outputs) to ``groups`` (one dict per attractor:
     period, strobe or tail, z, M, res, hits, box, type, spectrum) by the sameness rules, a start
     without a period ≤ ``kmax`` judged by :func:`.transients.search_verdict` unless its strobe cloud overlaps
-    one judged a non-periodic attractor already (:func:`.transients.same_cloud`); return the failures, the
+    one judged a non-periodic attractor already (:func:`.transients.same_cloud`), the verdict's
+    reason of each unsettled start counted in ``reasons`` (if given); return the failures, the
     unsettled starts, the unsettled box starts and each start's group index (int64[N], −1 for
     failed and unsettled starts)."""
+    status, period, _n_periods, residual, z_star, monodromy, tail = outcomes
     n_failed = n_unsettled = n_unsettled_box = 0
     labels = np.full(status.shape[0], -1, np.int64)
     for i in range(status.shape[0]):
@@ -126,6 +128,8 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
             v = search_verdict(excitation, tail[i], rtol, kmax)
             spectrum = v.spectrum
             if v.kind == "unsettled":
+                if reasons is not None:
+                    reasons[v.reason] = reasons.get(v.reason, 0) + 1
                 n_unsettled += 1
                 n_unsettled_box += int(in_box[i])
                 continue
@@ -293,6 +297,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
     n_first = min(n_starts, FIRST_WAVE)
     groups: list[dict] = []  # each: period, strobe or tail, z, M, res, hits, box, type, spectrum
     counts = np.zeros(3, np.int64)  # failed, unsettled, unsettled box starts
+    reasons: dict[str, int] = {}  # unsettled starts by the verdict's reason
 
     def run(Z, ph, in_box, cap_pts, cap_id):
         parts = []
@@ -303,7 +308,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
             if progress is not None and (chunks > 1 or sl.stop == Z.shape[0]):
                 progress(done[0], n_starts + Zs.shape[0])
         out = parts[0] if len(parts) == 1 else tuple(np.concatenate(a) for a in zip(*parts))
-        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out, kmax=kmax)[:3]
+        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, out, kmax=kmax, reasons=reasons)[:3]
 
     done = [0]
     if progress is not None:
@@ -346,6 +351,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
         n_failed=n_failed,
         n_unsettled=n_unsettled,
         unsettled_fraction=n_unsettled_box / n_starts,
+        unsettled_reasons=dict(sorted(reasons.items())),
         settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
                   "seeds": seeds, "detect_tol": detect_tol, "rtol_transient": rtol_transient,
                   "capture_tol": capture_tol, "first_wave": n_first,

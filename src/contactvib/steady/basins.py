@@ -154,7 +154,7 @@ def basin_block(model: ContactModel, excitation: Excitation, search: AttractorSe
     out = settle_starts(excitation, Z, np.zeros(Z.shape[0]), s["kmax"], s["max_periods"], s["detect_tol"],
                         s["rtol_transient"], cap_pts, cap_id, s["capture_tol"])
     n_failed, n_unsettled, _, labels = group_outcomes(groups, excitation, np.ones(Z.shape[0], bool),
-                                                      s["rtol_transient"], *out, kmax=s["kmax"])
+                                                      s["rtol_transient"], out, kmax=s["kmax"])
     new = [{k: v for k, v in g.items() if k not in ("hits", "box")} for g in groups[n_known:]]
     return BasinBlock(rows=(r0, r1), labels=labels.reshape(r1 - r0, grid[0]), new=new,
                       n_failed=int(n_failed), n_unsettled=int(n_unsettled))

@@ -311,6 +311,10 @@ class AttractorSet:
     unsettled_fraction : float
         Share of the box starts among them [1]; the basin fractions add up to 1 minus this
         (and the failed box starts).
+    unsettled_reasons : dict
+        The unsettled starts by the reason of the search's verdict ("free flight: no contact",
+        "still converging", "strobe cloud still drifting", ...); the counts add up to
+        ``n_unsettled``.
     model, excitation : dict
         What produced the result: the model's parameters (``ContactModel.parameters``, with the
         law, its parameters and a table's content hash) and ``Excitation.describe()``.
@@ -328,6 +332,7 @@ class AttractorSet:
     n_unsettled: int = 0
     unsettled_fraction: float = 0.0
     model: dict | None = None
+    unsettled_reasons: dict = field(default_factory=dict)
     excitation: dict | None = None
 
     def __len__(self):
@@ -351,6 +356,7 @@ class AttractorSet:
             "n_failed": int(self.n_failed),
             "n_unsettled": int(self.n_unsettled),
             "unsettled_fraction": float(self.unsettled_fraction),
+            "unsettled_reasons": {str(k): int(v) for k, v in self.unsettled_reasons.items()},
             "max_periods": int(self.settings.get("max_periods", 0)),
             "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
                       "f": "Hz", "P_a": "Q = M g"},
