@@ -12,7 +12,7 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`poincare_sections`, :func
 :func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
 :func:`open_resonance` (a stored dataset, :class:`ResonanceData`), :func:`attractors_at`,
 :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`,
-:func:`friction_at`.
+:func:`friction_at`, :func:`lyapunov_spectrum` (:class:`LyapunovSpectrum`).
 """
 
 __version__ = "0.1.0"
@@ -29,6 +29,8 @@ _LAZY = {
     "FitResult": ("contactvib.fitting.results", "FitResult"),
     # steady states
     "find_attractors": ("contactvib.steady.attractors", "find_attractors"),
+    "lyapunov_spectrum": ("contactvib.steady.lyapunov", "lyapunov_spectrum"),
+    "LyapunovSpectrum": ("contactvib.steady.lyapunov", "LyapunovSpectrum"),
     "simulate": ("contactvib.steady.simulate", "simulate"),
     "attractor_history": ("contactvib.steady.simulate", "attractor_history"),
     "basins": ("contactvib.steady.basins", "basins"),

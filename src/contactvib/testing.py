@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["ContactODE", "ModeTrajectory", "Trajectory", "initial_mode", "integrate_contact",
-           "integrate_modes", "model_ode", "power_law_rhs", "scipy_in_contact"]
+__all__ = ["ContactODE", "ModeTrajectory", "Trajectory", "benettin_reference", "initial_mode", "integrate_contact",
+           "integrate_modes", "model_ode", "power_law_rhs", "power_law_variational_rhs", "scipy_in_contact"]
 
 #: consecutive zero-length segments after which :func:`integrate_modes` gives up (a trajectory
 #: held on y = 0 by opposing fields, which two modes switched at y = 0 cannot represent)
@@ -367,3 +367,57 @@ def model_ode(model, excitation):
         return amp * math.cos(w * t) + sum(a * math.cos(wk * t + ph) for wk, a, ph in terms)
 
     return ContactODE(m.M, W, lambda y, v: spring(y) + rate(y) * v, forcing, rate)
+
+
+def power_law_variational_rhs(par):
+    """The paper's nondimensional right-hand sides (contact, flight) of the state (x, x'), the
+    variational equation Φ' = J Φ (Φ row-major, 4 entries) and the Liouville integral ∫ tr J dτ,
+    for ``par = (m2, l, c, p, r)`` with l ≥ 1 (the force is continuous at x = 0: no saltation).
+    The Jacobian is J = [[0, 1], [−(m2 x^(m2−1) + c l x^(l−1) x')/m2, −c x^l/m2]] in contact and
+    [[0, 1], [0, 0]] in flight.
+    """
+    m2, l, c, p, r = (float(v) for v in par)
+    contact_state, flight_state = power_law_rhs(par)
+
+    def contact(t, s):
+        x, v = s[0], s[1]
+        xp = max(x, 0.0)
+        j21 = -(m2 * xp ** (m2 - 1.0) + c * l * xp ** (l - 1.0) * v) / m2
+        j22 = -c * xp ** l / m2
+        return [*contact_state(t, s[:2]), s[4], s[5], j21 * s[2] + j22 * s[4], j21 * s[3] + j22 * s[5], j22]
+
+    def flight(t, s):
+        return [*flight_state(t, s[:2]), s[4], s[5], 0.0, 0.0, 0.0]
+
+    return contact, flight
+
+
+def benettin_reference(par, z0, n_periods: int, rtol: float = 1e-10):
+    """Benettin's QR method on the paper's period map with scipy (:func:`integrate_modes`, DOP853,
+    located switches), the reference of ``contactvib.steady.lyapunov``: each period from Φ = I,
+    the frame advanced by Gram–Schmidt of M_j Q_j.
+
+    Returns
+    -------
+    logr : ndarray (n_periods, 2)
+        ln R_j[i, i] of each period [1].
+    trace : ndarray (n_periods,)
+        ∫ tr J dτ over each period [1].
+    z : ndarray (2,)
+        The state after ``n_periods``.
+    """
+    f_contact, f_flight = power_law_variational_rhs(par)
+    T = 2.0 * math.pi / float(par[4])
+    z = np.array(z0, float)
+    Q = np.eye(2)
+    logr, trace = np.zeros((n_periods, 2)), np.zeros(n_periods)
+    for j in range(n_periods):
+        s = np.concatenate([z, [1.0, 0.0, 0.0, 1.0, 0.0]])
+        tr = integrate_modes(f_contact, f_flight, s, 0.0, T, rtol=rtol, atol=rtol)
+        z, M = tr.y[:2].copy(), tr.y[2:6].reshape(2, 2)
+        Q, R = np.linalg.qr(M @ Q)
+        sign = np.sign(np.diag(R))
+        Q, R = Q * sign, (R.T * sign).T
+        logr[j] = np.log(np.diag(R))
+        trace[j] = tr.y[6]
+    return logr, trace, z

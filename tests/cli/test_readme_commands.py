@@ -89,6 +89,11 @@ REDUCED: dict[str, list[str]] = {
         ["animate", "paper/", "--out", "evolution.gif", "--gif", "--fps", "1", "--size", "320x160"],
     "contactvib attractors --pa 0.65 --fe 360":
         ["attractors", "--pa", "0.65", "--fe", "360", "--starts", "32"],
+    "contactvib lyapunov --pa 0.75 --fe 816.5 --periods 20000":
+        ["lyapunov", "--pa", "0.75", "--fe", "816.5", "--periods", "2000"],
+    "contactvib lyapunov --pa 0.75 --fe 816.5 --y0-um -0.2008106 --v0-mm-s -4.1066862 --transient 0 --json":
+        ["lyapunov", "--pa", "0.75", "--fe", "816.5", "--y0-um", "-0.2008106", "--v0-mm-s", "-4.1066862",
+         "--transient", "0", "--json", "--periods", "2000"],
     "contactvib attractors --pa 0.65 --fe 360 --json":
         ["attractors", "--pa", "0.65", "--fe", "360", "--json", "--starts", "32"],
     "contactvib simulate --pa 0.65 --fe 360 --out fig4/":
@@ -736,6 +741,13 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         assert d["harmonics"] == 16 and (d["fmin_hz"], d["fmax_hz"]) == (300.0, 340.0) and d["branches"]
     elif cmd == "friction":
         _check_friction(args, folder, out)
+    elif cmd == "lyapunov" and "--json" in args:  # one trajectory on the chaotic attractor
+        s = json.loads(out)["spectra"][0]
+        assert s["attractor_type"] == "chaotic" and s["lyapunov_per_s"][0] > 3 * s["lyapunov_stderr_per_s"][0]
+    elif cmd == "lyapunov":  # one row per attractor: Floquet exponents, Benettin's for the chaotic one
+        rows = out.splitlines()[1:]
+        assert "exponents [1/s]" in out.splitlines()[0] and len(rows) >= 4
+        assert sum("chaotic" in r and "benettin" in r for r in rows) == 1
     else:
         raise AssertionError(f"no output check for {line!r}: add one to this test")
 

@@ -5,7 +5,6 @@ figures per coordinate, and a bad value as the CLI's one-line error."""
 from __future__ import annotations
 
 import pytest
-
 from test_explore_browser import CHROMIUM, _cli_json, _set_field, _wait_done, browser, served  # noqa: F401
 
 pytestmark = [pytest.mark.browser,

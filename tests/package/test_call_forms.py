@@ -24,7 +24,7 @@ POSITIONAL = {
     "attractor_history": ["excitation", "attractor"], "refine_orbit": ["excitation", "z", "k"],
     "describe_orbit": ["excitation", "z", "period"], "continue_orbit": ["excitation", "state", "period"],
     "hb_solve": ["excitation"], "perturbation_series": ["excitation"], "friction_at": ["excitation", "attractor"],
-    "coefficients_from_orbit": ["excitation", "z"],
+    "coefficients_from_orbit": ["excitation", "z"], "lyapunov_spectrum": ["excitation", "state"],
     "switch_period_doubling": ["model", "special"], "continue_attractors": ["model"],
     "bifurcation_diagram": ["model"], "evolution": ["model"], "perturbation_curve": ["model"],
     "hb_continuation": ["model"], "trace_level": ["model"], "resonance_dataset": ["model"],

@@ -9,6 +9,8 @@ COMPUTATIONS = [
     "contactvib.steady.attractors.find_attractors",
     "contactvib.steady.attractors.start_box",
     "contactvib.steady.simulate.simulate",
+    "contactvib.steady.lyapunov.lyapunov_spectrum",
+    "contactvib.steady.lyapunov.system_lyapunov_spectrum",
     "contactvib.steady.basins.basins",
     "contactvib.steady.orbit_diagram.orbit_diagram",
     "contactvib.sweeps.resonance.resonance_dataset",

@@ -80,6 +80,8 @@ def test_too_short_a_limit_reports_unsettled_not_attractors():
     assert res.n_unsettled == res.n_box + res.n_seeds
     assert res.unsettled_fraction == 1.0
     assert res.to_dict()["n_unsettled"] == res.n_unsettled
+    # every start is still spiralling into the period-1 focus (|mu| = 0.983 per period)
+    assert res.to_dict()["unsettled_reasons"] == {"still converging": res.n_unsettled}
 
 
 def test_cli_exits_nonzero_when_nothing_settles(capsys):
@@ -243,7 +245,7 @@ def test_sigint_interrupts_a_long_search_within_a_second(into_search):
 
 
 def test_sigint_in_the_nonperiodic_verdict_ends_the_run(monkeypatch, capsys):
-    """SIGINT while the chaotic starts' Lyapunov exponents are computed (after the starts'
+    """SIGINT while the chaotic starts' Lyapunov spectra are computed (after the starts'
     kernel has returned) is not lost: one line, exit 130, no table."""
     import contactvib.steady.attractors as search
 
@@ -254,8 +256,8 @@ def test_sigint_in_the_nonperiodic_verdict_ends_the_run(monkeypatch, capsys):
         signal.raise_signal(signal.SIGINT)
         return real(*args)
 
-    real = search.nonperiodic_verdict
-    monkeypatch.setattr(search, "nonperiodic_verdict", verdict)
+    real = search.search_verdict
+    monkeypatch.setattr(search, "search_verdict", verdict)
     rc = main(["attractors", "--pa", "0.65", "--fe", "232", "--starts", "64", "--no-seeds"])
     out, err = capsys.readouterr()
     assert calls == [1]

@@ -93,7 +93,12 @@ OPTIONS = {
                  "--ft": "value"},
     "fit": {"--static": "value", "--decay": "value", "--frf": "value", "--set": "set", "--fix": "value",
             "--bounds": "value", "--starts": "value", "--seed": "value", "--save-model": "value"},
-    "explore": {"--system": "value", "--port": "value", "--host": "value", "--time-limit": "value", "--graph-fmin": "value",
+    "lyapunov": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set", "--starts": "value",
+                 "--seed": "value", "--kmax": "value", "--max-periods": "value", "--periods": "value",
+                 "--batches": "value", "--transient": "value", "--y0-um": "value", "--v0-mm-s": "value",
+                 "--from-state": "pair"},
+    "explore": {"--system": "value", "--port": "value", "--host": "value", "--time-limit": "value",
+                "--graph-fmin": "value",
                 "--graph-fmax": "value", "--graph-df": "value", "--graph-time-limit": "value"},
 }
 
@@ -101,11 +106,11 @@ OPTIONS = {
 #: options of the commands at one operating point.
 LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload": "value", "--model": "value"}
 EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
-for _name in ("attractors", "simulate", "section", "basins", "perturbation", "friction"):
+for _name in ("attractors", "simulate", "section", "basins", "perturbation", "friction", "lyapunov"):
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 #: A system of several degrees of freedom (`rocking` or a TOML file) at one operating point.
-for _name in ("attractors", "simulate", "continue"):
+for _name in ("attractors", "simulate", "continue", "lyapunov"):
     OPTIONS[_name]["--system"] = "value"
 OPTIONS["continue"].update({"--pa-newton": "value", "--coordinate": "value"})
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore",
@@ -129,7 +134,9 @@ NEEDS = {("simulate", "--periods"): ["--from-state", "0.1", "0"],
          ("continue", "--pa-min"): ["--parameter", "pa"], ("continue", "--pa-max"): ["--parameter", "pa"],
          ("continue", "--pa"): ["--parameter", "pa"],
          ("friction", "--df"): ["--fe-range", "300", "400"], ("friction", "--nvd"): ["--vd-range", "0.01", "1"],
-         ("friction", "--ft"): ["--drive", "force"]}
+         ("friction", "--ft"): ["--drive", "force"],
+         ("lyapunov", "--y0-um"): ["--v0-mm-s", "0"], ("lyapunov", "--v0-mm-s"): ["--y0-um", "0.1"],
+         ("lyapunov", "--from-state"): ["--system", "rocking"]}
 
 CASES = [pytest.param(c, o, k, id=f"{c}{o}") for c, opts in OPTIONS.items() for o, k in opts.items()]
 
@@ -157,7 +164,7 @@ def _argv(command, option, kind, value, tmp_path, small_dataset):
         head += ["--out", str(tmp_path / "out.png")]
         if command == "orbit-diagram":
             head += ["--fe-from", "810", "--fe-to", "811", "--fe-step", "1"]
-    elif command not in ("attractors", "query", "explore"):  # explore writes nothing
+    elif command not in ("attractors", "query", "explore", "lyapunov"):  # these write nothing
         head += ["--out", str(tmp_path / "out")]
     head += NEEDS.get((command, option), [])
     if kind == "levels":

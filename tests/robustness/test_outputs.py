@@ -48,6 +48,7 @@ COMMANDS = [
     pytest.param("friction", ["--vd-range", "0.01", "1", "--nvd", "3", "--json"], id="friction-vd-range"),
     pytest.param("fit", ["--static", str(EXAMPLES / "fit_static.csv"), "--set", "M=0.2106"], id="fit"),
     _writes_nothing("attractors"),
+    _writes_nothing("lyapunov"),
     _writes_nothing("query"),
     _writes_nothing("explore"),  # a server: it writes no file
 ]

@@ -36,6 +36,12 @@ def _check_json(d: dict, n: int, m: int) -> None:
         assert len(a["floquet_multipliers"]) == 2 * n and all(len(mu) == 2 for mu in a["floquet_multipliers"])
         assert [set(x) for x in a["dofs"]] == [DOF_KEYS] * n and [set(c) for c in a["contacts"]] == [CONTACT_KEYS] * m
         assert a["stable"] == (a["floquet_abs_max"] <= 1.0 + 1e-6)
+        # the Lyapunov keys: a periodic orbit's 2n exponents ln|mu_i| f_e / k, descending, exact
+        assert a["attractor_type"] == "periodic" and a["kaplan_yorke_dimension"] is None
+        mu = np.abs([complex(*m) for m in a["floquet_multipliers"]])
+        expected = np.sort(np.log(mu) * d["fe_hz"] / a["period"])[::-1]
+        np.testing.assert_allclose(a["lyapunov_per_s"], expected, rtol=1e-12)
+        assert a["lyapunov_stderr_per_s"] == [0.0] * 2 * n
 
 
 def test_the_file_system_orbit_is_periodic_in_scipy():

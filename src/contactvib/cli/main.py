@@ -17,6 +17,7 @@ from contactvib.cli.film import animate
 from contactvib.cli.fit import fit
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.friction import friction
+from contactvib.cli.lyapunov import lyapunov
 from contactvib.cli.regimes import map_
 from contactvib.cli.sections import orbit_diagram, section
 from contactvib.cli.steady import attractors, simulate
@@ -46,8 +47,8 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, section, orbit_diagram, basins, resonance, atlas, query, paper, animate,
-                 continue_, bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
+for _command in (attractors, simulate, lyapunov, section, orbit_diagram, basins, resonance, atlas, query, paper,
+                 animate, continue_, bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
     cli.add_command(_command)
 
 

@@ -29,7 +29,7 @@ from contactvib.cli.common import (
 from contactvib.model import ParameterError
 
 __all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "load_system_option",
-           "system_operating_point", "option_given", "modes_text", "system_label"]
+           "system_operating_point", "option_given", "modes_text", "system_label", "system_lyapunov"]
 
 #: The --system option of the command being run.
 _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", default=None)
@@ -281,3 +281,34 @@ modes_text = _modes_text
 def system_label() -> str:
     """The --system value of the command being run ("rocking" or the file's path)."""
     return _SYSTEM.get()["system"]
+
+
+def system_lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, from_state, kw: dict,
+                    as_json) -> None:
+    """``contactvib lyapunov --system ...``: the 2n exponents [1/s] of every periodic attractor
+    (Floquet) or, with --from-state, of one trajectory (Benettin; ``kw``: periods, batches,
+    transient_periods, checked)."""
+    from contactvib.steady.lyapunov import system_lyapunov_spectrum
+
+    system, model, label = _load(settings)
+    p, f_e, level = _excitation(model, label, pa, pa_newton, fe)
+    names = {"periods": "--periods", "batches": "--batches", "transient_periods": "--transient"}
+    if from_state is not None:
+        q0, v0 = _from_state(system, from_state)
+        with ctrl_c():
+            spec = mapped_options(names, system_lyapunov_spectrum, system, p, f_e, [*q0, *v0], **kw)
+        rows = [("-", "trajectory", None, spec)]
+    else:
+        result = _search(system, p, f_e, starts, seed, kmax, max_periods)
+        rows = [(i, a.attractor_type, a.period, system_lyapunov_spectrum(system, p, f_e, a, **kw))
+                for i, a in enumerate(result)]
+    if as_json:
+        echo_json({"system": label, "pa_newton": p, "fe_hz": f_e, "units": {"lyapunov": "1/s"},
+                   "spectra": [{"attractor": None if i == "-" else i, "attractor_type": t, "period": k,
+                                **s.to_dict()} for i, t, k, s in rows]})
+        return
+    click.echo(f"system {label}: {level}, f_e = {f_e:g} Hz: exponents [1/s] ± standard error")
+    for i, t, k, s in rows:
+        lam = "  ".join(f"{v:+.5g} ± {e:.2g}" for v, e in zip(s.exponents_per_s, s.stderr_per_s))
+        click.echo(f"{i:>2} {t:>10} {'-' if k is None else k:>6} {s.method:>8}  {lam}  sum {s.sum_per_s:+.6g}")
+

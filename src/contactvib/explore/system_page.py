@@ -39,7 +39,8 @@ def system_table_html(result, request: int = 0) -> str:
         return "<p>no periodic attractor settled (see the message above)</p>"
     head = ["#", "period", "minima", "|μ|max", "stable", "basin"]
     head += [f"{d['name']} A_pp [{d['unit'].replace('u', 'µ', 1)}]" for d in rows[0]["dofs"]]
-    head += [f"{c['name']} open" for c in rows[0]["contacts"]] + [f"{c['name']} mean F [N]" for c in rows[0]["contacts"]]
+    head += [f"{c['name']} open" for c in rows[0]["contacts"]]
+    head += [f"{c['name']} mean F [N]" for c in rows[0]["contacts"]]
     out = [f'<table id="system-attractors" data-request="{request}"><tr>'
            + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"]
     for i, d in enumerate(rows):

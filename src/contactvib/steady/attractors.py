@@ -15,10 +15,13 @@ Procedure
 3. Orbits are de-duplicated by the sameness rule (same period, stroboscopic sets equal to 1e-6
    relative in some cyclic order). A start that finds no period within ``max_periods`` (by
    default long enough for the linear decay in contact, :func:`.transients.transient_periods`)
-   is a non-periodic attractor only if its strobe cloud is recurrent and its largest Lyapunov
-   exponent is not negative (:func:`.transients.cloud_verdict`); otherwise it is *unsettled*:
-   counted in ``n_unsettled``, with an ``UnsettledWarning``, never reported as an
-   attractor. Non-periodic attractors are de-duplicated by the overlap of their clouds.
+   is judged by its Lyapunov spectrum over 2000 further periods (:func:`.transients.search_verdict`):
+   a stable orbit of period kmax < k ≤ 512 in its strobe sequence is periodic (its true period); chaotic
+   when λ1 > 3 standard errors and its cloud is recurrent; quasi-periodic when ``|λ1|`` ≤ 3 standard
+   errors and its section is a closed curve; otherwise (a free flight that never touches the
+   contact, still converging, drifting) it is *unsettled*: counted in ``n_unsettled``, with an
+   ``UnsettledWarning``, never reported as an attractor. Non-periodic attractors are
+   de-duplicated by the overlap of their clouds.
 4. Two waves: the first ``FIRST_WAVE`` box starts and the seeds run to the end (step 2); the
    other box starts are stopped as soon as a stroboscopic point comes within ``capture_tol``
    (relative) of a strobe point of a stable periodic orbit found by the first wave, and are
@@ -34,7 +37,6 @@ model (h_n = 0) is refused: it has no attractors.
 
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
@@ -59,7 +61,8 @@ from contactvib.steady.transients import (
     check_damped,
     check_work,
     estimated_seconds,
-    nonperiodic_verdict,
+    same_cloud,
+    search_verdict,
     transient_periods,
 )
 
@@ -102,53 +105,47 @@ def ballistic_seeds(excitation: Excitation, max_flight_periods: int = 2):
     return np.array(Z, float).reshape(-1, 2), np.array(ph, float)
 
 
-def same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
-    """Whether two strobe clouds (float[n, 2], NaN rows ignored) overlap: the median distance of
-    each one's points to the other cloud is below ``frac`` of the larger extent."""
-    a = a[np.isfinite(a[:, 0])]
-    b = b[np.isfinite(b[:, 0])]
-    if a.size == 0 or b.size == 0:
-        return False
-    extent = max(np.ptp(a, axis=0).max(), np.ptp(b, axis=0).max(), 1e-9)
-    d_ab = np.min(np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2), axis=1)
-    d_ba = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
-    return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
-
-
-def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, status, period,
-                   _n_periods, residual, z_star, monodromy, tail) -> tuple[int, int, int, np.ndarray]:
-    """Add the outcomes of :func:`settle_capture_many` to ``groups`` (one dict per attractor:
-    period, strobe or tail, z, M, res, hits, box, type, lyap) by the sameness rules; return the
-    failures, the unsettled starts, the unsettled box starts and each start's group index
-    (int64[N], −1 for failed and unsettled starts)."""
+def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: float, outcomes: tuple, *,
+                   kmax: int = 0, reasons: dict | None = None) -> tuple[int, int, int, np.ndarray]:
+    """Add the ``outcomes`` of :func:`settle_capture_many` (its tuple of outputs) to ``groups`` (one dict per attractor:
+    period, strobe or tail, z, M, res, hits, box, type, spectrum) by the sameness rules, a start
+    without a period ≤ ``kmax`` judged by :func:`.transients.search_verdict` unless its strobe cloud overlaps
+    one judged a non-periodic attractor already (:func:`.transients.same_cloud`), the verdict's
+    reason of each unsettled start counted in ``reasons`` (if given); return the failures, the
+    unsettled starts, the unsettled box starts and each start's group index (int64[N], −1 for
+    failed and unsettled starts)."""
+    status, period, _n_periods, residual, z_star, monodromy, tail = outcomes
     n_failed = n_unsettled = n_unsettled_box = 0
     labels = np.full(status.shape[0], -1, np.int64)
     for i in range(status.shape[0]):
-        if status[i] == SETTLE_CAPTURED:
-            g = groups[int(period[i])]
-        elif status[i] == SETTLE_PERIODIC:
-            k = int(period[i])
-            pts = strobe_points(excitation, z_star[i], k)
-            for g in groups:
-                if g["period"] == k and same_orbit(g["strobe"], pts):
-                    break
-            else:
-                g = {"period": k, "strobe": pts, "z": z_star[i].copy(), "M": monodromy[i].copy(),
-                     "res": float(residual[i]), "hits": 0, "box": 0, "type": "periodic",
-                     "lyap": math.nan}
-                groups.append(g)
-        elif status[i] == SETTLE_NONPERIODIC:
-            ok, kind, lyap = nonperiodic_verdict(excitation, tail[i], rtol)
-            if not ok:
+        outcome = (int(status[i]), int(period[i]), z_star[i], monodromy[i], float(residual[i]))
+        spectrum = None
+        known = None if outcome[0] != SETTLE_NONPERIODIC else \
+            next((j for j, g in enumerate(groups) if g["period"] is None and same_cloud(g["tail"], tail[i])), None)
+        if known is not None:
+            outcome = (SETTLE_CAPTURED, known, None, None, 0.0)  # on a cloud already judged an attractor
+        elif outcome[0] == SETTLE_NONPERIODIC:
+            v = search_verdict(excitation, tail[i], rtol, kmax)
+            spectrum = v.spectrum
+            if v.kind == "unsettled":
+                if reasons is not None:
+                    reasons[v.reason] = reasons.get(v.reason, 0) + 1
                 n_unsettled += 1
                 n_unsettled_box += int(in_box[i])
                 continue
+            if v.kind == "periodic":
+                outcome = (SETTLE_PERIODIC, v.period, v.z, v.monodromy, v.residual)
+        if outcome[0] == SETTLE_CAPTURED:
+            g = groups[outcome[1]]
+        elif outcome[0] == SETTLE_PERIODIC:
+            g = _periodic_group(groups, excitation, *outcome[1:])
+        elif outcome[0] == SETTLE_NONPERIODIC:
             for g in groups:
-                if g["period"] is None and same_cloud(g["tail"], tail[i]):
+                if g["period"] is None and same_cloud(g["tail"], v.cloud):
                     break
             else:
-                g = {"period": None, "tail": tail[i].copy(), "z": z_star[i].copy(), "M": None,
-                     "res": np.inf, "hits": 0, "box": 0, "type": kind, "lyap": lyap}
+                g = {"period": None, "tail": v.cloud.copy(), "z": v.cloud[-1].copy(), "M": None,
+                     "res": np.inf, "hits": 0, "box": 0, "type": v.kind, "spectrum": spectrum}
                 groups.append(g)
         else:
             n_failed += 1
@@ -157,6 +154,19 @@ def group_outcomes(groups: list[dict], excitation: Excitation, in_box, rtol: flo
         g["box"] += int(in_box[i])
         labels[i] = next(j for j, h in enumerate(groups) if h is g)
     return n_failed, n_unsettled, n_unsettled_box, labels
+
+
+def _periodic_group(groups: list[dict], excitation: Excitation, k: int, z, M, res: float) -> dict:
+    """The group of the period-k orbit through ``z`` (monodromy ``M``, closure ``res``): an equal
+    one of ``groups`` (:func:`.orbits.same_orbit`) or a new one appended."""
+    pts = strobe_points(excitation, z, k)
+    for g in groups:
+        if g["period"] == k and same_orbit(g["strobe"], pts):
+            return g
+    g = {"period": k, "strobe": pts, "z": np.array(z, float), "M": np.array(M, float), "res": float(res),
+         "hits": 0, "box": 0, "type": "periodic", "spectrum": None}
+    groups.append(g)
+    return g
 
 
 def default_max_periods(excitation: Excitation, detect_tol: float = 1e-4) -> int:
@@ -285,8 +295,9 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
     if auto:
         check_search(n_starts, seed, kmax, max_periods)  # the memory of the chosen limit
     n_first = min(n_starts, FIRST_WAVE)
-    groups: list[dict] = []  # each: period, strobe or tail, z, M, res, hits, box, type, lyap
+    groups: list[dict] = []  # each: period, strobe or tail, z, M, res, hits, box, type, spectrum
     counts = np.zeros(3, np.int64)  # failed, unsettled, unsettled box starts
+    reasons: dict[str, int] = {}  # unsettled starts by the verdict's reason
 
     def run(Z, ph, in_box, cap_pts, cap_id):
         parts = []
@@ -297,7 +308,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
             if progress is not None and (chunks > 1 or sl.stop == Z.shape[0]):
                 progress(done[0], n_starts + Zs.shape[0])
         out = parts[0] if len(parts) == 1 else tuple(np.concatenate(a) for a in zip(*parts))
-        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, *out)[:3]
+        counts[:] += group_outcomes(groups, excitation, in_box, rtol_transient, out, kmax=kmax, reasons=reasons)[:3]
 
     done = [0]
     if progress is not None:
@@ -321,7 +332,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
     attractors = [
         describe_orbit(excitation, g["z"], g["period"], monodromy=g["M"], closure=g["res"],
                        basin_fraction=g["box"] / n_starts, hits=g["hits"], kind=g["type"],
-                       lyapunov=g["lyap"])
+                       spectrum=g["spectrum"])
         for g in groups
     ]
     attractors.sort(key=lambda a: -a.app_um)
@@ -340,6 +351,7 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
         n_failed=n_failed,
         n_unsettled=n_unsettled,
         unsettled_fraction=n_unsettled_box / n_starts,
+        unsettled_reasons=dict(sorted(reasons.items())),
         settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
                   "seeds": seeds, "detect_tol": detect_tol, "rtol_transient": rtol_transient,
                   "capture_tol": capture_tol, "first_wave": n_first,

@@ -154,7 +154,7 @@ def basin_block(model: ContactModel, excitation: Excitation, search: AttractorSe
     out = settle_starts(excitation, Z, np.zeros(Z.shape[0]), s["kmax"], s["max_periods"], s["detect_tol"],
                         s["rtol_transient"], cap_pts, cap_id, s["capture_tol"])
     n_failed, n_unsettled, _, labels = group_outcomes(groups, excitation, np.ones(Z.shape[0], bool),
-                                                      s["rtol_transient"], *out)
+                                                      s["rtol_transient"], out, kmax=s["kmax"])
     new = [{k: v for k, v in g.items() if k not in ("hits", "box")} for g in groups[n_known:]]
     return BasinBlock(rows=(r0, r1), labels=labels.reshape(r1 - r0, grid[0]), new=new,
                       n_failed=int(n_failed), n_unsettled=int(n_unsettled))
@@ -190,7 +190,7 @@ def merge_blocks(model: ContactModel, excitation: Excitation, search: AttractorS
     described = [describe_orbit(excitation, g["z"], g["period"], monodromy=g["M"], closure=g["res"],
                                 basin_fraction=float(np.count_nonzero(labels == n_known + j)) / n,
                                 hits=int(np.count_nonzero(labels == n_known + j)), kind=g["type"],
-                                lyapunov=g["lyap"])
+                                spectrum=g["spectrum"])
                  for j, g in enumerate(new)]
     ys, vs = grid_axes(grid, box)
     return BasinMap(y_um=ys, ydot_mm_s=vs, labels=labels, attractors=[*search.attractors, *described],

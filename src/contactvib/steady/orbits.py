@@ -20,6 +20,7 @@ from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib.call_forms import old_form
 from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation, check_excitation
+from contactvib.steady.lyapunov import floquet_spectrum
 from contactvib.steady.results import Attractor
 
 __all__ = ["refine_orbit", "describe_orbit", "same_orbit", "strobe_points",
@@ -152,13 +153,16 @@ def first_harmonic_um(excitation: Excitation, rec, n_periods: int) -> float:
           "n_periods_nonperiodic", "kind", "lyapunov")
 def describe_orbit(excitation: Excitation, z, period: int | None, *, monodromy=None,
                    closure: float = math.inf, basin_fraction: float = 0.0, hits: int = 0,
-                   n_periods_nonperiodic: int = 32, kind: str | None = None, lyapunov: float = math.nan) -> Attractor:
+                   n_periods_nonperiodic: int = 32, kind: str | None = None, lyapunov: float = math.nan,
+                   spectrum=None) -> Attractor:
     """Measure an orbit through the nondimensional state ``z`` at phase 0.
 
     For a periodic orbit (``period`` = k) the extrema, A_pp and contact loss are taken over one
     k-period; for a non-periodic attractor (of type ``kind``, "chaotic" or "quasi-periodic",
-    with largest Lyapunov exponent ``lyapunov`` [1/period]) over ``n_periods_nonperiodic``
-    periods. The f_e amplitude (``first_harmonic_um``) and the mean contact force
+    with largest Lyapunov exponent ``lyapunov`` [1/period], or its Benettin ``spectrum``, a
+    ``LyapunovSpectrum``, whose λ1/f_e then replaces it) over
+    ``n_periods_nonperiodic`` periods. A periodic orbit's exponents are ln ``|μ_i|`` / (k T) from its
+    Floquet multipliers. The f_e amplitude (``first_harmonic_um``) and the mean contact force
     (``mean_contact_force_n``) are measured over the same span.
     """
     model = check_excitation(excitation).model
@@ -174,11 +178,14 @@ def describe_orbit(excitation: Excitation, z, period: int | None, *, monodromy=N
         multipliers = np.linalg.eigvals(monodromy) if monodromy is not None else np.empty(0, complex)
         minima = int(n_min)
         kind = "periodic"
+        spectrum = floquet_spectrum(multipliers, period, excitation.f_e) if multipliers.size else None
     else:
         strobe = np.asarray(z, float)[None, :]
         multipliers = np.empty(0, complex)
         minima = None
         kind = kind or "non-periodic"
+        if spectrum is not None:
+            lyapunov = float(spectrum.exponents_per_period[0])
     return Attractor(
         period=period,
         kind=kind,
@@ -202,4 +209,6 @@ def describe_orbit(excitation: Excitation, z, period: int | None, *, monodromy=N
         slider_app_um=slider_app,
         h1_um=first_harmonic_um(excitation, rec, n),
         mean_contact_force_n=mean_contact_force_n(model, excitation, rec, n),
+        lyapunov_per_s=spectrum.exponents_per_s.copy() if spectrum is not None else np.empty(0),
+        lyapunov_stderr_per_s=spectrum.stderr_per_s.copy() if spectrum is not None else np.empty(0),
     )

@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["TimeHistory", "Attractor", "AttractorSet", "dofs_and_contacts", "DOF_NAMES", "DOF_UNITS",
+__all__ = ["TimeHistory", "Attractor", "AttractorSet", "dofs_and_contacts", "lyapunov_fields",
+           "kaplan_yorke_dimension", "DOF_NAMES", "DOF_UNITS",
            "CONTACT_NAMES"]
 
 #: The model's coordinates (degrees of freedom) as results list them, and their display units:
@@ -67,6 +68,31 @@ def dofs_and_contacts(*, dof_name, dof_unit, dof_min, dof_max, dof_app, dof_h1, 
                 for n, lc, fr, fm in zip(contact_name, contact_loses_contact, contact_loss_frac,
                                          contact_mean_force_n, strict=True)]
     return {"dofs": dofs, "contacts": contacts}
+
+
+def kaplan_yorke_dimension(exponents) -> float | None:
+    """Kaplan–Yorke dimension of the flow's attractor from the map's exponents, the flow's zero
+    exponent added: D = j + Σ_{i≤j} λ_i / |λ_{j+1}|, j the last index with a non-negative partial
+    sum; None unless λ1 > 0."""
+    lam = np.sort(np.asarray(exponents, float))[::-1]
+    if lam.size == 0 or not lam[0] > 0.0:
+        return None
+    lam = np.sort(np.append(lam, 0.0))[::-1]
+    partial = np.cumsum(lam)
+    j = int(np.flatnonzero(partial >= 0.0)[-1]) + 1
+    if j >= lam.size:
+        return float(lam.size)
+    return float(j + partial[j - 1] / abs(lam[j]))
+
+
+def lyapunov_fields(attractor_type: str, exponents, stderr) -> dict:
+    """The Lyapunov keys of an attractor in the JSON contract: ``attractor_type``,
+    ``lyapunov_per_s`` (descending), ``lyapunov_stderr_per_s``, ``kaplan_yorke_dimension``
+    (None unless λ1 > 0); non-finite values None."""
+    return {"attractor_type": attractor_type,
+            "lyapunov_per_s": [_number(v) for v in exponents],
+            "lyapunov_stderr_per_s": [_number(v) for v in stderr],
+            "kaplan_yorke_dimension": kaplan_yorke_dimension(exponents)}
 
 
 @dataclass(frozen=True)
@@ -124,8 +150,9 @@ class Attractor:
     period : int or None
         Minimal period in excitation periods (None: non-periodic).
     kind : str
-        ``"periodic"``, or for a proven non-periodic attractor ``"chaotic"`` (λ > 0.02) or
-        ``"quasi-periodic"`` (``|λ|`` ≤ 0.02); ``"non-periodic"`` when not classified.
+        ``"periodic"``, or for a proven non-periodic attractor ``"chaotic"`` (λ1 above 3 standard
+        errors of its Benettin estimate) or ``"quasi-periodic"`` (``|λ1|`` within 3 standard errors
+        and a stroboscopic section on a closed curve); ``"non-periodic"`` when not classified.
     minima_per_period : int or None
         Local minima of y(t) over the whole period-k orbit, counted cyclically.
     app_um, ymin_um, ymax_um : float
@@ -152,7 +179,7 @@ class Attractor:
         Nondimensional orbit point (x = y/y0, x' = ẏ/(y0 ω_n0)) at phase 0, for reuse.
     lyapunov_per_period : float
         Largest Lyapunov exponent of the stroboscopic map [1/excitation period] of a
-        non-periodic attractor (NaN for periodic orbits).
+        non-periodic attractor, λ1/f_e of ``lyapunov_per_s`` (NaN for periodic orbits).
     slider_app_um : float or None
         Under base motion u(t): peak-to-peak amplitude [µm] of the slider's absolute displacement
         s = y + u over the orbit (what an accelerometer on the slider integrates to); None under
@@ -166,8 +193,13 @@ class Attractor:
         a periodic orbit it equals the static load W = Q + F_pre (the mean of the equation of
         motion). NaN where not measured.
 
-    ``dofs`` and ``contacts`` of the JSON contract come from :meth:`dof_columns` through
-    ``dofs_and_contacts``.
+    lyapunov_per_s, lyapunov_stderr_per_s : ndarray
+        The Lyapunov spectrum of the period map [1/s], descending, and the standard error of each
+        (``contactvib.steady.lyapunov``): ln ``|μ_i|`` / (k T) of a periodic orbit (standard errors 0),
+        Benettin's batch means of a non-periodic attractor; empty where not computed.
+
+    ``attractor_type`` and ``kaplan_yorke_dimension`` derive from them. ``dofs`` and ``contacts``
+    of the JSON contract come from :meth:`dof_columns` through ``dofs_and_contacts``.
     """
 
     period: int | None
@@ -192,6 +224,19 @@ class Attractor:
     slider_app_um: float | None = None
     h1_um: float = math.nan
     mean_contact_force_n: float = math.nan
+    lyapunov_per_s: np.ndarray = field(default_factory=lambda: np.empty(0))
+    lyapunov_stderr_per_s: np.ndarray = field(default_factory=lambda: np.empty(0))
+
+    @property
+    def attractor_type(self) -> str:
+        """"periodic", "quasi-periodic" or "chaotic" (the type the search earned: ``kind``)."""
+        return "periodic" if self.period is not None else self.kind
+
+    @property
+    def kaplan_yorke_dimension(self) -> float | None:
+        """Kaplan–Yorke dimension of the attractor in (y, ẏ, phase) where λ1 > 0, else None
+        (``contactvib.steady.lyapunov.kaplan_yorke``)."""
+        return kaplan_yorke_dimension(self.lyapunov_per_s)
 
     def dof_columns(self) -> dict:
         """The columns of ``dofs_and_contacts`` for this attractor (one coordinate y [µm], one
@@ -227,6 +272,7 @@ class Attractor:
             "lyapunov_per_period": (float(self.lyapunov_per_period)
                                     if math.isfinite(self.lyapunov_per_period) else None),
             "hits": int(self.hits),
+            **lyapunov_fields(self.attractor_type, self.lyapunov_per_s, self.lyapunov_stderr_per_s),
             "strobe_points": [
                 {"y_um": float(a), "ydot_mm_s": float(b)}
                 for a, b in zip(self.strobe_y_um, self.strobe_ydot_mm_s)
@@ -265,6 +311,10 @@ class AttractorSet:
     unsettled_fraction : float
         Share of the box starts among them [1]; the basin fractions add up to 1 minus this
         (and the failed box starts).
+    unsettled_reasons : dict
+        The unsettled starts by the reason of the search's verdict ("free flight: no contact",
+        "still converging", "strobe cloud still drifting", ...); the counts add up to
+        ``n_unsettled``.
     model, excitation : dict
         What produced the result: the model's parameters (``ContactModel.parameters``, with the
         law, its parameters and a table's content hash) and ``Excitation.describe()``.
@@ -282,6 +332,7 @@ class AttractorSet:
     n_unsettled: int = 0
     unsettled_fraction: float = 0.0
     model: dict | None = None
+    unsettled_reasons: dict = field(default_factory=dict)
     excitation: dict | None = None
 
     def __len__(self):
@@ -305,6 +356,7 @@ class AttractorSet:
             "n_failed": int(self.n_failed),
             "n_unsettled": int(self.n_unsettled),
             "unsettled_fraction": float(self.unsettled_fraction),
+            "unsettled_reasons": {str(k): int(v) for k, v in self.unsettled_reasons.items()},
             "max_periods": int(self.settings.get("max_periods", 0)),
             "units": {"y": "um (positive = contact deflection)", "ydot": "mm/s", "t": "ms",
                       "f": "Hz", "P_a": "Q = M g"},

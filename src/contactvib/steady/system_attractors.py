@@ -33,7 +33,7 @@ from contactvib.errors import ComputationError
 from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation
-from contactvib.steady.results import dofs_and_contacts
+from contactvib.steady.results import dofs_and_contacts, lyapunov_fields
 from contactvib.steady.system_orbits import (
     DISPLAY_UNITS,
     SystemOrbit,
@@ -80,6 +80,11 @@ class SystemAttractor:
         Starts that settled on it.
     columns : dict
         The keyword arguments of :func:`~contactvib.steady.results.dofs_and_contacts`.
+    fe_hz : float
+        The excitation frequency [Hz] (for the exponents per second).
+
+    Its JSON carries ``attractor_type`` ("periodic"), ``lyapunov_per_s`` (ln ``|μ_i|`` / (k T),
+    descending), ``lyapunov_stderr_per_s`` (zeros) and ``kaplan_yorke_dimension`` (null).
     """
 
     orbit: SystemOrbit
@@ -88,6 +93,7 @@ class SystemAttractor:
     basin_fraction: float
     hits: int
     columns: dict
+    fe_hz: float = math.nan
 
     @property
     def period(self) -> int:
@@ -105,13 +111,26 @@ class SystemAttractor:
     def stable(self) -> bool:
         return self.orbit.stable
 
+    @property
+    def attractor_type(self) -> str:
+        """Always "periodic": the search finds periodic attractors."""
+        return "periodic"
+
+    @property
+    def lyapunov_per_s(self) -> np.ndarray:
+        """ln ``|μ_i|`` / (k T) [1/s] of the 2n Floquet multipliers, descending (T = 1/f_e)."""
+        with np.errstate(divide="ignore"):
+            return np.sort(np.log(np.abs(self.floquet_multipliers)) * self.fe_hz / self.period)[::-1]
+
     def to_dict(self) -> dict:
         """The JSON contract of ``contactvib attractors --system ... --json`` for this attractor."""
         return {"period": int(self.period), "minima_per_period": int(self.minima_per_period),
                 "floquet_multipliers": [[float(m.real), float(m.imag)] for m in self.floquet_multipliers],
                 "floquet_abs_max": self.floquet_abs_max, "stable": bool(self.stable),
                 "basin_fraction": float(self.basin_fraction), "hits": int(self.hits),
-                "closure": float(self.orbit.closure), **dofs_and_contacts(**self.columns)}
+                "closure": float(self.orbit.closure),
+                **lyapunov_fields("periodic", self.lyapunov_per_s, np.zeros(self.lyapunov_per_s.size)),
+                **dofs_and_contacts(**self.columns)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -364,7 +383,7 @@ def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> Sy
     orbit = f["orbit"]
     cols, minima = orbit_columns(system, pa, fe, orbit.z, orbit.k)
     return SystemAttractor(orbit=orbit, strobe=_points_si(f["points"], system, pa, fe), minima_per_period=minima,
-                           basin_fraction=f["hits"] / n_starts, hits=f["hits"], columns=cols)
+                           basin_fraction=f["hits"] / n_starts, hits=f["hits"], columns=cols, fe_hz=fe)
 
 
 def _points_si(points: np.ndarray, system: System, pa: float, fe: float) -> np.ndarray:

@@ -24,21 +24,44 @@ Non-periodic or unsettled
     the window before: a spiral into a focus shrinks), and (ii) its largest Lyapunov exponent of the stroboscopic
     map is not negative (λ ≥ −:data:`~contactvib.labels.LYAPUNOV_ZERO`; a negative one
     means it is still converging, e.g. to an orbit of period above ``kmax``). Others are
-    *unsettled* and are counted, not reported.
+    *unsettled* and are counted, not reported. The sweep (:mod:`contactvib.sweeps.verdict`) applies
+    this rule, :func:`cloud_verdict`.
+
+The search's verdict (:func:`search_verdict`, used by the attractor search and the basin map)
+    A start without a period is followed :data:`VERDICT_PERIODS` periods further by Benettin's
+    method (:func:`contactvib.steady.lyapunov.benettin`, :data:`VERDICT_BATCHES` batches), which
+    gives its spectrum with standard errors. Then, with F = ``SIGMA_FACTOR`` = 3:
+
+    * never in contact over that run (a free flight): *unsettled*;
+    * a period kmax < k ≤ :data:`LONG_PERIOD_MAX` in the strobe sequence of the run's end, refined
+      by Newton shooting to a stable orbit of that minimal period: *periodic* with its true period,
+      however long (a start still converging onto an orbit of period ≤ kmax, which the settling
+      would have found within a longer ``max_periods``, stays unsettled);
+    * λ1 > F · stderr and a recurrent cloud (the strobe window at the run's end lies in the one
+      before the run, as above): *chaotic*;
+    * ``|λ1|`` ≤ F · stderr and the strobe points on closed curves
+      (:func:`contactvib.steady.lyapunov.closed_curve`): *quasi-periodic*;
+    * anything else (λ1 < −F · stderr without a period found, a drifting cloud): *unsettled*.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
+from contactvib._kernels.settle import refine_stable_orbit
+from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation, ParameterError
+from contactvib.steady.lyapunov import LyapunovSpectrum, attractor_type, benettin, closed_curve
+from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE
 
 __all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "nonperiodic_verdict", "WINDOW",
            "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO",
-           "SECONDS_PER_STEP", "estimated_seconds", "duration_text"]
+           "SECONDS_PER_STEP", "estimated_seconds", "duration_text", "search_verdict", "Verdict", "same_cloud",
+           "VERDICT_PERIODS", "VERDICT_BATCHES", "LONG_PERIOD_MAX"]
 
 #: Strobe points per window of the recurrence test (two windows are compared).
 WINDOW = 64
@@ -61,6 +84,17 @@ RECURRENCE_RATIO = 2.0
 #: before: a cloud spiralling into a focus with |μ| per period shrinks by |μ|^WINDOW (0.33 for
 #: |μ| = 0.983, the paper's linear decay at 10 kHz); an attractor's cloud keeps its spread.
 SPREAD_RATIO_MIN = 0.8
+#: Periods of the search verdict's Benettin run, in batches for the error bar.
+VERDICT_PERIODS = 2000
+VERDICT_BATCHES = 10
+#: Contact fraction of the verdict's run below which a start is in free flight (rounding of 1 − flight/total).
+CONTACT_FRACTION_MIN = 1e-9
+#: Longest period sought in the strobe sequence of a start without a period ≤ kmax.
+LONG_PERIOD_MAX = 512
+#: Relative return distance of a strobe point that proposes a long period to Newton's method.
+LONG_PERIOD_TOL = 1e-3
+#: Candidate long periods refined by Newton's method (the shortest returns first).
+LONG_PERIOD_TRIES = 4
 
 
 def transient_periods(excitation: Excitation, detect_tol: float, extent_y0: float) -> int:
@@ -177,3 +211,81 @@ def nonperiodic_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -
         return False, why, math.nan
     lyap = float(lyapunov_strobe(tail[-1].copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
     return (*_lyapunov_verdict(lyap), lyap)
+
+
+def same_cloud(a: np.ndarray, b: np.ndarray, frac: float = 0.05) -> bool:
+    """Whether two strobe clouds (float[n, 2], NaN rows ignored) overlap: the median distance of
+    each one's points to the other cloud is below ``frac`` of the larger extent."""
+    a = a[np.isfinite(a[:, 0])]
+    b = b[np.isfinite(b[:, 0])]
+    if a.size == 0 or b.size == 0:
+        return False
+    extent = max(np.ptp(a, axis=0).max(), np.ptp(b, axis=0).max(), 1e-9)
+    d_ab = np.min(np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2), axis=1)
+    d_ba = np.min(np.max(np.abs(b[:, None, :] - a[None, :, :]), axis=2), axis=1)
+    return bool(np.median(d_ab) < frac * extent and np.median(d_ba) < frac * extent)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """What a start without a period ≤ kmax reached (:func:`search_verdict`).
+
+    ``kind`` is "chaotic", "quasi-periodic", "periodic" or "unsettled" (``reason`` says why);
+    ``spectrum`` the Benettin run's; for "periodic" ``period``, the refined orbit point ``z`` and
+    its monodromy; ``cloud`` the strobe points after the run (nondimensional)."""
+
+    kind: str
+    reason: str
+    spectrum: LyapunovSpectrum | None = None
+    period: int = 0
+    z: np.ndarray | None = None
+    monodromy: np.ndarray | None = None
+    residual: float = math.inf
+    cloud: np.ndarray | None = None
+
+
+def long_period(excitation: Excitation, pts: np.ndarray, kmin: int = 1):
+    """A stable orbit of minimal period ``kmin`` ≤ k ≤ :data:`LONG_PERIOD_MAX` through the last of
+    the strobe points ``pts`` (time order): the shortest returns k ≥ ``kmin`` within
+    :data:`LONG_PERIOD_TOL` refined by Newton's method
+    (:func:`~contactvib._kernels.settle.refine_stable_orbit`, minimal period); ``(k, z, M,
+    residual)`` or None."""
+    last = pts[-1]
+    sc = max(1.0, float(np.max(np.abs(last))))
+    kmax = min(LONG_PERIOD_MAX, pts.shape[0] - 1)
+    d = np.max(np.abs(pts[-2:-kmax - 2:-1] - last), axis=1) / sc
+    d[:kmin - 1] = np.inf
+    par = excitation.kernel_parameters()
+    for k in (np.flatnonzero(d < LONG_PERIOD_TOL)[:LONG_PERIOD_TRIES] + 1):
+        oz, oM = np.empty(2), np.zeros((2, 2))
+        ok, kk, res = refine_stable_orbit(last.copy(), int(k), par, RTOL_REFINE, CLOSE_TOL, oz, oM)
+        if ok and kk >= kmin:
+            return int(kk), oz, oM, float(res)
+    return None
+
+
+def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float, kmax: int = 0) -> Verdict:
+    """The search's verdict on a start whose last strobe points are ``tail`` (nondimensional, time
+    order, NaN rows allowed before the first) that found no period ≤ ``kmax`` while settling: the
+    module's rule, integrator tolerance ``rtol``."""
+    after = np.empty((2 * LONG_PERIOD_MAX + 1, 2))  # the run's last strobe points
+    try:
+        spec = benettin(excitation, tail[-1], VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=False,
+                        strobe=after)
+    except ComputationError:
+        return Verdict("unsettled", "integration failed")
+    if not spec.contact_fraction > CONTACT_FRACTION_MIN:
+        return Verdict("unsettled", "free flight: no contact", spec)
+    typ = attractor_type(spec)
+    cloud = after[-2 * WINDOW:]
+    if typ == "chaotic":
+        before = tail[np.all(np.isfinite(tail), axis=1)][-WINDOW:]
+        why = _unsettled_cloud(np.vstack([before, after[-WINDOW:]])) if before.shape[0] == WINDOW else None
+        return Verdict("unsettled", why, spec) if why else Verdict("chaotic", "λ1 > 3 stderr", spec, cloud=cloud)
+    found = long_period(excitation, after, kmax + 1)
+    if found is not None:
+        k, z, M, res = found
+        return Verdict("periodic", f"period {k}", spec, k, z, M, res)
+    if typ == "quasi-periodic" and closed_curve(after) > 0:
+        return Verdict("quasi-periodic", "closed curve, |λ1| ≤ 3 stderr", spec, cloud=cloud)
+    return Verdict("unsettled", "still converging" if typ == "converging" else "no period, not a torus", spec)

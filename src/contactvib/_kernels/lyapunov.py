@@ -1,0 +1,232 @@
+"""Lyapunov spectra of the stroboscopic map by Benettin's QR method (compiled, pure).
+
+For a trajectory z_{j+1} = P(z_j) of the period map with Jacobians M_j = ∂P/∂z (the monodromy of
+one excitation period, saltation at every contact switch included: :mod:`.flow`,
+:mod:`.system_flow`), an orthonormal frame Q_j is carried along: M_j Q_j = Q_{j+1} R_j
+(Gram–Schmidt), and the exponents are λ_i = (1/N) Σ_j ln R_j[i, i] per excitation period
+(Benettin et al. 1980). Each period starts the variational equation from Φ = I, so M_j is one
+period's monodromy, and the N periods run in one compiled loop in batches: the sums of
+ln R_ii per batch are returned, from which the caller forms the mean and the standard error of
+the batch means.
+
+Along the same run the Liouville trace ∫ tr J dτ (``tr J = ∂ẍ/∂ẋ``: minus the contact's damping
+rate, 0 in flight) is integrated by 5-point Gauss–Legendre quadrature on every step's dense
+output (steps end on the switches, so each is smooth): an estimate of λ1 + λ2 independent of the
+variational equation (Σ ln R_ii = ln |det M_j|, and det M_j = exp ∫ tr J dτ because every
+saltation matrix S = I + (f⁺ − f⁻) eₓᵀ / v has det S = 1).
+
+Units: nondimensional as in :mod:`.flow` (x = y/y0, τ = ω_n0 t, T = 2π/r); the caller converts
+per period into per second (× f_e).
+
+References
+----------
+G. Benettin, L. Galgani, A. Giorgilli, J.-M. Strelcyn, Meccanica 15 (1980) 9–20, 21–30.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .flow import REC_F, REC_H, REC_MODE, REC_WIDTH, REC_X, advance, initial_mode, jacobian_row
+from .shooting import MAX_STEPS_PER_PERIOD
+from .status import STATUS_INTERRUPTED, STATUS_NONFINITE, STATUS_OK, STATUS_RECORD_FULL
+from .system_flow import advance as system_advance
+from .system_flow import initial_modes
+
+#: 5-point Gauss–Legendre nodes and weights on [0, 1].
+_GL_X = np.array([0.04691007703066800, 0.23076534494715845, 0.5, 0.76923465505284155,
+                  0.95308992296933200])
+_GL_W = np.array([0.11846344252809454, 0.23931433524968324, 0.28444444444444444, 0.23931433524968324,
+                  0.11846344252809454])
+#: Step records per period kept for the trace quadrature (more: the quadrature is skipped, NaN).
+REC_ROWS = 8192
+
+@njit(cache=True, inline="always")
+def _rec_value(rec, row, theta, comp):
+    """Component ``comp`` (0: x, 1: x') of step record ``row`` at fraction θ (:func:`.dop853.dense_value`)."""
+    acc = 0.0
+    for q in range(6, -1, -1):
+        acc += rec[row, REC_F + 2 * q + comp]
+        if (6 - q) % 2 == 0:
+            acc *= theta
+        else:
+            acc *= 1.0 - theta
+    return rec[row, REC_X + comp] + acc
+
+
+@njit(cache=True)
+def trace_integral(rec, n_rows, par):
+    """∫ tr J dτ over the first ``n_rows`` step records: Gauss–Legendre on each step's dense output
+    of ∂ẍ/∂ẋ (the contact's damping rate with a minus sign; 0 in flight)."""
+    acc = 0.0
+    for row in range(n_rows):
+        if rec[row, REC_MODE] == 0.0:
+            continue
+        h = rec[row, REC_H]
+        s = 0.0
+        for q in range(5):
+            x = _rec_value(rec, row, _GL_X[q], 0)
+            v = _rec_value(rec, row, _GL_X[q], 1)
+            _j21, j22 = jacobian_row(True, x, v, par)
+            s += _GL_W[q] * j22
+        acc += h * s
+    return acc
+
+
+@njit(cache=True, inline="always")
+def gram_schmidt(A, Q, logr):
+    """Q R = A by modified Gram–Schmidt, applied twice (orthogonal to rounding); ln R_ii added to
+    ``logr``. A and Q are (m, m); returns False where a column vanishes."""
+    m = A.shape[0]
+    for j in range(m):
+        for i in range(m):
+            Q[i, j] = A[i, j]
+        r_jj = 0.0
+        for _ in range(2):
+            for p in range(j):
+                d = 0.0
+                for i in range(m):
+                    d += Q[i, p] * Q[i, j]
+                for i in range(m):
+                    Q[i, j] -= d * Q[i, p]
+        for i in range(m):
+            r_jj += Q[i, j] * Q[i, j]
+        r_jj = math.sqrt(r_jj)
+        if not (r_jj > 0.0 and math.isfinite(r_jj)):
+            return False
+        for i in range(m):
+            Q[i, j] /= r_jj
+        logr[j] += math.log(r_jj)
+    return True
+
+
+@njit(cache=True, nogil=True)
+def spectrum_map(z, par, rtol, n_transient, n_batches, per_batch, with_trace, out_log, out_trace,
+                 out_z, out_strobe, stop):
+    """Benettin's spectrum of the 1-DOF period map from ``z`` (phase 0).
+
+    ``n_transient`` periods without the variational equation, then ``n_batches × per_batch``
+    periods, each integrated with Φ(0) = I (its monodromy M_j), the frame advanced by
+    :func:`gram_schmidt` of M_j Q_j. ``stop`` (int64[1]) is read every period.
+
+    Outputs: ``out_log[b, i]`` Σ ln R_ii over batch b [1]; ``out_trace[b]`` ∫ tr J dτ over batch b
+    (:func:`trace_integral`; NaN when not ``with_trace`` or a period took more than
+    :data:`REC_ROWS` steps); ``out_z`` the end state; ``out_z[2]`` the fraction of the
+    batches' time in contact; ``out_strobe`` (m, 2) the last m stroboscopic points of the run
+    (m ≤ the periods averaged; m = 0 for none).
+
+    Returns a :mod:`.flow` status (``STATUS_INTERRUPTED`` when stopped, ``STATUS_NONFINITE`` when a
+    frame vector vanishes or overflows).
+    """
+    T = 2.0 * math.pi / par[4]
+    y2 = np.empty(2)
+    y2[0] = z[0]
+    y2[1] = z[1]
+    contact = initial_mode(y2[0], y2[1])
+    h = 0.01
+    no_rec = np.empty((0, REC_WIDTH))
+    for _ in range(n_transient):
+        contact, h, _i, _ns, _tf, _ne, st = advance(y2, 0.0, T, contact, h, par, rtol, rtol, no_rec,
+                                                    np.int64(0), np.int64(MAX_STEPS_PER_PERIOD))
+        if st != STATUS_OK:
+            return st
+        if stop[0] != 0:
+            return STATUS_INTERRUPTED
+    rec = np.empty((REC_ROWS if with_trace else 0, REC_WIDTH))
+    y = np.zeros(6)
+    y[0] = y2[0]
+    y[1] = y2[1]
+    Q = np.eye(2)
+    A = np.empty((2, 2))
+    t_flight = 0.0
+    first_kept = n_batches * per_batch - out_strobe.shape[0]
+    for b in range(n_batches):
+        logr = np.zeros(2)
+        tr = 0.0
+        for q in range(per_batch):
+            y[2] = 1.0
+            y[3] = 0.0
+            y[4] = 0.0
+            y[5] = 1.0
+            contact, h, irec, _ns, tf, _ne, st = advance(y, 0.0, T, contact, h, par, rtol, rtol, rec,
+                                                         np.int64(0), np.int64(MAX_STEPS_PER_PERIOD))
+            if st == STATUS_RECORD_FULL:
+                tr = math.nan
+            elif st != STATUS_OK:
+                return st
+            elif with_trace:
+                tr += trace_integral(rec, irec, par)
+            t_flight += tf
+            kept = b * per_batch + q - first_kept
+            if kept >= 0:
+                out_strobe[kept, 0] = y[0]
+                out_strobe[kept, 1] = y[1]
+            for i in range(2):
+                for j in range(2):
+                    A[i, j] = y[2 + 2 * i] * Q[0, j] + y[3 + 2 * i] * Q[1, j]
+            if not gram_schmidt(A, Q, logr):
+                return STATUS_NONFINITE
+            if stop[0] != 0:
+                return STATUS_INTERRUPTED
+        out_log[b, 0] = logr[0]
+        out_log[b, 1] = logr[1]
+        out_trace[b] = tr if with_trace else math.nan
+    out_z[0] = y[0]
+    out_z[1] = y[1]
+    out_z[2] = 1.0 - t_flight / (n_batches * per_batch * T)
+    return STATUS_OK
+
+
+@njit(cache=True, nogil=True)
+def system_spectrum_map(sa, z, rtol, n_transient, n_batches, per_batch, out_log, out_z, stop):
+    """Benettin's spectrum of an n-DOF period map (:mod:`.system_flow`) from ``z`` (scaled, phase 0):
+    as :func:`spectrum_map` with the 2n × 2n monodromy of each period, without the trace
+    (``out_log[b, i]``, i < 2n; ``out_z`` the end state)."""
+    n2 = z.shape[0]
+    T = 2.0 * math.pi / sa.r
+    mode = np.zeros(sa.U.shape[0], dtype=np.bool_)
+    y2 = z.copy()
+    initial_modes(sa, y2, mode)
+    h = 0.01
+    no_rec = np.empty((0, 1))
+    for _ in range(n_transient):
+        h, _i, _ns, _ne, st = system_advance(sa, y2, 0.0, T, mode, h, rtol, rtol, no_rec, np.int64(0),
+                                             np.int64(MAX_STEPS_PER_PERIOD))
+        if st != STATUS_OK:
+            return st
+        if stop[0] != 0:
+            return STATUS_INTERRUPTED
+    y = np.zeros(n2 + n2 * n2)
+    for i in range(n2):
+        y[i] = y2[i]
+    Q = np.eye(n2)
+    A = np.empty((n2, n2))
+    for b in range(n_batches):
+        logr = np.zeros(n2)
+        for _ in range(per_batch):
+            for i in range(n2 * n2):
+                y[n2 + i] = 0.0
+            for i in range(n2):
+                y[n2 + i * n2 + i] = 1.0
+            h, _i, _ns, _ne, st = system_advance(sa, y, 0.0, T, mode, h, rtol, rtol, no_rec, np.int64(0),
+                                                 np.int64(MAX_STEPS_PER_PERIOD))
+            if st != STATUS_OK:
+                return st
+            for i in range(n2):
+                for j in range(n2):
+                    s = 0.0
+                    for p in range(n2):
+                        s += y[n2 + i * n2 + p] * Q[p, j]
+                    A[i, j] = s
+            if not gram_schmidt(A, Q, logr):
+                return STATUS_NONFINITE
+            if stop[0] != 0:
+                return STATUS_INTERRUPTED
+        for i in range(n2):
+            out_log[b, i] = logr[i]
+    for i in range(n2):
+        out_z[i] = y[i]
+    return STATUS_OK
