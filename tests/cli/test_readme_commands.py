@@ -137,6 +137,17 @@ REDUCED: dict[str, list[str]] = {
     "--fmax 0.14 --out sys_branch/":
         ["continue", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--from-fe", "0.08",
          "--fmin", "0.08", "--fmax", "0.1", "--out", "sys_branch/"],
+    "contactvib bifurcations --system examples/two_dof_stop.toml --pa-newton 0.1 --fmin 0.08 --fmax 0.14 "
+    "--seed-fe 0.09,0.11 --out sys_bif/":
+        ["bifurcations", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fmin", "0.08",
+         "--fmax", "0.1", "--seed-fe", "0.09", "--out", "sys_bif/"],
+    "contactvib hbm --system examples/two_dof_stop.toml --pa-newton 0.1 --fmin 0.03 --fmax 0.4 --harmonics 32 "
+    "--out hb_stop/":
+        ["hbm", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fmin", "0.2",
+         "--fmax", "0.3", "--harmonics", "8", "--out", "hb_stop/"],
+    "contactvib bifurcations --pa 0.75 --fmin 790 --fmax 830 --seed-fe 812 --cascade-fe 812 --out bif075":
+        ["bifurcations", "--pa", "0.75", "--fmin", "805", "--fmax", "814", "--seed-fe", "812", "--cascade-fe",
+         "812", "--max-points", "40", "--out", "bif075"],
     "contactvib attractors --system examples/two_dof_stop.toml --pa-newton 0.1 --fe 0.095 --starts 8":
         ["attractors", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fe", "0.095",
          "--starts", "8"],
@@ -429,6 +440,18 @@ def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
             assert {"period", "floquet_multipliers", "stable", "basin_fraction", "dofs", "contacts"} <= set(a)
     elif args[0] == "attractors":
         assert stdout.startswith("system ") and "linear modes:" in stdout
+    elif args[0] == "bifurcations":  # docs/tutorials/systems.md: every branch, each followed once
+        d = json.loads((folder / "bifurcations.json").read_text())
+        assert d["stops"] and d["cascades"] == [] and "neimark-sacker" in {sp["type"] for sp in d["special_points"]}
+        for sp in d["special_points"]:
+            assert {"type", "fe_hz", "pa_newton", "period", "branch", "floquet_multipliers", "dofs",
+                    "contacts"} <= set(sp)
+        _figures(folder, "branches_*.png", 1)
+    elif args[0] == "hbm":  # docs/tutorials/systems.md: the HB branch with its multipliers
+        d = json.loads((folder / "branch.json").read_text())
+        assert d["coordinates"] == ["q1", "q2"] and d["harmonics"] == 8 and d["points"]
+        assert {"fe_hz", "stable", "floquet_multipliers", "dofs", "contacts"} <= set(d["points"][0])
+        _figures(folder, "hbm_*_q1_app.png", 1)
     elif args[0] == "continue":  # docs/tutorials/systems.md: the branch file, special points, figure
         (nc,) = folder.glob("branch_b0_*.nc")
         with xr.open_dataset(nc) as b:
@@ -705,6 +728,11 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
                 assert b["pa_over_q"].attrs["units"] == "um" and float(b["pa_over_q"].max()) == 0.05
     elif cmd == "continue":
         _branches(folder, "pa0.65_fe1200")
+    elif cmd == "bifurcations" and "--cascade-fe" in args:  # docs/tutorials/cascades.md
+        d = json.loads((folder / "bifurcations.json").read_text())
+        (c,) = d["cascades"]
+        assert c["periods"][0] == 10 and c["pd_fe_hz"][0] == pytest.approx(813.4029, abs=1e-3)
+        assert "cascade: periods 10" in out
     elif cmd == "bifurcations":
         _branches(folder, "pa0.6")
         _branches(folder, "pa0.65")

@@ -77,7 +77,7 @@ def orbit_period(excitation, *, state, max_period: int = 4096, transient_periods
     """The minimal period [excitation periods] of the orbit reached under ``excitation`` from
     ``state`` (nondimensional (x, x') at phase 0) after ``transient_periods``, up to
     ``max_period``; returns ``(period or None, state after the transient)``. A return within
-    ``tol`` (relative to max(1, |z|)) is a period."""
+    ``tol`` (relative to max(1, ``|z|``)) is a period."""
     from contactvib._kernels.shooting import strobe_map
 
     par = excitation.kernel_parameters()
