@@ -10,7 +10,11 @@ Dimension ``point`` — one row per attractor at one (P_a, f_e):
     ``floquet_re``/``floquet_im`` (point, multiplier) [1], ``floquet_abs_max`` [1],
     ``closure`` [1], ``lyapunov_per_period`` [1/excitation period; NaN for periodic],
     ``dominant_harmonic`` [multiples of f_e], ``resonance`` (label, see :func:`resonance_label`),
-    ``attractor_type`` (periodic / chaotic / quasi-periodic / long-period, :func:`attractor_type`),
+    ``attractor_type`` (periodic / chaotic / quasi-periodic, earned by the attractor search's rule:
+    :func:`contactvib.sweeps.verdict.judge_rows`), ``true_period`` [excitation periods; the minimal
+    period, beyond kmax too; 0 = none], ``lyapunov_per_s``/``lyapunov_stderr_per_s`` (point,
+    exponent) [1/s] (periodic: ln|μ_i|/T; otherwise Benettin over 2000 periods with batch-means
+    errors), ``kaplan_yorke_dimension`` [1; NaN unless λ1 > 0],
     ``branch_index`` (into the ``branch`` dimension), ``origin`` ("newton" / "jump" / "start"),
     ``found_by`` ("sweep" / "perturbation seed" / "multi-start" / "continuation": how the trace that first reached
     the point was started; see :mod:`contactvib.sweeps.sweep`),
@@ -242,6 +246,28 @@ def _with_coords(dims, values, attrs, coords):
     return xr.DataArray(values, dims=dims, attrs=attrs, coords={k: xr.Variable(*v) for k, v in coords.items()})
 
 
+def _spectrum_variables(v: dict, kind: np.ndarray) -> dict:
+    """The earned labels and Lyapunov spectra of a level's rows (:func:`.verdict.judge_rows`):
+    ``attractor_type`` of the non-periodic rows replaced by their verdict, ``true_period``,
+    ``lyapunov_per_s``/``lyapunov_stderr_per_s`` (point, exponent) and ``kaplan_yorke_dimension``."""
+    from contactvib.steady.results import kaplan_yorke_dimension
+
+    types = np.where(kind == 0, "periodic", v["attractor_type"]).astype(object)
+    lam = v["lyapunov_per_s"]
+    ky = np.array([np.nan if (d := kaplan_yorke_dimension(row)) is None else d for row in lam])
+    return {
+        "attractor_type": ("point", types, {"comment": "periodic / chaotic / quasi-periodic, earned by the "
+                                                       "attractor search's rule (Lyapunov spectrum, section)"}),
+        "true_period": ("point", v["true_period"], {"units": "excitation periods",
+                                                    "comment": "minimal period, beyond kmax too; 0 = none"}),
+        "lyapunov_per_s": (("point", "exponent"), lam, {"units": "1/s", "long_name": "Lyapunov exponents, "
+                                                        "descending (periodic: ln|mu|/T; else Benettin)"}),
+        "lyapunov_stderr_per_s": (("point", "exponent"), v["lyapunov_stderr_per_s"],
+                                  {"units": "1/s", "long_name": "standard error of the exponents (batch means)"}),
+        "kaplan_yorke_dimension": ("point", ky, {"units": "1", "comment": "NaN unless lambda1 > 0"}),
+    }
+
+
 def level_dataset(model: ContactModel, level, settings: dict):
     """The Dataset of one P_a level from :func:`contactvib.sweeps.sweep.trace_level`'s output
     (a :class:`contactvib.sweeps.sweep.LevelTrace`); layout in the module docstring."""
@@ -304,6 +330,8 @@ def level_dataset(model: ContactModel, level, settings: dict):
     }
     level_vars, attrs = _level_kind_variables(model, settings.get("excitation", "force"), pa, fe, rows)
     point_vars.update(level_vars)
+    if level.verdicts is not None:
+        point_vars.update(_spectrum_variables(level.verdicts, kind))
     point_vars.update(_dof_contact_variables(model, rows, app, loses, NP_RECORD))
     ds = xr.Dataset(
         {**point_vars, **_ragged_variables(rows, u), **branch_vars, **_trace_variables(pa, level.stops)},

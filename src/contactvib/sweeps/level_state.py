@@ -74,6 +74,10 @@ class LevelTrace:
         One per trace, in the order they ran.
     pa_over_q : float
         Excitation amplitude P_a/Q.
+    verdicts : dict or None
+        Per row, what the attractor search's rule earns it (:func:`.verdict.judge_rows`):
+        ``attractor_type``, ``true_period``, ``lyapunov_per_s`` and ``lyapunov_stderr_per_s``
+        (n, 2); None before the rows are judged.
     """
 
     rows: TraceRows
@@ -83,6 +87,7 @@ class LevelTrace:
     f_hz: np.ndarray
     stops: list
     pa_over_q: float
+    verdicts: dict | None = None
 
     @property
     def n_rows(self) -> int:

@@ -219,11 +219,12 @@ def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSetting
     for obs in observations:
         for gid, frac in obs:
             basin[gid] = frac
-    from contactvib.sweeps.verdict import drop_unsettled
+    from contactvib.sweeps.verdict import drop_unsettled, judge_rows
 
     with stage("non-periodic verdict"):
-        return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods,
-                              st.excitation)
+        lt = drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods, st.excitation)
+    with stage("spectra and earned labels"):
+        return judge_rows(lt, model, st.rtol_transient, st.kmax, st.excitation)
 
 
 def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> None:

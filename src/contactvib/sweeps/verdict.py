@@ -21,7 +21,7 @@ from contactvib.model import ContactModel, excitation_at
 from contactvib.steady.orbits import strobe_points
 from contactvib.steady.transients import WINDOW, cloud_verdict
 
-__all__ = ["settled_nonperiodic", "drop_unsettled"]
+__all__ = ["settled_nonperiodic", "drop_unsettled", "judge_rows"]
 
 
 def settled_nonperiodic(model: ContactModel, pa_over_q: float, f_hz: float, z, lyapunov: float,
@@ -54,15 +54,62 @@ def drop_unsettled(lt, model: ContactModel, rtol: float, settle_periods: int, ex
     for j in np.flatnonzero(rows.kind == KIND_NONPERIODIC):
         keep[j] = settled_nonperiodic(model, lt.pa_over_q, float(lt.f_hz[rows.i[j]]), rows.z[j],
                                       rows.lyap[j], rtol, settle_periods, excitation)
+    return _kept(lt, keep)
+
+
+def _kept(lt, keep: np.ndarray, verdicts: dict | None = None):
+    """``lt`` with the rows ``keep`` only (links renumbered), and ``verdicts`` (per row, of all rows)."""
+    rows = lt.rows
+    if verdicts is not None:
+        verdicts = {k: v[keep] for k, v in verdicts.items()}
     if keep.all():
-        return lt
+        return lt if verdicts is None else type(lt)(**{**vars(lt), "verdicts": verdicts})
     new_id = np.cumsum(keep) - 1
     links = lt.links
     ok = keep[links.a] & keep[links.b]
     new_links = type(links)(new_id[links.a[ok]], new_id[links.b[ok]], links.jump[ok].copy())
     return type(lt)(rows=type(rows)(*(v[keep] for v in rows)), found_by=lt.found_by[keep],
                     basin=lt.basin[keep], links=new_links, f_hz=lt.f_hz, stops=lt.stops,
-                    pa_over_q=lt.pa_over_q)
+                    pa_over_q=lt.pa_over_q, verdicts=verdicts)
+
+
+def judge_rows(lt, model: ContactModel, rtol: float, kmax: int, excitation: str = "force"):
+    """Every row of ``lt`` judged by the attractor search's rule: a periodic row keeps its type and
+    gets the exponents ln|μ_i| / (k T) [1/s] of its Floquet multipliers; a non-periodic row gets
+    :func:`contactvib.steady.transients.search_verdict` from its stroboscopic points (2000 periods
+    of Benettin's method: "chaotic" when λ1 > 3 stderr, a stable orbit of period kmax < k ≤ 512 in
+    that run "periodic" with its ``true_period``, "quasi-periodic" when ``|λ1|`` ≤ 3 stderr on a
+    closed curve), and an "unsettled" row (a free flight, a transient still converging, a cloud
+    that is neither) is removed. Returns ``lt`` with its ``verdicts``."""
+    from contactvib._kernels.table import KIND_NONPERIODIC
+    from contactvib.steady.transients import search_verdict
+
+    rows, n = lt.rows, lt.n_rows
+    types = np.array(["periodic"] * n, dtype=object)
+    true_period = np.where(rows.kind == KIND_NONPERIODIC, 0, rows.k).astype(np.int64)
+    lam = np.full((n, 2), np.nan)
+    se = np.zeros((n, 2))
+    keep = np.ones(n, bool)
+    fe = lt.f_hz[rows.i]
+    with np.errstate(divide="ignore"):
+        mu = np.log(np.hypot(rows.mu_re, rows.mu_im))
+    for j in range(n):
+        if rows.kind[j] != KIND_NONPERIODIC:
+            lam[j] = np.sort(mu[j] * fe[j] / rows.k[j])[::-1]
+            continue
+        exc = excitation_at(model, lt.pa_over_q, float(fe[j]), excitation)
+        tail = rows.strobe[j, :rows.n_strobe[j]]
+        v = search_verdict(exc, tail, rtol, kmax)
+        types[j] = v.kind
+        keep[j] = v.kind != "unsettled"
+        if v.kind == "periodic":
+            true_period[j] = v.period
+            lam[j] = np.sort(np.log(np.abs(np.linalg.eigvals(v.monodromy))) * fe[j] / v.period)[::-1]
+        elif v.spectrum is not None:
+            lam[j], se[j] = v.spectrum.exponents_per_s, v.spectrum.stderr_per_s
+    verdicts = {"attractor_type": types, "true_period": true_period, "lyapunov_per_s": lam,
+                "lyapunov_stderr_per_s": se}
+    return _kept(lt, keep, verdicts)
 
 
 def settle_nonperiodic_start(model: ContactModel, pa_over_q: float, f_hz: float, z, rtol: float,
