@@ -6,6 +6,7 @@ Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.sweeps
 
 from __future__ import annotations
 
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -30,10 +31,15 @@ from contactvib.cli.common import (
     parse_number,
     parse_positive,
 )
+from contactvib.cli.errors import ctrl_c
 from contactvib.cli.friction import friction_spec_option
 from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
+from contactvib.sweeps.completeness import COMPLETENESS_STARTS
 
 __all__: list = []
+
+#: The most grid points ``query --completeness`` searches again.
+COMPLETENESS_POINTS_MAX = 100_000
 
 
 @contextmanager
@@ -177,11 +183,26 @@ def resonance(pa, out, **sweep):
 
 @click.command()
 @click.argument("dataset", type=click.Path())
-@click.option("--pa", required=True, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
-@click.option("--fe", required=True, metavar="HZ", help="Frequency [Hz] (nearest grid point within half a step).")
-@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels).")
-def query(dataset, pa, fe, as_json):
-    """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one (P_a, f_e)."""
+@click.option("--pa", default=None, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
+@click.option("--fe", default=None, metavar="HZ", help="Frequency [Hz] (nearest grid point within half a step).")
+@click.option("--completeness", default=None, metavar="N",
+              help=f"Instead of --pa/--fe: search N random grid points again by brute force "
+                   f"({COMPLETENESS_STARTS} starts each) and list the attractors the dataset lacks.")
+@click.option("--seed", default="0", show_default=True, help="Random seed of --completeness (points and starts).")
+@click.option("--no-progress", is_flag=True, help="No progress bar for --completeness.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels; "
+                                                      "with --completeness its report).")
+def query(dataset, pa, fe, completeness, seed, no_progress, as_json):
+    """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one
+    (P_a, f_e), or with --completeness the attractors it lacks at random grid points."""
+    if completeness is not None:
+        if pa is not None or fe is not None:
+            raise InputError("--completeness checks random grid points: not with --pa or --fe")
+        n = parse_int("--completeness", completeness, 1, COMPLETENESS_POINTS_MAX)
+        _completeness(dataset, n, parse_int("--seed", seed, 0), not no_progress and not as_json, as_json)
+        return
+    if pa is None or fe is None:
+        raise InputError(f"{'--pa' if pa is None else '--fe'} is required (or --completeness N)")
     p = parse_number("--pa", "P_a/Q", pa)
     f = parse_positive("--fe", "f_e", fe, "Hz")
     from contactvib.sweeps.stored import DamagedDataset
@@ -213,6 +234,48 @@ def query(dataset, pa, fe, as_json):
         basin = "-" if a["basin_fraction"] is None else f"{a['basin_fraction']:.1%}"
         click.echo(f"{i:>2} {per:>6} {mins:>6} {a['app_um']:>11.5g} {a['ymin_um']:>11.5g} "
                    f"{a['contact_loss_fraction']:>10.3f} {basin:>7}  {a['branch_label']} ({a['found_by']})")
+
+
+def _completeness(dataset, n: int, seed: int, progress: bool, as_json: bool) -> None:
+    """``query --completeness N``: the report of :func:`contactvib.sweeps.completeness.check_completeness`."""
+    from contactvib.sweeps.completeness import CompletenessError, check_completeness
+
+    data = open_dataset_argument(dataset)
+    bar = []
+
+    def advance(done, total):
+        if not bar:
+            from tqdm import tqdm
+
+            bar.append(tqdm(total=total, unit="point", file=sys.stderr, leave=False, dynamic_ncols=True,
+                            desc="completeness search", disable=not progress))
+        else:
+            bar[0].update(done - bar[0].n)
+
+    with data, ctrl_c():
+        try:
+            report = check_completeness(data, n, seed=seed, progress=advance)
+        except CompletenessError as e:
+            raise InputError(f"DATASET = {data.path}: {e}") from None
+        finally:
+            while bar:
+                bar.pop().close()
+    if as_json:
+        echo_json({"completeness": report})
+        return
+    unit = data.level_unit
+    click.echo(f"{report['points_checked']} grid points searched again ({report['n_starts']} starts each, "
+               f"seed {seed}): {len(report['missing'])} missing attractor{'' if len(report['missing']) == 1 else 's'}, "
+               f"{report['found_fraction']:.1%} of those found are stored")
+    if report["missing"]:
+        click.echo(f"{'level [' + unit + ']':>10} {'f_e [Hz]':>9} {'period':>6} {'minima':>6} "
+                   f"{'A_pp [um]':>10} {'basin':>7}")
+    for m in report["missing"]:
+        per = "-" if m["period"] is None else str(m["period"])
+        mins = "-" if m["minima_per_period"] is None else str(m["minima_per_period"])
+        click.echo(f"{m['level']:>10g} {m['fe_hz']:>9g} {per:>6} {mins:>6} {m['app_um']:>10.5g} "
+                   f"{m['basin_fraction']:>7.1%}")
+    click.echo(f"same attractor: {report['rule']}")
 
 
 @click.command()
