@@ -93,6 +93,12 @@ def sweep_options(f):
     return f
 
 
+keep_chunks_option = click.option(
+    "--keep-chunks", is_flag=True,
+    help="Keep OUT/.chunks (one finished level per file) after a complete run, for a later --resume; "
+         "by default they are removed once the dataset and figures are written.")
+
+
 #: Options of the sweeps, by SweepSettings' symbols.
 _SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "--kmax",
                   "multistart_per_octave": "--multistart-per-octave",
@@ -159,15 +165,16 @@ def _workers(text):
 @sweep_options
 @friction_spec_option
 @click.option("--out", default="resonance", show_default=True, type=click.Path(file_okay=False),
-              help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
-                   "diagram per level.")
-def resonance(pa, out, **sweep):
+              help="Output folder: resonance.nc, one resonance graph and one extrema diagram per level "
+                   "(.chunks/ while it runs).")
+@keep_chunks_option
+def resonance(pa, out, keep_chunks, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     model, st, n_workers = sweep_inputs(sweep)
     levels = sweep_levels(pa, model, st)
     from contactvib.interrupts import check_interrupt
     from contactvib.sweeps.paper import write_level_figures
-    from contactvib.sweeps.resonance import resonance_dataset
+    from contactvib.sweeps.resonance import remove_chunks, resonance_dataset
 
     out = checked_output_folder(out)
     with writing_into(out):
@@ -177,6 +184,8 @@ def resonance(pa, out, **sweep):
             tag = _level_file_tag(p, st.excitation)
             write_level_figures(ds, p, out / f"resonance_{tag}.png", out / f"extrema_{tag}.png", model)
             check_interrupt()
+        if not keep_chunks:
+            remove_chunks(out, levels)
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 
@@ -280,20 +289,25 @@ def _completeness(dataset, n: int, seed: int, progress: bool, as_json: bool) -> 
 
 @click.command()
 @click.option("--out", default="paper", show_default=True, type=click.Path(file_okay=False),
-              help="Output folder: paper.nc, .chunks/, fig2*/fig3* per level, fig4–fig9, index.md.")
+              help="Output folder: paper.nc, fig2*/fig3* per level, fig4–fig9, index.md (.chunks/ while "
+                   "it runs).")
 @sweep_options
-def paper(out, **sweep):
+@keep_chunks_option
+def paper(out, keep_chunks, **sweep):
     """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
     if sweep.get("level_kind", "force") != "force":
         raise InputError(f"--excitation {sweep['level_kind']}: the paper's levels are force amplitudes "
                          "P_a [Q]; sweep base motion with `contactvib resonance` or `atlas`")
     model, st, n_workers = sweep_inputs(sweep)
     folder = checked_output_folder(out)
-    from contactvib.sweeps.paper import reproduce_paper
+    from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
+    from contactvib.sweeps.resonance import remove_chunks
 
     with writing_into(folder):
         res = reproduce_paper(model, out=out, settings=st, resume=sweep["resume"],
                               workers=n_workers, progress=not sweep["no_progress"])
+        if not keep_chunks:
+            remove_chunks(folder, PAPER_LEVELS)
     ds = res.dataset
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches; "
                f"{res.timing['sweeps_and_figures_s']:.1f} s")
