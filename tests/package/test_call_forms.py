@@ -29,7 +29,8 @@ POSITIONAL = {
     "bifurcation_diagram": ["model"], "evolution": ["model"], "perturbation_curve": ["model"],
     "hb_continuation": ["model"], "trace_level": ["model"], "resonance_dataset": ["model"],
     "reproduce_paper": ["model"],
-    "open_resonance": ["path"], "attractors_at": ["ds"], "animate": ["dataset", "out"], "open_levels": ["path"],
+    "open_resonance": ["path"], "attractors_at": ["ds"], "check_completeness": ["data"],
+    "animate": ["dataset", "out"], "open_levels": ["path"],
     "regime_maps": ["ds"], "fit": [],
 }
 

@@ -102,7 +102,7 @@ def test_a_deleted_attractor_is_reported_exactly(two_levels, tmp_path):
 def test_the_library_call_reports_progress(two_levels):
     calls = []
     with open_resonance(two_levels) as data:
-        rep = check_completeness(data, 2, seed=5, n_starts=32, progress=lambda d, t: calls.append((d, t)))
+        rep = check_completeness(data, n_points=2, seed=5, n_starts=32, progress=lambda d, t: calls.append((d, t)))
     assert calls == [(0, 2), (1, 2), (2, 2)] and rep["n_starts"] == 32
 
 

@@ -247,7 +247,8 @@ def query(dataset, pa, fe, completeness, seed, no_progress, as_json):
 
 def _completeness(dataset, n: int, seed: int, progress: bool, as_json: bool) -> None:
     """``query --completeness N``: the report of :func:`contactvib.sweeps.completeness.check_completeness`."""
-    from contactvib.sweeps.completeness import CompletenessError, check_completeness
+    from contactvib.sweeps.completeness import check_completeness
+    from contactvib.sweeps.stored import DatasetError
 
     data = open_dataset_argument(dataset)
     bar = []
@@ -257,14 +258,14 @@ def _completeness(dataset, n: int, seed: int, progress: bool, as_json: bool) -> 
             from tqdm import tqdm
 
             bar.append(tqdm(total=total, unit="point", file=sys.stderr, leave=False, dynamic_ncols=True,
-                            desc="completeness search", disable=not progress))
+                            desc="completeness search", disable=None if progress else True))  # None: a terminal only
         else:
             bar[0].update(done - bar[0].n)
 
     with data, ctrl_c():
         try:
-            report = check_completeness(data, n, seed=seed, progress=advance)
-        except CompletenessError as e:
+            report = check_completeness(data, n_points=n, seed=seed, progress=advance)
+        except DatasetError as e:
             raise InputError(f"DATASET = {data.path}: {e}") from None
         finally:
             while bar:

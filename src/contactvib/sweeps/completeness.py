@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from contactvib.errors import ContactvibError
+from contactvib.sweeps.stored import DatasetError
 
 __all__ = ["check_completeness", "completeness_points", "same_attractor", "COMPLETENESS_STARTS",
            "APP_RTOL", "STROBE_RTOL"]
@@ -34,10 +34,6 @@ APP_RTOL = 1e-3
 #: Relative tolerance of :func:`~contactvib.steady.orbits.same_orbit` on the stroboscopic sets
 #: (y [µm], ẏ [mm/s]) of two orbits that are the same.
 STROBE_RTOL = 1e-3
-
-
-class CompletenessError(ContactvibError, ValueError):
-    """A dataset whose model or grid cannot be rebuilt from its attributes (one line)."""
 
 
 def completeness_points(data, n_points: int, seed: int) -> list[tuple[float, float]]:
@@ -67,7 +63,7 @@ def same_attractor(a: dict, b: dict) -> bool:
     return same_orbit(np.asarray(a["strobe"], float), np.asarray(b["strobe"], float), rtol=STROBE_RTOL)
 
 
-def check_completeness(data, n_points: int, *, seed: int = 0, n_starts: int = COMPLETENESS_STARTS,
+def check_completeness(data, *, n_points: int, seed: int = 0, n_starts: int = COMPLETENESS_STARTS,
                        progress=None) -> dict:
     """Search ``n_points`` random grid points of ``data`` (a ``ResonanceData``) again with
     ``n_starts`` random starts plus the ballistic seeds, up to the sweep's ``kmax``, and report
@@ -81,7 +77,8 @@ def check_completeness(data, n_points: int, *, seed: int = 0, n_starts: int = CO
     ``unsettled_starts`` the starts of all points that settled on nothing within the transient
     limit (an attractor reached only from them would be missed by this check too).
     ``progress(done, total)`` is called with ``done = 0`` before the first point and after each.
-    Ctrl-C stops the search between kernel calls (``KeyboardInterrupt``).
+    Ctrl-C stops the search between kernel calls (``KeyboardInterrupt``). A dataset whose model
+    or grid cannot be rebuilt from its attributes is a ``DatasetError`` (one line).
     """
     from contactvib.interrupts import check_interrupt
     from contactvib.model import excitation_at
@@ -125,7 +122,7 @@ def _model(data):
     try:
         return ContactModel(**json.loads(data.ds.attrs["model"]))
     except (KeyError, TypeError, ValueError) as e:
-        raise CompletenessError(f"the dataset's 'model' attribute is missing or damaged ({type(e).__name__}): "
+        raise DatasetError(f"the dataset's 'model' attribute is missing or damaged ({type(e).__name__}): "
                                 "recompute it") from None
 
 
@@ -135,7 +132,7 @@ def _grid(data) -> np.ndarray:
         st = json.loads(data.ds.attrs["settings"])
         fmin, fmax, df = float(st["fmin_hz"]), float(st["fmax_hz"]), float(st["df_hz"])
     except (KeyError, TypeError, ValueError) as e:
-        raise CompletenessError(f"the dataset's 'settings' attribute is missing or damaged ({type(e).__name__}): "
+        raise DatasetError(f"the dataset's 'settings' attribute is missing or damaged ({type(e).__name__}): "
                                 "recompute it") from None
     n = int(math.floor((fmax - fmin) / df + 1e-9)) + 1
     return fmin + df * np.arange(n)
