@@ -208,13 +208,13 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
 
 
 def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None, on_level=None,
-               compress: bool = False):
+               compress: bool = False, seeds=()):
     from contactvib.sweeps.dataset import level_dataset, write_atomic
     from contactvib.sweeps.sweep import trace_level
 
     model = ContactModel(**model_params)
     st = SweepSettings(**settings)
-    level = trace_level(model, pa_over_q=pa, settings=st)
+    level = trace_level(model, pa_over_q=pa, settings=st, seeds=seeds)
     ds = level_dataset(model, level, settings)
     if st.friction is not None:  # the tangential motion under every periodic point
         from contactvib.friction.columns import with_friction
@@ -374,12 +374,29 @@ def _resonance(model, levels, sd, out, store, resume, backend, progress, on_leve
                 _reuse_chunks(model, levels, sd, out, on_level, level_results, done)
             _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, backend,
                           progress, on_level, level_results, done, len(levels), store)
+            if sd.get("level_seeds"):
+                _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress)
             ds = merge_levels([done[pa] for pa in levels])
             if out is not None:
                 write_atomic(ds, out / f"{name}.nc", compress=compress)
     except KeyboardInterrupt:
         raise _interrupted(out, levels, done, started) from None
     return ds
+
+
+def _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress):
+    """``SweepSettings.level_seeds``: sweep again, in this process, each level that lacks an
+    orbit another level holds (:func:`contactvib.sweeps.level_seeds.level_seeds`), with its seeds;
+    its chunk is rewritten. A level already swept with them has none left (a resumed run)."""
+    from contactvib.sweeps.level_seeds import level_seeds
+
+    seeds = level_seeds(model, done, SweepSettings(**sd))
+    for pa in sorted(seeds):
+        chunk = None if out is None else str(chunk_path(out, pa).absolute())
+        done[pa], extra = _run_level(model.parameters(), pa, sd, chunk, on_level, compress, seeds[pa])
+        if level_results is not None:
+            level_results[pa] = extra
+        check_interrupt()
 
 
 def _reuse_chunks(model, levels, sd, out, on_level, level_results, done):
