@@ -59,7 +59,7 @@ class SweepSettings:
     level_seeds : bool
         After every level is swept, sweep again each level that lacks an orbit of period ≤ 4
         another level holds, seeded by Newton with that orbit walked in the level to this one
-        (:mod:`contactvib.sweeps.level_seeds`; root "level seed"). Off by default: the levels
+        (``contactvib.sweeps.level_seeds``; root "level seed"). Off by default: the levels
         are then independent of one another.
     """
 

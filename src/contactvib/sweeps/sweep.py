@@ -179,7 +179,7 @@ def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSetting
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
 
     ``seeds``: (grid index, orbit point (x, x') at phase 0 [y0, y0 ω_n0], period) of stable orbits
-    found another way (:mod:`contactvib.sweeps.level_seeds`), traced up and down after the
+    found another way (``contactvib.sweeps.level_seeds``), traced up and down after the
     multi-start (root "level seed") where no trace has met them.
 
     As the level goes on it reports the frequency points done so far
