@@ -214,7 +214,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
 
     model = ContactModel(**model_params)
     st = SweepSettings(**settings)
-    level = trace_level(model, pa_over_q=pa, settings=st, seeds=seeds)
+    level = trace_level(model, pa_over_q=pa, settings=st, **({"seeds": seeds} if len(seeds) else {}))
     ds = level_dataset(model, level, settings)
     if st.friction is not None:  # the tangential motion under every periodic point
         from contactvib.friction.columns import with_friction
