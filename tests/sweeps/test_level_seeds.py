@@ -104,3 +104,29 @@ def test_the_walk_needs_its_steps():
 def test_the_switch_is_a_bool():
     with pytest.raises(ParameterError, match="level_seeds"):
         SweepSettings(level_seeds="yes")
+
+
+def test_an_orbit_a_level_gained_reaches_the_next():
+    """Over 770–820 Hz (2 Hz) the multi-start finds the period-2 orbit with 3 minima at 0.70 Q
+    only; walked from 0.70 Q it reaches 0.75 Q (788–814 Hz), and from there, in the next pass,
+    0.80 Q (from 804 Hz): the full sweep of ``contactvib paper`` holds it at 0.75 Q over 788–814
+    Hz and at 0.80 Q over 804–830 Hz. Checked at 0.80 Q, 810 Hz against a 256-start search."""
+    grid = dict(fmin_hz=770.0, fmax_hz=820.0, df_hz=2.0)
+    sweeps = {on: ResonanceData(resonance_dataset(ContactModel(), levels=[0.7, 0.75, 0.8],
+                                                  settings=SweepSettings(**grid, level_seeds=on), out=None,
+                                                  workers=1, progress=False)) for on in (False, True)}
+
+    def window(data, p):
+        fe = _points(data, p, 2, 3)["fe_hz"].values
+        return (fe.min(), fe.max()) if fe.size else None
+
+    assert window(sweeps[False], 0.7) == window(sweeps[True], 0.7) == (770.0, 794.0)
+    assert window(sweeps[False], 0.75) is None and window(sweeps[False], 0.8) is None
+    assert window(sweeps[True], 0.75) == (788.0, 814.0)
+    assert window(sweeps[True], 0.8)[0] == 804.0
+    got = _points(sweeps[True], 0.8, 2, 3)
+    assert set(got["found_by"].values) == {"level seed"}
+    at = np.flatnonzero(got["fe_hz"].values == 810.0)
+    ref = find_attractors(ContactModel().excitation(0.8, 810.0), n_starts=256, seed=0)
+    (same,) = [a for a in ref.attractors if a.period == 2 and a.minima_per_period == 3]
+    assert got["app_um"].values[at[0]] == pytest.approx(same.app_um, rel=1e-3)

@@ -386,17 +386,25 @@ def _resonance(model, levels, sd, out, store, resume, backend, progress, on_leve
 
 def _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress):
     """``SweepSettings.level_seeds``: sweep again, in this process, each level that lacks an
-    orbit another level holds (:func:`contactvib.sweeps.level_seeds.level_seeds`), with its seeds;
-    its chunk is rewritten. A level already swept with them has none left (a resumed run)."""
+    orbit another level holds (:func:`contactvib.sweeps.level_seeds.level_seeds`), with all its
+    seeds so far; its chunk is rewritten. Repeated while a pass finds new seeds (an orbit a level
+    gained may reach the next level), at most once per level. A level already swept with them
+    has none left (a resumed run)."""
     from contactvib.sweeps.level_seeds import level_seeds
 
-    seeds = level_seeds(model, done, SweepSettings(**sd))
-    for pa in sorted(seeds):
-        chunk = None if out is None else str(chunk_path(out, pa).absolute())
-        done[pa], extra = _run_level(model.parameters(), pa, sd, chunk, on_level, compress, seeds[pa])
-        if level_results is not None:
-            level_results[pa] = extra
-        check_interrupt()
+    st = SweepSettings(**sd)
+    seeds: dict = {}
+    for _pass in range(len(done)):
+        new = level_seeds(model, done, st)
+        if not new:
+            return
+        for pa in sorted(new):
+            seeds.setdefault(pa, []).extend(new[pa])
+            chunk = None if out is None else str(chunk_path(out, pa).absolute())
+            done[pa], extra = _run_level(model.parameters(), pa, sd, chunk, on_level, compress, seeds[pa])
+            if level_results is not None:
+                level_results[pa] = extra
+            check_interrupt()
 
 
 def _reuse_chunks(model, levels, sd, out, on_level, level_results, done):
