@@ -1,5 +1,5 @@
 """``SweepSettings.level_seeds`` (:mod:`contactvib.sweeps.level_seeds`): a level that lacks an
-orbit of period ≤ 4 another level holds is swept again from that orbit walked in P_a.
+orbit of period ≤ 4 a neighbouring level holds is swept again from that orbit walked in P_a.
 
 At 0.75 Q over 1370–1400 Hz (5 Hz) the multi-start finds the period-4 orbit with 3 minima per
 period (1380–1385 Hz); at 0.80 Q it finds none, though the orbit exists there (the brute-force

@@ -4,9 +4,10 @@ A small superharmonic or ultrasubharmonic window (period k ≤ 4, m minima per p
 period 4 with 3 minima near 1300–1400 Hz at 0.70–0.85 Q) has a basin of a few per cent of the
 start box, and a level's multi-start at a handful of frequencies per octave may miss it where a
 neighbouring level found it. :func:`level_seeds` takes, for every level, the windows of period
-k ≤ :data:`SEED_KMAX` of every other level (runs of grid points holding a (k, m) orbit) that this
-level lacks at the same grid points, and walks each window's orbit at three of its frequencies
-(first, middle, last) in the level from the other level to this one at fixed f_e: Newton on the
+k ≤ :data:`SEED_KMAX` of its neighbouring levels (the nearest below and above; runs of grid points
+holding a (k, m) orbit) that this level lacks at the same grid points, and walks each window's
+orbit at three of its frequencies (first, middle, last) in the level from the neighbour to this one
+at fixed f_e: Newton on the
 period-k map (:func:`contactvib._kernels.shooting.newton_orbit`) at steps of at most
 :data:`LEVEL_STEP` (in the levels' unit), each from the previous step's orbit — natural
 continuation in P_a. What arrives as a stable orbit of minimal period ≤ k (the settle's
@@ -70,9 +71,7 @@ def level_seeds(model, levels: dict, settings) -> dict:
     seeds: dict = {}
     for p in sorted(levels):
         done = set()  # (k, m, grid index) already seeded or tried at this level
-        for q in sorted(levels, key=lambda q: (abs(q - p), q)):
-            if q == p:
-                continue
+        for q in _neighbours(sorted(levels), p):
             ds = levels[q]
             for k, m, idx in _windows(ds, st):
                 for j in idx:
@@ -94,6 +93,12 @@ def level_seeds(model, levels: dict, settings) -> dict:
                             [s[3] for s in seeds.get(p, []) if s[0] == i], rec):
                         seeds.setdefault(p, []).append((i, oz, kk, rec))
     return {p: [(i, z, k) for i, z, k, _rec in s] for p, s in seeds.items()}
+
+
+def _neighbours(levels: list, p: float) -> list:
+    """The stored levels next to ``p``: the nearest below and the nearest above (nearest first)."""
+    j = levels.index(p)
+    return sorted(levels[max(0, j - 1):j] + levels[j + 1:j + 2], key=lambda q: (abs(q - p), q))
 
 
 def _holds(records, rec) -> bool:

@@ -386,7 +386,7 @@ def _resonance(model, levels, sd, out, store, resume, backend, progress, on_leve
 
 def _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress):
     """``SweepSettings.level_seeds``: sweep again, in this process, each level that lacks an
-    orbit another level holds (:func:`contactvib.sweeps.level_seeds.level_seeds`), with all its
+    orbit a neighbouring level holds (:func:`contactvib.sweeps.level_seeds.level_seeds`), with all its
     seeds so far; its chunk is rewritten. Repeated while a pass finds new seeds (an orbit a level
     gained may reach the next level), at most once per level. A level already swept with them
     has none left (a resumed run)."""

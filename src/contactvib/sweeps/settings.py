@@ -58,7 +58,7 @@ class SweepSettings:
         None (the default): no friction columns.
     level_seeds : bool
         After every level is swept, sweep again each level that lacks an orbit of period ≤ 4
-        another level holds (repeated while a pass adds one, at most once per level), seeded by
+        a neighbouring level holds (repeated while a pass adds one, at most once per level), seeded by
         Newton with that orbit walked in the level to this one
         (``contactvib.sweeps.level_seeds``; root "level seed"). Off by default: the levels
         are then independent of one another.
