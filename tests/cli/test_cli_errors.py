@@ -369,3 +369,42 @@ def test_a_failed_computation_is_one_line_exit_1(tmp_path):
     assert r.returncode == 1
     assert r.stderr.startswith("contactvib: error: harmonic-balance failed: harmonic-balance Newton did not converge")
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+# ------------------------------------------------------------------ section, orbit-diagram
+
+_GRID = ["--fe-from", "810", "--fe-to", "812", "--fe-step", "1"]
+
+#: section and orbit-diagram inputs and the start of their one error line
+SECTION_BAD_INPUT = [
+    (["section", "--periods", "0"], "contactvib: error: --periods (n_periods) = 0: must be an integer >= 1"),
+    (["section", "--periods", "2.5"], "contactvib: error: --periods (n_periods) = 2.5: must be an integer"),
+    (["section", "--out", "x.txt"], "contactvib: error: --out = x.txt: must end with .png, .svg, .pdf"),
+    (["section", "--csv", "x.png"], "contactvib: error: --csv = x.png: must end with .csv"),
+    (["orbit-diagram", "--fe-from", "820", "--fe-to", "810", "--fe-step", "1"],
+     "contactvib: error: --fe-to (f_to) = 810: must be > --fe-from = 820 Hz"),
+    (["orbit-diagram", "--fe-from", "810", "--fe-to", "820", "--fe-step", "0"],
+     "contactvib: error: --fe-step (df) = 0: must be > 0 Hz"),
+    (["orbit-diagram", "--fe-from", "810", "--fe-to", "820", "--fe-step", "-1"],
+     "contactvib: error: --fe-step (df) = -1: must be > 0 Hz"),
+    (["orbit-diagram", "--fe-from", "1", "--fe-to", "1000000", "--fe-step", "1"],
+     "contactvib: error: --fe-step (df) = 1: gives 1000000 grid points from --fe-from to --fe-to; at most 5000"),
+    (["orbit-diagram", "--fe-from", "810", "--fe-to", "820"], "contactvib: error: --fe-step: needed with --vary fe"),
+    (["orbit-diagram", *_GRID, "--pa-from", "0.5"], "contactvib: error: --pa-from: belongs to --vary pa"),
+    (["orbit-diagram", *_GRID, "--periods", "1"], "contactvib: error: --periods (n_periods) = 1: must be an integer"),
+    (["orbit-diagram", *_GRID, "--search-every", "0"], "contactvib: error: --search-every (search_every) = 0"),
+    (["orbit-diagram", *_GRID, "--pa", "-1"], "contactvib: error: --pa (P_a/Q) = -1: must be >= 0"),
+    (["orbit-diagram", "--vary", "pa", "--pa-from", "0.5", "--pa-to", "0.6", "--pa-step", "0.1"],
+     "contactvib: error: --fe: needed with --vary pa"),
+    (["orbit-diagram", *_GRID, "--ylim", "1", "0"], "contactvib: error: --ylim 1 0: LO must be < HI"),
+]
+
+
+@pytest.mark.parametrize("args, message", SECTION_BAD_INPUT)
+def test_section_and_orbit_diagram_bad_input_one_line(args, message, capsys, tmp_path, monkeypatch):
+    """One stderr line naming the option and its range, exit 2, before any computation or file."""
+    monkeypatch.chdir(tmp_path)
+    assert main(args) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and err.startswith(message), err
+    assert not any(tmp_path.iterdir())

@@ -118,7 +118,7 @@ REDUCED: dict[str, list[str]] = {
         ["attractors", "--system", "rocking", "--pa", "0.65", "--fe", "360", "--starts", "8"],
     "contactvib attractors --system rocking --pa 0.5 --fe 1300 --set e=0.01 --json":
         ["attractors", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--json",
-         "--starts", "4"],
+         "--starts", "24"],  # 6 of 64 starts settle (systems.md): 24 for one (an empty search exits 1)
     "contactvib simulate --system rocking --pa 0.5 --fe 1300 --set e=0.01 --from-state 0.3,2 0,0 --periods 20 "
     "--out rock/":
         ["simulate", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--from-state",
@@ -129,6 +129,13 @@ REDUCED: dict[str, list[str]] = {
     "contactvib simulate --system examples/two_dof_stop.toml --pa-newton 2 --fe 0.2 --out stop/":
         ["simulate", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "2", "--fe", "0.2",
          "--starts", "4", "--out", "stop/"],
+    "contactvib continue --system examples/two_dof_stop.toml --pa-newton 0.1 --from-fe 0.08 --fmin 0.08 "
+    "--fmax 0.14 --out sys_branch/":
+        ["continue", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--from-fe", "0.08",
+         "--fmin", "0.08", "--fmax", "0.1", "--out", "sys_branch/"],
+    "contactvib attractors --system examples/two_dof_stop.toml --pa-newton 0.1 --fe 0.095 --starts 8":
+        ["attractors", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fe", "0.095",
+         "--starts", "8"],
     "contactvib attractors --pa 0.65 --fe 700 --preload 2":
         ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
     "contactvib attractors --fe 1200 --base-um 0.05":
@@ -151,6 +158,24 @@ REDUCED: dict[str, list[str]] = {
     "contactvib attractors --pa 0.5 --fe 700 --set m2=1.5 --set c_n=1e14":
         ["attractors", "--pa", "0.5", "--fe", "700", "--set", "m2=1.5", "--set", "c_n=1e14",
          "--starts", "16"],
+    "contactvib section --pa 0.75 --fe 816.5 --impacts --out sections/section.png --csv sections/section.csv":
+        ["section", "--pa", "0.75", "--fe", "816.5", "--impacts", "--starts", "32", "--periods", "50",
+         "--out", "sections/section.png", "--csv", "sections/section.csv"],
+    "contactvib section --pa 0.9 --fe 1300":
+        ["section", "--pa", "0.9", "--fe", "1300", "--starts", "512", "--periods", "400"],
+    "contactvib section --pa 0.75 --fe 816.5 --attractor 2 --periods 5000 --impacts --out sections/chaos.png":
+        ["section", "--pa", "0.75", "--fe", "816.5", "--attractor", "0", "--periods", "50", "--impacts",
+         "--starts", "16", "--out", "sections/chaos.png"],
+    "contactvib orbit-diagram --pa 0.75 --fe-from 808 --fe-to 820 --fe-step 0.1 --ylim -4 1 --out sections/od075.png":
+        ["orbit-diagram", "--pa", "0.75", "--fe-from", "816", "--fe-to", "817", "--fe-step", "1", "--periods", "8",
+         "--starts", "16", "--ylim", "-4", "1", "--out", "sections/od075.png"],
+    ("contactvib orbit-diagram --pa 0.8 --fe-from 370 --fe-to 445 --fe-step 0.25 --ylim -0.1 0.4 "
+     "--out sections/od08.png"):
+        ["orbit-diagram", "--pa", "0.8", "--fe-from", "420", "--fe-to", "421", "--fe-step", "1", "--periods", "8",
+         "--starts", "16", "--ylim", "-0.1", "0.4", "--out", "sections/od08.png"],
+    "contactvib orbit-diagram --pa 0.75 --fe-from 812 --fe-to 818 --fe-step 0.5 --out od_quick.png":
+        ["orbit-diagram", "--pa", "0.75", "--fe-from", "812", "--fe-to", "813", "--fe-step", "1", "--periods", "8",
+         "--starts", "16", "--out", "od_quick.png"],
     "contactvib basins --pa 0.65 --fe 360 --grid 400x400 --out basins/":
         ["basins", "--pa", "0.65", "--fe", "360", "--grid", "12x10", "--starts", "32", "--out", "basins/"],
     "contactvib basins --pa 0.65 --fe 360 --grid 60x60 --json":
@@ -251,6 +276,9 @@ DATASET_ATTRS = {"model", "settings", "fn0_hz", "y0_um", "levels_pa_over_q"}
 BRANCH_VARS = {"fe_hz", "pa_over_q", "app_um", "ymin_um", "ymax_um", "floquet_re", "floquet_im",
                "stable", "state_x", "state_xdot", "minima_per_period", "contact_loss_fraction",
                "arclength"}
+#: A system's branch file (docs/tutorials/systems.md).
+SYSTEM_BRANCH_VARS = {"fe_hz", "pa_newton", "pa_over_q", "app", "qmin", "qmax", "contact_loss_fraction",
+                      "floquet_re", "floquet_im", "stable", "state", "arclength"}
 #: `continue/bifurcations --json` and `special_points_<tag>.json`.
 SPECIAL_KEYS = {"type", "fe_hz", "pa_over_q", "app_um", "period", "branch"}
 STOP_KEYS = {"fe_hz", "pa_over_q", "reason", "branch"}
@@ -396,6 +424,18 @@ def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
             assert {"period", "floquet_multipliers", "stable", "basin_fraction", "dofs", "contacts"} <= set(a)
     elif args[0] == "attractors":
         assert stdout.startswith("system ") and "linear modes:" in stdout
+    elif args[0] == "continue":  # docs/tutorials/systems.md: the branch file, special points, figure
+        (nc,) = folder.glob("branch_b0_*.nc")
+        with xr.open_dataset(nc) as b:
+            assert SYSTEM_BRANCH_VARS <= set(b.variables), sorted(SYSTEM_BRANCH_VARS - set(b.variables))
+        (js,) = folder.glob("special_points_*.json")
+        sps = json.loads(js.read_text())["special_points"]
+        assert "neimark-sacker" in {sp["type"] for sp in sps}
+        for sp in sps:
+            assert {"type", "fe_hz", "pa_newton", "period", "branch", "floquet_multipliers", "dofs",
+                    "contacts"} <= set(sp)
+        _figures(folder, "branches_*.png", 1)
+        assert "neimark-sacker" in stdout and "wrote 1 branch files" in stdout
     else:
         pngs = _figures(folder, "*.png", 2)
         assert len(pngs) % 2 == 0 and len(list(folder.glob("*_forces.png"))) == len(pngs) // 2
@@ -618,6 +658,19 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
             assert d.sizes[next(iter(d["y_um"].dims))] > 100
     elif "--system" in args:
         _check_system(args, out, folder)
+    elif cmd == "section" and "--pa" in args and args[args.index("--pa") + 1] == "0.9":
+        assert_figure_file(workdir / "section_pa0.9_fe1300.png")
+        assert "chaotic by the search" in out and "stable period-12 orbit" in out
+    elif cmd == "section" and "--attractor" in args:
+        assert_figure_file(workdir / m.group(1))
+        assert len(out.splitlines()) == 4 and out.splitlines()[2].split()[0] == "0"
+    elif cmd == "section":
+        assert_figure_file(workdir / m.group(1))
+        lines = (workdir / "sections" / "section.csv").read_text().splitlines()
+        assert "units" in lines[1] and lines[2].startswith("attractor,kind,map,period,k,y_um") and len(lines) > 3
+    elif cmd == "orbit-diagram":
+        assert_figure_file(workdir / m.group(1))
+        assert "grid points" in out
     elif cmd == "attractors" and "--json" in args:
         _attractors_json(json.loads(out), 0.65, 360.0)
     elif cmd == "attractors":

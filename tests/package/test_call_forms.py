@@ -31,7 +31,9 @@ POSITIONAL = {
     "reproduce_paper": ["model"],
     "open_resonance": ["path"], "attractors_at": ["ds"], "check_completeness": ["data"],
     "animate": ["dataset", "out"], "open_levels": ["path"],
-    "regime_maps": ["ds"], "fit": [],
+    "regime_maps": ["ds"], "fit": [], "poincare_sections": ["excitation", "attractors"],
+    "orbit_diagram": ["model"],
+    "orbit_period": ["excitation"], "follow_cascade": ["model"], "cascades_at": ["model"],
 }
 
 

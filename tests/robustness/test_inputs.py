@@ -64,14 +64,25 @@ OPTIONS = {
                  "--pa-min": "value", "--pa-max": "value", "--set": "set", "--fmin": "value",
                  "--fmax": "value", "--max-points": "value", "--app-max": "value", "--rtol": "value"},
     "bifurcations": {"--pa": "levels", "--seed-fe": "csv", "--set": "set", "--fmin": "value",
-                     "--fmax": "value", "--max-points": "value", "--app-max": "value", "--rtol": "value"},
+                     "--fmax": "value", "--max-points": "value", "--app-max": "value", "--rtol": "value",
+                     "--cascade-fe": "value", "--cascade-direction": "value", "--system": "value",
+                     "--pa-newton": "value", "--coordinate": "value"},
     "evolution": {"--order": "value", "--pa-min": "value", "--pa-max": "value", "--levels": "value",
                   "--set": "set"},
     "hbm": {"--pa": "value", "--set": "set", "--harmonics": "value", "--fmin": "value", "--fmax": "value",
-            "--energy-tol": "value"},
+            "--energy-tol": "value", "--system": "value", "--pa-newton": "value", "--n-time": "value",
+            "--plot": "value", "--measure": "value"},
     "basins": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                "--grid": "value", "--y-range": "pair", "--ydot-range": "pair", "--kmax": "value",
                "--max-periods": "value", "--starts": "value"},
+    "section": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
+                "--starts": "value", "--seed": "value", "--kmax": "value", "--max-periods": "value",
+                "--periods": "value", "--csv": "value", "--attractor": "value"},
+    "orbit-diagram": {"--pa": "value", "--fe": "value", "--set": "set", "--vary": "value", "--fe-from": "value",
+                      "--fe-to": "value", "--fe-step": "value", "--pa-from": "value", "--pa-to": "value",
+                      "--pa-step": "value", "--periods": "value", "--search-every": "value", "--starts": "value",
+                      "--kmax": "value", "--measure": "value", "--ylim": "pair", "--csv": "value", "--nc": "value",
+                      "--workers": "value"},
     "perturbation": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                      "--terms": "value", "--order": "value", "--summation": "value"},
     "map": {"--orders": "levels", "--curves": "value"},
@@ -90,13 +101,15 @@ OPTIONS = {
 #: options of the commands at one operating point.
 LAW = {"--law": "value", "--law-file": "value", "--damping": "value", "--preload": "value", "--model": "value"}
 EXCITATION = {"--base-um": "value", "--base-g": "value", "--harmonic": "value"}
-for _name in ("attractors", "simulate", "basins", "perturbation", "friction"):
+for _name in ("attractors", "simulate", "section", "basins", "perturbation", "friction"):
     OPTIONS[_name].update(LAW, **EXCITATION)
 OPTIONS["simulate"].update({"--random-psd": "value", "--band": "pair", "--duration": "value"})
 #: A system of several degrees of freedom (`rocking` or a TOML file) at one operating point.
-for _name in ("attractors", "simulate"):
+for _name in ("attractors", "simulate", "continue"):
     OPTIONS[_name]["--system"] = "value"
-for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore"):
+OPTIONS["continue"].update({"--pa-newton": "value", "--coordinate": "value"})
+for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "evolution", "hbm", "explore",
+              "orbit-diagram"):
     OPTIONS[_name].update(LAW)
 #: What the levels hold (force, base-um, base-g): the sweeps, the continuation in f_e and hbm.
 for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
@@ -144,6 +157,10 @@ def _argv(command, option, kind, value, tmp_path, small_dataset):
         head += [str(small_dataset)]
     if command == "animate":  # a dataset and a film file
         head += [str(small_dataset), "--out", str(tmp_path / "film.mp4")]
+    elif command in ("section", "orbit-diagram"):  # --out is a figure file
+        head += ["--out", str(tmp_path / "out.png")]
+        if command == "orbit-diagram":
+            head += ["--fe-from", "810", "--fe-to", "811", "--fe-step", "1"]
     elif command not in ("attractors", "query", "explore"):  # explore writes nothing
         head += ["--out", str(tmp_path / "out")]
     head += NEEDS.get((command, option), [])

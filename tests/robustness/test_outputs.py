@@ -33,6 +33,9 @@ COMMANDS = [
     pytest.param("bifurcations", ["--pa", "0.6", "0.7"], id="bifurcations"),
     pytest.param("evolution", [], id="evolution"),
     pytest.param("hbm", [], id="hbm"),
+    pytest.param("section", [], id="section"),
+    pytest.param("section", ["--impacts", "--json"], id="section-json"),
+    pytest.param("orbit-diagram", ["--fe-from", "810", "--fe-to", "811", "--fe-step", "1"], id="orbit-diagram"),
     pytest.param("basins", ["--grid", "10x10"], id="basins"),
     pytest.param("basins", ["--grid", "10x10", "--json"], id="basins-json"),
     pytest.param("perturbation", [], id="perturbation"),
@@ -99,7 +102,11 @@ def test_out_that_is_a_file_refused_before_computing(no_computation, capsys, tmp
     assert out.read_text() == "kept"
 
 
-@pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks and p.values[0] != "animate"])
+#: Commands whose --out is a file of a given suffix (checked by their own controls).
+_FILE_OUT = ("animate", "section", "orbit-diagram")
+
+
+@pytest.mark.parametrize("command, args", [p for p in COMMANDS if not p.marks and p.values[0] not in _FILE_OUT])
 def test_a_writable_out_reaches_the_computation(no_computation, tmp_path, command, args, small_dataset):
     """The control: with a writable --out each command gets past its checks to a stubbed
     computation (so the stubs are the ones the commands call)."""
@@ -112,4 +119,12 @@ def test_animate_with_a_writable_out_reaches_the_computation(no_computation, tmp
     """The control for animate, whose --out is a film file and whose DATASET must exist."""
     with pytest.raises(no_computation):
         main(["animate", str(small_dataset), "--out", str(tmp_path / "out" / "film.mp4")])
+    assert (tmp_path / "out").is_dir()
+
+
+@pytest.mark.parametrize("command, args", [p for p in COMMANDS if p.values[0] in ("section", "orbit-diagram")])
+def test_figure_file_out_reaches_the_computation(no_computation, tmp_path, command, args):
+    """The control for the commands whose --out is a figure file (its folder is created)."""
+    with pytest.raises(no_computation):
+        main([command, *args, "--out", str(tmp_path / "out" / "figure.png")])
     assert (tmp_path / "out").is_dir()

@@ -62,12 +62,31 @@ def test_maps_of_a_hand_made_dataset_are_exact():
     np.testing.assert_array_equal(m["contact_loss_share"].values, [[2 / 3, 0.0, 1.0], [1.0, 0.5, np.nan]])
     assert m["chaotic"].values.tolist() == [[0, 0, 1], [0, 0, 0]]
     assert m["max_period"].values.tolist() == [[2, 1, 4], [0, 2, -1]]
+    assert np.all(np.isnan(m["max_lambda1"].values[[0, 0, 1], [0, 1, 2]]))  # no multipliers, no λ there
+    assert m["max_lambda1"].values[0, 2] == 0.3 and m["max_lambda1"].values[1, 0] == 0.001
     assert m.attrs["df_hz"] == 10.0
     for name in MAP_VARIABLES:
         assert {"units", "long_name"} <= set(m[name].attrs), name
     assert m["fe_hz"].attrs["units"] == "Hz" and m["pa_over_q"].attrs["units"] == "Q"
     assert count_changes(m, 0.5).tolist() == [105.0, 115.0]
     assert count_changes(m, 0.7).tolist() == [105.0, 115.0]
+
+
+def test_largest_lyapunov_exponent_map():
+    """λ1 of a period-k orbit is ln max|μ| / k, of a non-periodic one its stored estimate; the map
+    holds the largest of the grid point's attractors (NaN where none is stored)."""
+    ds = _tiny()
+    mu = np.array([0.5, 0.9, 0.81, 0.2, 0.3, np.nan, np.nan, 0.6, 0.64])
+    ds["floquet_abs_max"] = ("point", mu)
+    m = regime_maps(ds)["max_lambda1"].values
+    lam = np.where(ds["period"].values == 0, ds["lyapunov_per_period"].values,
+                   np.log(mu) / np.maximum(ds["period"].values, 1))
+    for il, p in enumerate((0.5, 0.7)):
+        for jf, f in enumerate((100.0, 110.0, 120.0)):
+            sel = (ds["pa_over_q"].values == p) & (ds["fe_hz"].values == f)
+            want = np.max(lam[sel]) if sel.any() else np.nan
+            np.testing.assert_allclose(m[il, jf], want, rtol=1e-15)
+    assert m[0, 0] == pytest.approx(np.log(0.9)) and m[0, 2] == 0.3
 
 
 def test_the_grid_comes_from_the_sweep_settings():

@@ -72,8 +72,9 @@ def test_attractors_cli_json(capsys):
     rc = main(["attractors", "--system", "rocking", "--pa", "0.5", "--fe", "1300", "--set", "e=0.01", "--json",
                "--starts", "4"])
     out = capsys.readouterr().out
-    assert rc == 0
     d = json.loads(out)
+    # none of 4 starts settles here (6 of 64 do): the JSON is printed, then exit status 1 as the slider's
+    assert rc == (0 if d["attractors"] else 1)
     assert d["system"] == "rocking" and d["coordinates"] == ["y", "theta"] and d["n_starts"] == 4
     _check_json(d, 2, 2)
 

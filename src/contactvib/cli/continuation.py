@@ -7,6 +7,7 @@ branch files and figures, print a summary or the JSON contract
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import click
@@ -30,6 +31,8 @@ from contactvib.cli.common import (
     parse_pa_level,
     parse_positive,
 )
+from contactvib.cli.system import system_given, system_option
+from contactvib.cli.system_branches import system_continue
 from contactvib.model import EVOLUTION_ORDER_MAX, LEVEL_KINDS, LEVEL_TAGS, SHOOTING_RTOL_RANGE, check_range, level_text
 from contactvib.model.checks import PA_MAX, PA_NOTE
 
@@ -172,8 +175,13 @@ def _summary(bset, parameter="f_e"):
 
 
 @click.command("continue")
+@system_option
 @click.option("--pa", default="0.65", show_default=True, metavar="Q",
               help="Excitation amplitude P_a as a multiple of Q = M g.")
+@click.option("--pa-newton", default=None, metavar="N",
+              help="Excitation amplitude P_a [N] of a --system (the level of a system file).")
+@click.option("--coordinate", default=None, metavar="NAME",
+              help="With --system: the coordinate whose A_pp is drawn (default the first).")
 @click.option("--from-fe", "from_fe", default="1200", show_default=True, metavar="HZ",
               help="Frequency of the seed: the attractors found there are continued.")
 @click.option("--attractor", default=None, metavar="N",
@@ -189,8 +197,23 @@ def _summary(bset, parameter="f_e"):
 @click.option("--out", default="branch", show_default=True, type=click.Path(file_okay=False),
               help="Output folder (NetCDF branch files, special points, figure).")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, **cont):
-    """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point."""
+def continue_(pa, pa_newton, coordinate, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, **cont):
+    """Continue branches of periodic orbits in f_e (or P_a) from the attractors at one point.
+
+    With --system (rocking or a TOML file) the structure's period-1 orbit at --from-fe (Newton
+    shooting from the linear response, else the attractors there) is continued between --fmin and
+    --fmax (default: half the lowest to 1.5 times the highest linear mode; --from-fe defaults to
+    --fmin) with its folds, period doublings and Neimark-Sacker points; --pa-min/--pa-max are in N
+    with --pa-newton, in Q with --pa (rocking). No branch switching at period doublings there.
+    """
+    if system_given():
+        system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max, coordinate, out, as_json,
+                        cont)
+        return
+    if pa_newton is not None:
+        raise InputError("--pa-newton: the force level [N] of --system; the slider's continuation takes --pa [Q]")
+    if coordinate is not None:
+        raise InputError("--coordinate: names a coordinate of --system; the slider has one (y)")
     model = parse_model(cont["settings"])
     dataset = cont["dataset"]
     kind = cont["level_kind"]
@@ -242,16 +265,39 @@ def continue_(pa, from_fe, attractor, parameter, pa_min, pa_max, out, as_json, *
 
 
 @click.command(cls=LevelsCommand)
+@system_option
 @click.option("--pa", multiple=True, default=("0.65",), show_default=True, metavar="Q [Q ...]",
               help="Excitation amplitudes P_a [Q]; several values after one --pa.")
+@click.option("--pa-newton", default=None, metavar="N",
+              help="With --system: the force level P_a [N] (a system file defines no Q).")
+@click.option("--coordinate", default=None, metavar="NAME",
+              help="With --system: the coordinate whose A_pp the figures draw (default the first).")
 @click.option("--seed-fe", default=None, metavar="HZ,HZ,...",
               help="Seed frequencies [Hz] of the attractor searches (comma-separated).")
+@click.option("--cascade-fe", default=None, metavar="HZ",
+              help="Also follow the period-doubling cascade of every attractor at this f_e [Hz] "
+                   "(its period detected with no cap), doubling after doubling, and report the "
+                   "Feigenbaum ratios (JSON 'cascades').")
+@click.option("--cascade-direction", type=click.Choice(["up", "down"]), default="up", show_default=True,
+              help="Direction in f_e in which the cascades are followed.")
 @_continuation_options
 @click.option("--out", default="bif", show_default=True, type=click.Path(file_okay=False),
               help="Output folder.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON contract.")
-def bifurcations(pa, seed_fe, out, as_json, **cont):
-    """All branches, seeded from every attractor at several frequencies, for each P_a."""
+def bifurcations(pa, seed_fe, cascade_fe, cascade_direction, out, as_json, **cont):
+    """All branches, seeded from every attractor at several frequencies, for each P_a; with
+    --cascade-fe, the period-doubling cascades from that frequency."""
+    if system_given():
+        from contactvib.cli.system_branches import system_bifurcations
+
+        if cascade_fe is not None:
+            raise InputError("--system and --cascade-fe: cascades are followed for the paper's slider")
+        given = click.get_current_context().get_parameter_source("pa") != click.core.ParameterSource.DEFAULT
+        return system_bifurcations(pa if given else None, cont.pop("pa_newton"), seed_fe, cont.pop("coordinate"),
+                                   out, as_json, cont)
+    for option in ("pa_newton", "coordinate"):
+        if cont.pop(option) is not None:
+            raise InputError(f"--{option.replace('_', '-')}: an option of --system only")
     model = parse_model(cont["settings"])
     kind = cont["level_kind"]
     levels = parse_levels(pa, kind)
@@ -266,21 +312,39 @@ def bifurcations(pa, seed_fe, out, as_json, **cont):
                  for t in seed_fe.split(",") if t.strip()]
     if not seeds:
         raise InputError("--seed-fe: no seed frequency inside [--fmin, --fmax]")
+    if cascade_fe is not None:
+        cascade_fe = _in_range("--cascade-fe", "f_e", cascade_fe, s.fmin_hz, s.fmax_hz, ("f_min", "f_max"), "Hz")
+        if kind != "force":
+            raise InputError("--cascade-fe: cascades are followed under a force level (--pa), not "
+                             f"under --level-kind {kind}")
     feasible_frequencies(model, s.fmin_hz, s.fmax_hz)
     checked_output_folder(out)
     from contactvib.continuation.branch import BranchSet
+    from contactvib.continuation.cascade import cascades_at
     from contactvib.continuation.diagram import bifurcation_diagram
 
     allb = BranchSet([])
+    cascades = []
     for p in levels:
         bset = bifurcation_diagram(model, pa_over_q=p, seed_fe=seeds, settings=s, switch=not cont["no_switch"])
         _write(bset, Path(out), f"{LEVEL_TAGS[kind]}{p:g}", f"{level_title_text(p, kind)}: all branches", ds, p)
         allb.branches.extend(bset.branches)
         if not as_json:
             click.echo(f"{level_text(p, kind, 6)}: {len(bset)} branches, {len(bset.special_points)} special points")
-    (Path(out) / "bifurcations.json").write_text(allb.to_json(indent=1))
+        if cascade_fe is not None:
+            limit = s.fmax_hz if cascade_direction == "up" else s.fmin_hz
+            found = cascades_at(model, pa_over_q=p, fe_hz=cascade_fe, direction=1 if cascade_direction == "up" else -1,
+                                fe_limit_hz=limit)
+            cascades.extend(found)
+            if not as_json:
+                for c in found:
+                    click.echo(f"  cascade: periods {', '.join(map(str, c.periods))} double at "
+                               f"{', '.join(f'{f:.6f}' for f in c.pd_fe_hz)} Hz; delta "
+                               f"{', '.join(f'{d:.4f}' for d in c.delta) or '-'} ({c.stop})")
+    result = {**allb.to_dict(), "cascades": [c.to_dict() for c in cascades]}
+    (Path(out) / "bifurcations.json").write_text(json.dumps(result, indent=1))
     if as_json:
-        echo_json(allb.to_json())
+        echo_json(json.dumps(result))
     else:
         click.echo(f"wrote {Path(out)}/")
 

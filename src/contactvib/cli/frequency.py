@@ -21,6 +21,7 @@ from contactvib.cli.common import (
     parse_positive,
 )
 from contactvib.cli.errors import InputError, checked_option
+from contactvib.cli.system import system_given, system_option
 from contactvib.model import HARMONICS_MAX, LEVEL_TAGS, PA_NOTE, check_range, excitation_at, level_text
 from contactvib.model.checks import PA_MAX
 
@@ -138,8 +139,30 @@ def _parse_terms(terms, order, max_terms: int) -> int:
               help="Output folder for the branch figure and branch.json.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
 @level_kind_option
-def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kind):
-    """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down."""
+@system_option
+@click.option("--pa-newton", default=None, metavar="N",
+              help="With --system: the force level P_a [N] (a system file defines no Q).")
+@click.option("--n-time", default=None, metavar="N",
+              help="With --system: time samples of the AFT per period (default 128 H: a contact that closes "
+                   "for a small part of the period needs many).")
+@click.option("--plot", default=None, metavar="NAME",
+              help="With --system: the coordinate drawn (default the first).")
+@click.option("--measure", type=click.Choice(["app", "h1"]), default="app", show_default=True,
+              help="With --system: draw the peak-to-peak value (app) or the first harmonic's amplitude (h1).")
+def hbm(pa, settings, harmonics, fmin, fmax, energy_tol, out, as_json, level_kind, **system_options):
+    """Harmonic-balance branches A_pp(f_e), continued from --fmin upwards and from --fmax down
+    (with --system: the branch of a structure with contacts, from --fmin upwards)."""
+    so = system_options
+    if system_given():
+        from contactvib.cli.system_branches import system_hbm
+
+        ctx = click.get_current_context()
+        given = {n: ctx.get_parameter_source(n) != click.core.ParameterSource.DEFAULT for n in ("pa", "energy_tol")}
+        return system_hbm(pa if given["pa"] else None, so["pa_newton"], settings, harmonics, so["n_time"], fmin, fmax,
+                          energy_tol if given["energy_tol"] else "1e-3", so["plot"], so["measure"], out, as_json)
+    for option in ("pa_newton", "n_time", "plot"):
+        if so[option] is not None:
+            raise InputError(f"--{option.replace('_', '-')}: an option of --system only")
     model = parse_model(settings)
     if level_kind == "force":
         pa_q = checked_option("--pa", check_range, "P_a/Q", pa, 0.0, True, PA_NOTE)

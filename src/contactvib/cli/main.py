@@ -18,6 +18,7 @@ from contactvib.cli.fit import fit
 from contactvib.cli.frequency import hbm, perturbation
 from contactvib.cli.friction import friction
 from contactvib.cli.regimes import map_
+from contactvib.cli.sections import orbit_diagram, section
 from contactvib.cli.steady import attractors, simulate
 from contactvib.cli.sweeps import paper, query, resonance
 from contactvib.errors import ComputationError
@@ -45,8 +46,8 @@ def cli():
     """
 
 
-for _command in (attractors, simulate, basins, resonance, atlas, query, paper, animate, continue_,
-                 bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
+for _command in (attractors, simulate, section, orbit_diagram, basins, resonance, atlas, query, paper, animate,
+                 continue_, bifurcations, evolution, perturbation, hbm, map_, explore, friction, fit):
     cli.add_command(_command)
 
 

@@ -28,7 +28,8 @@ from contactvib.cli.common import (
 )
 from contactvib.model import ParameterError
 
-__all__ = ["system_option", "system_given", "system_attractors", "system_simulate"]
+__all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "load_system_option",
+           "system_operating_point", "option_given", "modes_text"]
 
 #: The --system option of the command being run.
 _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", default=None)
@@ -99,7 +100,7 @@ def _load(settings: tuple):
                          + f": {e.allowed}") from None
 
 
-def _excitation(model, label, pa, pa_newton, fe) -> tuple[float, float, str]:
+def _excitation(model, label, pa, pa_newton, fe, fe_option="--fe") -> tuple[float, float, str]:
     """(P_a [N], f_e [Hz], a text of the level) of --pa or --pa-newton and --fe; ``model`` the
     slider of --system rocking (Q = M g), None for a file (no Q)."""
     from contactvib.model.system import check_excitation
@@ -112,7 +113,7 @@ def _excitation(model, label, pa, pa_newton, fe) -> tuple[float, float, str]:
                          f"--pa-newton [N]")
     if Q is None and pa_newton is None:
         raise InputError(f"--system {label}: give the force level --pa-newton [N]")
-    f_e = parse_number("--fe", "f_e", fe)
+    f_e = parse_number(fe_option, "f_e", fe)
     if pa_newton is not None:
         p = parse_number("--pa-newton", "P_a", pa_newton)
         text = f"P_a = {p:.4g} N"
@@ -120,7 +121,7 @@ def _excitation(model, label, pa, pa_newton, fe) -> tuple[float, float, str]:
         ratio = parse_number("--pa", "P_a/Q", "0.65" if pa is None else pa)
         p = ratio * Q
         text = f"P_a = {ratio:g} Q ({p:.4g} N)"
-    p, f_e = mapped_options({"P_a": "--pa-newton" if pa_newton is not None else "--pa", "f_e": "--fe"},
+    p, f_e = mapped_options({"P_a": "--pa-newton" if pa_newton is not None else "--pa", "f_e": fe_option},
                             check_excitation, p, f_e)
     return p, f_e, text
 
@@ -160,12 +161,16 @@ def _search(system, p, f_e, starts, seed, kmax, max_periods):
             bar.pop().close()
 
 
-def _no_periodic(result) -> None:
+def _no_periodic(result, fatal: bool = False) -> None:
+    """One line on stderr when no start settled on a periodic orbit; with ``fatal`` (``attractors``
+    and ``simulate``, as the slider's commands) an error, exit status 1."""
     if not len(result):
-        click.echo(f"contactvib: no periodic attractor of period <= {result.settings['kmax']}: all "
-                   f"{result.n_starts} starts unsettled within {result.settings['max_periods']} periods "
-                   f"({result.n_failed} failed) - a non-periodic motion or a long transient; raise --max-periods "
-                   f"or --kmax", err=True)
+        click.echo(f"contactvib: {'error: ' if fatal else ''}no periodic attractor of period <= "
+                   f"{result.settings['kmax']}: all {result.n_starts} starts unsettled within "
+                   f"{result.settings['max_periods']} periods ({result.n_failed} failed) - a non-periodic motion "
+                   f"or a long transient; raise --max-periods or --kmax", err=True)
+        if fatal:
+            click.get_current_context().exit(1)
 
 
 def system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, as_json) -> None:
@@ -181,10 +186,10 @@ def system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_perio
     if as_json:
         d = result.to_dict()
         echo_json({"system": label, "coordinates": list(system.coordinates), **d})
-        _no_periodic(result)
+        _no_periodic(result, fatal=True)
         return
     _table(result)
-    _no_periodic(result)
+    _no_periodic(result, fatal=True)
 
 
 def _table(result) -> None:
@@ -261,4 +266,13 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
         click.echo(f"{paths[0]}  {paths[1]}  period={a.period} minima={a.minima_per_period} "
                    f"|mu|max={a.floquet_abs_max:.4f}")
     click.echo(str(out / "attractors.json"))
-    _no_periodic(result)
+    _no_periodic(result, fatal=True)
+
+
+#: The public names of the helpers that the other ``--system`` commands share
+#: (:mod:`contactvib.cli.system_branches`): the option's system, its operating point, whether an
+#: option was given, the linear modes' line.
+load_system_option = _load
+system_operating_point = _excitation
+option_given = _given
+modes_text = _modes_text

@@ -1,9 +1,9 @@
 """The explore page of one browser session (Panel): fields, derived quantities, the attractor
-table, the time history and phase portrait of the selected attractor. Every session has its own
-:class:`Page` (tabs share nothing); searches run in a worker thread, a generation counter drops
-a stale result, and the time limit stops the kernels (:func:`.state.run_limited`). Without a
-dataset, a button sweeps the current level in the background (:mod:`.level_graph`) and draws its
-resonance graph as the dataset mode does."""
+table, the time history, phase portrait and Poincaré section (:mod:`.section_view`) of the
+selected attractor. Every session has its own :class:`Page` (tabs share nothing); searches run
+in a worker thread, a generation counter drops a stale result, and the time limit stops the
+kernels (:func:`.state.run_limited`). Without a dataset, a button sweeps the current level in
+the background (:mod:`.level_graph`) and draws its resonance graph as the dataset mode does."""
 
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ from bokeh.models import Span
 from bokeh.plotting import figure
 
 from contactvib.explore.level_graph import GRAPH_TIME_LIMIT_S, LevelRun, sweep_level
+from contactvib.explore.section_view import attractor_sections, section_figure
 from contactvib.explore.state import (
     DEFAULTS,
     LAW_PARAMETERS,
@@ -115,11 +116,12 @@ def _compute(point: Point, ops, limit_s: float):
         model, exc = check(point)
         result, seconds = search(find, model, exc, limit_s)
         hists = [attractor_history(exc, a) for a in result]
+        sections = attractor_sections(exc, result)
     except (Stopped, BadInput) as e:
         return "error", str(e)
     labels = [resonance_of(a, h, model.f_n0) for a, h in zip(result, hists)]
     return "ok", {"model": model, "exc": exc, "result": result, "hists": hists, "search_s": seconds,
-                  "labels": labels, "series": series_overlay(model, exc, result)}
+                  "labels": labels, "series": series_overlay(model, exc, result), "sections": sections}
 
 
 def _continue_compute(point: Point, ops, payload, n: int, limit_s: float):
@@ -182,7 +184,7 @@ class Page:
                                                      label=f"figure ({fmt.upper()})",
                                                      css_classes=[f"download-{fmt}"])
                              for fmt in ("png", "svg")]
-        self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in _history_figures(None)))
+        self.plots = pn.Row(*(pn.pane.Bokeh(f) for f in (*_history_figures(None), section_figure())))
         self.series_note = pn.pane.HTML("", css_classes=["series-note"], width=900)
         self.cont_button = pn.widgets.Button(label="continue the selected orbit in f_e", width=260,
                                              css_classes=["continue"], visible=len(ops) > 2)
@@ -319,7 +321,11 @@ class Page:
 
     def _draw(self):
         hist, _a = self._selected()
-        self.plots[:] = [pn.pane.Bokeh(f) for f in _history_figures(hist, self._series_history(hist))]
+        i = self.select.value
+        sections = [] if self.payload is None else self.payload.get("sections", [])
+        section = sections[i] if hist is not None and isinstance(i, int) and 0 <= i < len(sections) else None
+        self.plots[:] = [pn.pane.Bokeh(f) for f in (*_history_figures(hist, self._series_history(hist)),
+                                                    section_figure(section))]
         note = "" if self.payload is None else self.payload["series"].note
         self.series_note.object = f"<small>{html.escape(note)}</small>"
         stem = (f"attractor{self.select.value}_pa{self.point.fields['pa'].strip()}_"

@@ -51,6 +51,7 @@ Sec. 4.7 (powers of power series, Miller's recurrence). R. Kostek, J. Theor. App
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass, field
@@ -72,11 +73,15 @@ VALID_RTOL = 1e-3
 MAX_TERMS = 400
 
 
+@functools.lru_cache(maxsize=512)
 def _series_terms(m2: float, l: float, zeta: float, r: float, terms: int):
     """Two-sided harmonic amplitudes ``C[n, j]`` of ``uₙ`` (n = 0..terms, j = 0..terms).
 
     ``uₙ(θ) = C[n,0] + 2 Re Σ_{j≥1} C[n,j] e^{ijθ}``; row 0 is zero (u₀ = 0). The powers
     ``(1+u)^m2`` and ``(1+u)^l`` come from the contact law (:meth:`PowerLaw.series_about_one`).
+    The terms do not depend on P_a (the series is in powers of P_a/Q), so they are kept per
+    (law, ζ, r, terms) and shared by every level of a sweep run in this process; the array is
+    read-only.
     """
     law = PowerLaw(m2, l)
     N = terms
@@ -114,6 +119,7 @@ def _series_terms(m2: float, l: float, zeta: float, r: float, terms: int):
         W[n] = m2 * u[n] + R
         D[n] = l * u[n] + S
         C[n] = U[: N + 1]
+    C.setflags(write=False)
     return C
 
 

@@ -11,7 +11,15 @@ from contactvib.plotting.figures import (
                                          resonance_graph,
 )
 from contactvib.plotting.frequency import overlay_figure, plot_branch, plot_convergence
+from contactvib.plotting.sections import (
+                                          orbit_diagram_figure,
+                                          plot_impact_map,
+                                          plot_orbit_diagram,
+                                          plot_section,
+                                          section_figure,
+)
 
 __all__ = ["plot_time_history", "plot_phase_portrait", "attractor_figure", "resonance_graph",
            "extrema_diagram", "plot_branches", "plot_evolution", "overlay_figure",
-           "plot_convergence", "plot_branch", "plot_basins", "basins_figure"]
+           "plot_convergence", "plot_branch", "plot_basins", "basins_figure", "plot_section", "plot_impact_map",
+           "section_figure", "plot_orbit_diagram", "orbit_diagram_figure"]

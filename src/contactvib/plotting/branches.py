@@ -27,9 +27,10 @@ def _runs(mask):
 
 
 def plot_branches(branches, ax=None, title: str | None = None, specials=True,
-                  parameter: str = "f_e"):
-    """A_pp against f_e (or P_a, ``parameter="P_a"``) for every branch; stable solid, unstable
-    dashed, special points marked."""
+                  parameter: str = "f_e", ylabel: str | None = None):
+    """A_pp against f_e (or P_a [Q], ``parameter="P_a"``, or P_a [N] of a system branch,
+    ``"P_a_newton"``) for every branch; stable solid, unstable dashed, special points marked;
+    ``ylabel`` names the amplitude (default the slider's A_pp [µm])."""
     from matplotlib.lines import Line2D
 
     ax = axes_or_new(ax, (7.5, 4.5))
@@ -41,7 +42,7 @@ def plot_branches(branches, ax=None, title: str | None = None, specials=True,
         periods.add(b.period)
         for i0, i1 in _runs(b.stable):
             j1 = min(i1 + 1, len(b))  # join the runs
-            q = b.fe_hz if parameter == "f_e" else b.pa_over_q
+            q = _parameter_values(b, parameter)
             ax.plot(q[i0:j1], b.app_um[i0:j1], color=c, lw=1.2 if b.stable[i0] else 0.9,
                     ls="-" if b.stable[i0] else "--")
     used = set()
@@ -49,14 +50,14 @@ def plot_branches(branches, ax=None, title: str | None = None, specials=True,
         for b in branches:
             for sp in b.special:
                 m, c = _MARKERS[sp.type]
-                q = sp.fe_hz if parameter == "f_e" else sp.pa_over_q
+                q = _parameter_values(sp, parameter)
                 ax.plot(q, sp.app_um, m, color=c, ms=5, mfc="none" if sp.type == "grazing" else c,
                         zorder=5)
                 used.add(sp.type)
     ax.set_yscale("log")
-    ax.set_xlabel("excitation frequency $f_e$ [Hz]" if parameter == "f_e"
-                  else "excitation amplitude $P_a$ [Q = Mg]")
-    ax.set_ylabel("peak-to-peak amplitude $A_{pp}$ [µm]")
+    ax.set_xlabel({"f_e": "excitation frequency $f_e$ [Hz]", "P_a": "excitation amplitude $P_a$ [Q = Mg]",
+                   "P_a_newton": "excitation amplitude $P_a$ [N]"}[parameter])
+    ax.set_ylabel(ylabel or "peak-to-peak amplitude $A_{pp}$ [µm]")
     handles = [Line2D([], [], color="k", ls="-", label="stable"),
                Line2D([], [], color="k", ls="--", label="unstable")]
     handles += [Line2D([], [], color=branch_period_colour(k), label=f"period {k}")
@@ -69,6 +70,11 @@ def plot_branches(branches, ax=None, title: str | None = None, specials=True,
         ax.set_title(title, fontsize=10)
     ax.grid(True, which="major", lw=0.3, color="0.85")
     return ax
+
+
+def _parameter_values(obj, parameter: str):
+    """The abscissa of a branch or special point: f_e [Hz], P_a [Q] or P_a [N]."""
+    return getattr(obj, {"f_e": "fe_hz", "P_a": "pa_over_q", "P_a_newton": "pa_newton"}[parameter])
 
 
 def plot_evolution(result, ax=None, title: str | None = None):
@@ -100,12 +106,13 @@ def plot_evolution(result, ax=None, title: str | None = None):
     return ax
 
 
-def branches_figure(branches, title: str, parameter: str = "f_e"):
-    """A figure of :func:`plot_branches` (A_pp against f_e, or P_a with ``parameter="P_a"``)."""
+def branches_figure(branches, title: str, parameter: str = "f_e", ylabel: str | None = None):
+    """A figure of :func:`plot_branches` (A_pp against f_e, or P_a with ``parameter="P_a"``
+    [Q] or ``"P_a_newton"`` [N])."""
     from contactvib.plotting.figures import new_figure
 
     fig, axes = new_figure(figsize=(7.5, 4.6))
-    plot_branches(branches, axes[0, 0], title=title, parameter=parameter)
+    plot_branches(branches, axes[0, 0], title=title, parameter=parameter, ylabel=ylabel)
     fig.tight_layout()
     return fig
 

@@ -20,6 +20,7 @@ PANEL_TITLES = {
     "contact_loss_share": ("Attractors that lose contact", "share of the attractors with y < 0"),
     "chaotic": ("Chaos", "chaotic attractor present (λ > 0)"),
     "max_period": ("Largest period", "largest period [excitation periods]"),
+    "max_lambda1": ("Largest Lyapunov exponent", "largest λ1 of the attractors [1/excitation period]"),
     "friction_ratio_min": ("Lowest friction ratio", "lowest <F_drive>/(μ W) of the attractors"),
     "friction_ratio_max": ("Highest friction ratio", "highest <F_drive>/(μ W) of the attractors"),
 }
@@ -91,6 +92,16 @@ def plot_regime_map(maps, name: str, curves=(), ax=None, log_f: bool = True):
 
         cmap = colormaps["viridis" if name == "contact_loss_share" else "magma"].with_extremes(bad="0.75")
         mesh = ax.pcolormesh(fx, py, np.ma.masked_invalid(z), cmap=cmap, vmin=0.0, vmax=1.0, rasterized=True)
+        cbar = ax.figure.colorbar(mesh, ax=ax, pad=0.02)
+    elif name == "max_lambda1":  # diverging about λ1 = 0: red chaotic, blue strongly contracting
+        from matplotlib import colormaps
+        from matplotlib.colors import TwoSlopeNorm
+
+        finite = z[np.isfinite(z)]
+        lo = min(float(finite.min()), -1e-3) if finite.size else -1.0
+        hi = max(float(finite.max()), 1e-3) if finite.size else 1.0
+        mesh = ax.pcolormesh(fx, py, np.ma.masked_invalid(z), cmap=colormaps["RdBu_r"].with_extremes(bad="0.75"),
+                             norm=TwoSlopeNorm(0.0, lo, hi), rasterized=True)
         cbar = ax.figure.colorbar(mesh, ax=ax, pad=0.02)
     else:
         cmap, norm, ticks = _discrete(z, {"chaotic": "Reds", "max_order": "turbo"}.get(name, "viridis"))

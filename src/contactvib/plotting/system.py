@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from contactvib.plotting.figures import new_figure
 
-__all__ = ["system_history_figure", "contact_forces_figure"]
+__all__ = ["system_history_figure", "contact_forces_figure", "system_hb_figure", "crossing_kind"]
 
 
 def system_history_figure(history, title: str):
@@ -43,3 +43,60 @@ def contact_forces_figure(history, title: str):
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def system_hb_figure(branches, coordinate: int, measure: str, title: str):
+    """Harmonic-balance branches of a system: one coordinate's peak-to-peak (``measure`` "app") or
+    first-harmonic amplitude ("h1") against f_e [Hz], stable parts solid, unstable parts dashed
+    (red), and the points where a stability change is detected marked by the multiplier that
+    crosses: −1 (period doubling), +1 (fold) or a complex pair (Neimark–Sacker).
+
+    ``branches``: ``[(label, SystemHBBranch)]``."""
+    import numpy as np
+
+    fig, axes = new_figure(1, 1, figsize=(8, 4.6))
+    ax = axes[0, 0]
+    marks = {"period doubling": ("s", "tab:orange"), "fold": ("^", "tab:green"),
+             "Neimark–Sacker": ("D", "tab:purple")}
+    seen = set()
+    unit = name = ""
+    for label, br in branches:
+        if not br.solutions:
+            continue
+        s0 = br.solutions[0]
+        name, unit = s0.coordinates[coordinate], s0.units[coordinate].replace("u", "µ", 1)
+        f = br.fe_hz
+        y = br.app(coordinate) if measure == "app" else br.h1(coordinate)
+        st = br.stable
+        ax.plot(f, np.where(st, y, np.nan), "-", lw=1.2, color="tab:blue",
+                label=f"{label}: stable" if label else "stable")
+        ax.plot(f, np.where(st, np.nan, y), "--", lw=1.8, color="tab:red",
+                label=f"{label}: unstable" if label else "unstable")
+        for i in np.where(st[1:] != st[:-1])[0]:
+            kind = crossing_kind(br.solutions[i].floquet_multipliers, br.solutions[i + 1].floquet_multipliers)
+            m, c = marks[kind]
+            ax.plot(f[i + 1], y[i + 1], m, color=c, ms=7, mfc="none", mew=1.5,
+                    label=None if kind in seen else kind)
+            seen.add(kind)
+    what = "peak-to-peak" if measure == "app" else "first-harmonic amplitude"
+    ax.set_xlabel("$f_e$ [Hz]")
+    ax.set_ylabel(f"{name} {what} [{unit}]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def crossing_kind(mu_a, mu_b) -> str:
+    """Which multiplier leaves (or enters) the unit circle between two branch points: "period
+    doubling" (a real one through −1), "fold" (a real one through +1) or "Neimark–Sacker" (a
+    complex pair)."""
+    import numpy as np
+
+    a, b = np.asarray(mu_a), np.asarray(mu_b)
+    out = b if np.max(np.abs(b)) > np.max(np.abs(a)) else a  # the side where one is outside
+    mu = out[np.argmax(np.abs(out))]
+    if abs(mu.imag) > 1e-9 * max(1.0, abs(mu)):
+        return "Neimark–Sacker"
+    return "period doubling" if mu.real < 0 else "fold"

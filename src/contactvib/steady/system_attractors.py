@@ -43,7 +43,7 @@ from contactvib.steady.system_orbits import (
 )
 
 __all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "check_system_search",
-           "default_max_periods",
+           "default_max_periods", "orbit_columns",
            "SAME_TOL", "MEASURE_SAMPLES", "STARTS_DEFAULT", "MAX_PERIODS_DEFAULT"]
 
 #: Two orbits are the same when a stroboscopic point of one is within this of one of the other's
@@ -337,10 +337,14 @@ def _minima(d: np.ndarray) -> int:
     return int(np.sum((d < np.roll(d, 1)) & (d <= np.roll(d, -1))))
 
 
-def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> SystemAttractor:
-    orbit, n = f["orbit"], system.n
-    k = orbit.k
-    h = simulate_system(system, pa, fe, orbit.z[:n], orbit.z[n:], n_periods=k, samples_per_period=MEASURE_SAMPLES,
+def orbit_columns(system: System, pa: float, fe: float, z, k: int) -> tuple[dict, int]:
+    """The columns of :func:`~contactvib.steady.results.dofs_and_contacts` of the period-``k``
+    orbit through the SI state ``z`` at P_a [N], f_e [Hz] (``MEASURE_SAMPLES`` samples per period),
+    and the local minima per period of the first contact's deflection (of the first coordinate
+    without a contact)."""
+    n = system.n
+    z = np.asarray(z, float)
+    h = simulate_system(system, pa, fe, z[:n], z[n:], n_periods=k, samples_per_period=MEASURE_SAMPLES,
                         rtol=1e-12)
     q = h.q[:, :-1]
     t = h.t_ms[:-1] * 1e-3
@@ -348,11 +352,17 @@ def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> Sy
     si = q / np.array([DISPLAY_UNITS[u][1] for u in system.units])[:, None]
     minima = _minima(system.directions[0] @ si if system.contacts else si[0])
     open_ = ~h.in_contact[:, :-1]
-    mean_f = mean_contact_forces(system, pa, fe, orbit.z, k)
+    mean_f = mean_contact_forces(system, pa, fe, z, k)
     cols = dict(dof_name=system.coordinates, dof_unit=h.q_units, dof_min=q.min(axis=1), dof_max=q.max(axis=1),
                 dof_app=np.ptp(q, axis=1), dof_h1=h1, contact_name=h.contacts,
                 contact_loses_contact=open_.any(axis=1), contact_loss_frac=open_.mean(axis=1),
                 contact_mean_force_n=mean_f)
+    return cols, minima
+
+
+def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> SystemAttractor:
+    orbit = f["orbit"]
+    cols, minima = orbit_columns(system, pa, fe, orbit.z, orbit.k)
     return SystemAttractor(orbit=orbit, strobe=_points_si(f["points"], system, pa, fe), minima_per_period=minima,
                            basin_fraction=f["hits"] / n_starts, hits=f["hits"], columns=cols)
 

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from contactvib.sweeps.dataset import TRACE_ROOTS
+from contactvib.sweeps.stage_times import stage
 
 if TYPE_CHECKING:
     from contactvib._kernels.describe import TraceRows
@@ -136,9 +137,10 @@ class LevelState:
         cap = self.f.size + 1
         o = new_rows(cap)
         links = tk.new_links(cap)
-        n_rows, n_links, stop, i_stop = tk.trace(
-            np.asarray(z, float), int(k), int(kind), int(i0), int(direction), self.r, self.par,
-            self.cfg, self.table, o, self.n_rows, links)
+        with stage("trace (compiled tracer)"):
+            n_rows, n_links, stop, i_stop = tk.trace(
+                np.asarray(z, float), int(k), int(kind), int(i0), int(direction), self.r, self.par,
+                self.cfg, self.table, o, self.n_rows, links)
         self.stops.append(TraceStop(label, direction, float(self.f[i0]), float(self.f[i_stop]),
                                     int(stop), root))
         if n_rows:

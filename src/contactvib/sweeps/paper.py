@@ -27,6 +27,7 @@ from contactvib.call_forms import old_form
 from contactvib.labels import resonance_order
 from contactvib.model import ContactModel
 from contactvib.sweeps.paper_index import write_index
+from contactvib.sweeps.stage_times import stage
 from contactvib.sweeps.stored import ResonanceData, matching_level
 from contactvib.sweeps.sweep import SweepSettings
 
@@ -89,10 +90,12 @@ def write_level_figures(ds, pa: float, graph_path, extrema_path, model: ContactM
     if (model is not None and model.is_paper_family  # the series exists for the paper's law only
             and ds.attrs.get("excitation", "force") == "force"):  # and a force level
         f = np.arange(float(ds["fe_hz"].min()), float(ds["fe_hz"].max()) + 1e-9, PERTURBATION_STEP_HZ)
-        curve = perturbation_curve(model, pa_over_q=pa, fe_hz=f)
-    graph, extrema = level_figures(ds, pa, perturbation=curve, ref=ref)
-    save_figure(graph, graph_path, dpi=120)
-    save_figure(extrema, extrema_path, dpi=120)
+        with stage("perturbation overlay"):
+            curve = perturbation_curve(model, pa_over_q=pa, fe_hz=f)
+    with stage("level figures"):
+        graph, extrema = level_figures(ds, pa, perturbation=curve, ref=ref)
+        save_figure(graph, graph_path, dpi=120)
+        save_figure(extrema, extrema_path, dpi=120)
     return Path(graph_path), Path(extrema_path)
 
 
@@ -115,7 +118,8 @@ class _LevelProducts:
                 continue
             if not (st.fmin_hz - 0.5 * st.df_hz <= tf.fe_hz <= st.fmax_hz + 0.5 * st.df_hz):
                 continue
-            path, att_rows = _time_figure(ds, model, tf, self.out)
+            with stage("time figures"):
+                path, att_rows = _time_figure(ds, model, tf, self.out)
             rows.append((tf, path, att_rows))
         return panels, rows
 
@@ -225,5 +229,6 @@ def reproduce_paper(model: ContactModel | None = None, *, out="paper",
     timing = {"sweeps_and_figures_s": t1 - t0}
     if spec_path is None:
         spec_path = Path(__file__).resolve().parents[1] / "data" / "paper_statements.md"
-    index = write_index(ds, out, levels, level_paths, time_rows, timing, spec_path)
+    with stage("index page"):
+        index = write_index(ds, out, levels, level_paths, time_rows, timing, spec_path)
     return PaperResult(ds, out, level_paths, [p for _, p, _ in time_rows], index, timing)

@@ -12,6 +12,9 @@ that bound its regions.
 * ``chaotic`` — 1 where a non-periodic attractor has λ > ``LYAPUNOV_ZERO``;
 * ``max_period`` — the largest period [excitation periods] of the periodic attractors (0 where
   only non-periodic ones are stored);
+* ``max_lambda1`` — the largest Lyapunov exponent λ1 [1/excitation period] of the attractors at
+  the grid point: ln max|μ| / k of a period-k orbit's Floquet multipliers, the stored estimate
+  ``lyapunov_per_period`` of a non-periodic one (NaN where none is stored);
 * ``friction_ratio_min``, ``friction_ratio_max`` — for a dataset swept with friction
   (``--friction``, :mod:`contactvib.friction.columns`) only: the lowest and highest friction
   ratio ⟨F_drive⟩/(μ W) of the periodic attractors at the grid point (NaN where none has one):
@@ -40,7 +43,7 @@ __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves
            "count_changes", "MAP_VARIABLES", "FRICTION_MAPS"]
 
 #: The maps, in the order of the figures.
-MAP_VARIABLES = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period")
+MAP_VARIABLES = ("n_attractors", "max_order", "contact_loss_share", "chaotic", "max_period", "max_lambda1")
 #: The maps of a dataset with friction columns (after :data:`MAP_VARIABLES`).
 FRICTION_MAPS = ("friction_ratio_min", "friction_ratio_max")
 
@@ -55,6 +58,9 @@ _ATTRS = {
                                            f"{LYAPUNOV_ZERO:g} per period)"},
     "max_period": {"units": "excitation periods", "long_name": "largest period of the periodic attractors",
                    "comment": "0 = only non-periodic attractors; -1 = no attractor stored"},
+    "max_lambda1": {"units": "1/excitation period",
+                    "long_name": "largest Lyapunov exponent of the attractors (periodic: ln max|mu| / period)",
+                    "comment": "NaN = no attractor stored"},
     "friction_ratio_min": {"units": "1", "long_name": "lowest friction ratio <F_drive>/(mu W) of the attractors",
                            "comment": "NaN = no attractor with a friction ratio stored"},
     "friction_ratio_max": {"units": "1", "long_name": "highest friction ratio <F_drive>/(mu W) of the attractors",
@@ -121,10 +127,18 @@ def regime_maps(ds):
     chaotic = (np.bincount(cell, weights=chaos.astype(float), minlength=size) > 0).astype(np.int8)
     max_period = np.full(size, -1, np.int64)
     np.maximum.at(max_period, cell, ds["period"].values.astype(np.int64))
+    k = ds["period"].values.astype(float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu = ds["floquet_abs_max"].values.astype(float) if "floquet_abs_max" in ds else np.full(k.size, np.nan)
+        lam1 = np.where(nonperiodic, lyap, np.log(mu) / np.maximum(k, 1.0))
+    ok = np.isfinite(lam1)
+    max_lam = np.full(size, -np.inf)
+    np.maximum.at(max_lam, cell[ok], lam1[ok])
     shape = (nl, nf)
     data = {"n_attractors": count.reshape(shape).astype(np.int64), "max_order": max_order.reshape(shape),
             "contact_loss_share": share.reshape(shape), "chaotic": chaotic.reshape(shape),
-            "max_period": max_period.reshape(shape)}
+            "max_period": max_period.reshape(shape),
+            "max_lambda1": np.where(np.isfinite(max_lam), max_lam, np.nan).reshape(shape)}
     if "friction_ratio" in ds:
         data.update({k: v.reshape(shape) for k, v in _friction_extremes(ds, cell, size).items()})
     dims = ("pa_over_q", "fe_hz")

@@ -42,6 +42,7 @@ from contactvib.model import (
     level_text,
 )
 from contactvib.steady.transients import check_damped
+from contactvib.sweeps.stage_times import for_level, stage
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid
 
 __all__ = ["resonance_dataset", "check_sweep_level", "chunk_path", "remove_chunks", "sweep_bar_format",
@@ -214,15 +215,18 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
 
     model = ContactModel(**model_params)
     st = SweepSettings(**settings)
-    level = trace_level(model, pa_over_q=pa, settings=st, **({"seeds": seeds} if len(seeds) else {}))
-    ds = level_dataset(model, level, settings)
-    if st.friction is not None:  # the tangential motion under every periodic point
-        from contactvib.friction.columns import with_friction
+    with for_level(pa):
+        level = trace_level(model, pa_over_q=pa, settings=st, **({"seeds": seeds} if len(seeds) else {}))
+        with stage("level dataset"):
+            ds = level_dataset(model, level, settings)
+        if st.friction is not None:  # the tangential motion under every periodic point
+            from contactvib.friction.columns import with_friction
 
-        ds = with_friction(ds, model, level, st)
-    if chunk is not None:
-        write_atomic(ds.assign_attrs({_LEVEL_ATTR: float(pa)}), chunk, compress=compress)
-    return ds, (on_level(model, ds) if on_level is not None else None)
+            ds = with_friction(ds, model, level, st)
+        if chunk is not None:
+            with stage("chunk write"):
+                write_atomic(ds.assign_attrs({_LEVEL_ATTR: float(pa)}), chunk, compress=compress)
+        return ds, (on_level(model, ds) if on_level is not None else None)
 
 
 def _compile_late_first(model_params: dict, settings: dict) -> None:
@@ -376,9 +380,11 @@ def _resonance(model, levels, sd, out, store, resume, backend, progress, on_leve
                           progress, on_level, level_results, done, len(levels), store)
             if sd.get("level_seeds"):
                 _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress)
-            ds = merge_levels([done[pa] for pa in levels])
+            with stage("merge levels"):
+                ds = merge_levels([done[pa] for pa in levels])
             if out is not None:
-                write_atomic(ds, out / f"{name}.nc", compress=compress)
+                with stage("NetCDF write"):
+                    write_atomic(ds, out / f"{name}.nc", compress=compress)
     except KeyboardInterrupt:
         raise _interrupted(out, levels, done, started) from None
     return ds

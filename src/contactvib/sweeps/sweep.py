@@ -62,6 +62,7 @@ from contactvib.sweeps.level_progress import report_points
 from contactvib.sweeps.level_state import LevelState, LevelTrace, TraceStop
 from contactvib.sweeps.newton_seeds import late_newton_seeds, newton_seeds
 from contactvib.sweeps.settings import SweepSettings, frequency_grid, multistart_indices
+from contactvib.sweeps.stage_times import stage
 
 __all__ = ["SweepSettings", "LevelTrace", "TraceStop", "TRACE_ROOTS", "frequency_grid", "multistart_indices",
            "trace_level", "compile_late_kernels_first"]
@@ -132,7 +133,8 @@ def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int
     ph = np.concatenate([phb, phs])
     par = lv.par.copy()
     par[4] = lv.r[i]
-    zs = _small_amplitude_seed(model, exc, par, st)
+    with stage("perturbation seed"):
+        zs = _small_amplitude_seed(model, exc, par, st)
     if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
         lv.trace_both_ways(zs, 1, 0, i, "perturbation seed")
     status, kk, zz = settle_known_many(Z, ph, i, par, lv.cfg, st.capture_tol, lv.table)
@@ -158,7 +160,8 @@ def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int
         found.append((j, z, k, kind))
         if lv.known_slot(i, z, k, kind) < 0:
             lv.trace_both_ways(z, k, kind, i, "multi-start")
-    newton_seeds(lv, i, Zb, par, 0)
+    with stage("Newton seeds"):
+        newton_seeds(lv, i, Zb, par, 0)
     for j, z, k, kind in found:
         if j >= Zb.shape[0]:
             continue
@@ -199,31 +202,37 @@ def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSetting
     st = settings
     f = frequency_grid(st)
     lv = LevelState(model, pa_over_q, f, st)
-    for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
-        res = _settle_from(lv, i0, (1.0, 0.0))
-        if res is not None:
-            lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
+    with stage("sweeps: settle the grid's ends"):
+        for i0, direction, label in ((0, +1, "up-sweep"), (f.size - 1, -1, "down-sweep")):
+            res = _settle_from(lv, i0, (1.0, 0.0))
+            if res is not None:
+                lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
     lv.drain()
     starts = multistart_indices(st)
     report_points(pa_over_q, 2 * f.size // 5)
     observations = []
     for n, i in enumerate(starts, 1):
-        observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
+        with stage("multi-start probes"):
+            observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
         report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
-    late_newton_seeds(lv, model, pa_over_q, starts)
-    for i, z, k in seeds:
-        z = np.array(z, float)
-        if lv.known_slot(int(i), z, int(k), 0) < 0:
-            lv.trace_both_ways(z, int(k), 0, int(i), "level seed")
-    continue_unstable_parts(lv, model, pa_over_q)  # stable parts beyond a jump (root "continuation")
+    with stage("late Newton seeds"):
+        late_newton_seeds(lv, model, pa_over_q, starts)
+    with stage("level seeds"):
+        for i, z, k in seeds:
+            z = np.array(z, float)
+            if lv.known_slot(int(i), z, int(k), 0) < 0:
+                lv.trace_both_ways(z, int(k), 0, int(i), "level seed")
+    with stage("unstable parts (continuation)"):
+        continue_unstable_parts(lv, model, pa_over_q)  # stable parts beyond a jump (root "continuation")
     basin = np.full(lv.n_rows, np.nan)
     for obs in observations:
         for gid, frac in obs:
             basin[gid] = frac
     from contactvib.sweeps.verdict import drop_unsettled
 
-    return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods,
-                          st.excitation)
+    with stage("non-periodic verdict"):
+        return drop_unsettled(lv.result(basin, pa_over_q), model, st.rtol_transient, st.max_periods,
+                              st.excitation)
 
 
 def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> None:
