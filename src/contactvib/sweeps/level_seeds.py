@@ -6,9 +6,9 @@ start box, and a level's multi-start at a handful of frequencies per octave may 
 neighbouring level found it. :func:`level_seeds` takes, for every level, the windows of period
 k ≤ :data:`SEED_KMAX` of its neighbouring levels (the nearest below and above; runs of grid points
 holding a (k, m) orbit) that this level lacks at the same grid points, and walks each window's
-orbit at three of its frequencies (first, middle, last) in the level from the neighbour to this one
-at fixed f_e: Newton on the
-period-k map (:func:`contactvib._kernels.shooting.newton_orbit`) at steps of at most
+orbit at up to :data:`WINDOW_SAMPLES` of its frequencies (evenly spaced) in the level from the
+neighbour to this one at fixed f_e: Newton on the period-k map
+(:func:`contactvib._kernels.shooting.newton_orbit`) at steps of at most
 :data:`LEVEL_STEP` (in the levels' unit), each from the previous step's orbit — natural
 continuation in P_a. What arrives as a stable orbit of minimal period ≤ k (the settle's
 refinement, :func:`contactvib._kernels.settle.refine_stable_orbit`) that the level does not hold
@@ -23,13 +23,17 @@ import math
 
 import numpy as np
 
-__all__ = ["level_seeds", "walk_orbit", "SEED_KMAX", "LEVEL_STEP"]
+__all__ = ["level_seeds", "walk_orbit", "SEED_KMAX", "LEVEL_STEP", "WINDOW_SAMPLES"]
 
 #: Largest period of the orbits walked from one level to another.
 SEED_KMAX = 4
 #: Largest step of the walk in the level [Q, µm or g]: 0.0025 Q reaches the period-4 orbit with 3
 #: minima at 0.80 Q from 0.75 Q, where a single Newton solve from the 0.75 Q orbit diverges.
 LEVEL_STEP = 0.0025
+#: Frequencies of a window whose orbit is walked: evenly spaced over the window, its ends included
+#: (the walk reaches a stable orbit from some of them only: from 0.75 Q to 0.80 Q the period-4
+#: orbit with 3 minima arrives stable at 1385 Hz, unstable at 1377 and 1381 Hz).
+WINDOW_SAMPLES = 12
 #: Newton iterations per step of the walk.
 WALK_ITERATIONS = 20
 
@@ -109,7 +113,8 @@ def _holds(records, rec) -> bool:
 
 def _windows(ds, st):
     """(k, m, rows) of each window of a level: the periodic points of period k ≤ SEED_KMAX and m
-    minima, split where the grid has a gap; rows = the window's first, middle and last point."""
+    minima, split where the grid has a gap; rows = up to WINDOW_SAMPLES of its points, evenly
+    spaced, its ends included."""
     per, mins = ds["period"].values, ds["minima_per_period"].values
     periodic = ds["kind"].values == "periodic"
     fe = ds["fe_hz"].values
@@ -119,7 +124,8 @@ def _windows(ds, st):
         rows = rows[np.argsort(fe[rows], kind="stable")]
         cuts = np.flatnonzero(np.diff(fe[rows]) > 1.5 * st.df_hz) + 1
         for run in np.split(rows, cuts):
-            out.append((k, m, sorted({int(run[0]), int(run[len(run) // 2]), int(run[-1])})))
+            pick = np.unique(np.round(np.linspace(0, len(run) - 1, min(len(run), WINDOW_SAMPLES))).astype(int))
+            out.append((k, m, [int(run[j]) for j in pick]))
     return out
 
 
