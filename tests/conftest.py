@@ -1,11 +1,30 @@
 """Shared test setup: ``tests/`` is on ``sys.path`` (for the helper modules :mod:`figure_files`
 and :mod:`chunks_wait`; the scipy reference integrator is :mod:`contactvib.testing`), figures are
-drawn without a display, and the fixtures more than one test folder uses (:func:`small_dataset`)."""
+drawn without a display, the fixtures more than one test folder uses (:func:`small_dataset`), and
+a check that no test leaves a command's default output folder in the repository root."""
+
+from pathlib import Path
 
 import matplotlib
 import pytest
 
 matplotlib.use("Agg")
+
+#: The repository root, and the default output folders of the commands (``--out`` not given):
+#: a test writes into its tmp_path, never there.
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_OUTPUTS = ("atlas", "basins", "bif", "branch", "evo", "evolution.mp4", "hbm", "map", "paper", "resonance",
+                   "simulate")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def no_output_in_the_repository():
+    """Fails the session when a test left a command's default output folder in the repository
+    root (one that was not there when the session started)."""
+    before = {name for name in DEFAULT_OUTPUTS if (ROOT / name).exists()}
+    yield
+    left = sorted(name for name in DEFAULT_OUTPUTS if (ROOT / name).exists() and name not in before)
+    assert not left, f"tests left {left} in {ROOT}: give the command --out under tmp_path (or chdir there)"
 
 
 @pytest.fixture(scope="session")

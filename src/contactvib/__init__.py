@@ -11,6 +11,7 @@ Verbs: :func:`find_attractors`, :func:`basins`, :func:`poincare_sections`, :func
 :func:`evolution`, :func:`perturbation_series`, :func:`perturbation_curve`, :func:`hb_solve`,
 :func:`hb_continuation`, :func:`trace_level`, :func:`resonance_dataset`,
 :func:`open_resonance` (a stored dataset, :class:`ResonanceData`), :func:`attractors_at`,
+:func:`check_completeness`,
 :func:`reproduce_paper`, :func:`regime_maps`, :func:`animate`,
 :func:`friction_at`, :func:`lyapunov_spectrum` (:class:`LyapunovSpectrum`).
 """
@@ -80,6 +81,7 @@ _LAZY = {
     "open_resonance": ("contactvib.sweeps.stored", "open_resonance"),
     "ResonanceData": ("contactvib.sweeps.stored", "ResonanceData"),
     "attractors_at": ("contactvib.sweeps.stored", "attractors_at"),
+    "check_completeness": ("contactvib.sweeps.completeness", "check_completeness"),
     "reproduce_paper": ("contactvib.sweeps.paper", "reproduce_paper"),
     "PaperResult": ("contactvib.sweeps.paper", "PaperResult"),
     "animate": ("contactvib.sweeps.film", "animate"),

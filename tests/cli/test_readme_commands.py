@@ -21,6 +21,7 @@ import os
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -353,7 +354,7 @@ def _attractors_json(d: dict, pa: float, fe: float) -> None:
 
 def _check_paper(out: Path, stdout: str) -> None:
     _dataset(out / "paper.nc", [0.5, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9])
-    assert len(list((out / ".chunks").glob("level_pa*.nc"))) == 8
+    assert not (out / ".chunks").exists() and not (out / ".lock").exists()  # a complete run tidies up
     _figures(out, "fig2?_pa*.png", 8)
     _figures(out, "fig3?_pa*.png", 8)
     assert (out / "fig2a_pa0.50.png").is_file() and (out / "fig3h_pa0.90.png").is_file()
@@ -365,8 +366,7 @@ def _check_paper(out: Path, stdout: str) -> None:
 
 def _check_resonance(out: Path, stdout: str) -> None:
     _dataset(out / "resonance.nc", [0.6, 0.65])
-    assert sorted(p.name for p in (out / ".chunks").glob("level_pa*.nc")) == ["level_pa0.6.nc",
-                                                                              "level_pa0.65.nc"]
+    assert not (out / ".chunks").exists() and not (out / ".lock").exists()  # a complete run tidies up
     for p in ("0.60", "0.65"):
         assert_figure_file(out / f"resonance_pa{p}.png")
         assert_figure_file(out / f"extrema_pa{p}.png")
@@ -581,13 +581,21 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         _check_paper(workdir / "paper", paper_run)
         return
     if line == "contactvib resonance ... --resume":
-        res = workdir / "res"
-        if not (res / "resonance.nc").is_file():
-            _run(_RESONANCE, workdir, capsys)
-        chunks = {p: p.stat().st_mtime_ns for p in (res / ".chunks").glob("level_pa*.nc")}
-        assert chunks
-        out = _run(args, workdir, capsys)
-        assert {p: p.stat().st_mtime_ns for p in (res / ".chunks").glob("level_pa*.nc")} == chunks
+        # the chunks of a run stopped after its sweeps (kept: --keep-chunks), 0.6 Q's marked so
+        # that the resumed dataset shows it was reused, not recomputed
+        # (in a folder of its own: res/ stays the dataset of the other lines)
+        res = workdir / "res_resume"
+        own = [*args[:args.index("--out")], "--out", "res_resume/", *args[args.index("--out") + 2:]]
+        _run([*own, "--keep-chunks"], workdir, capsys)
+        chunk = res / ".chunks" / "level_pa0.6.nc"
+        marked = xr.load_dataset(chunk)
+        marked["app_um"] = marked["app_um"] + 1.0
+        marked.to_netcdf(chunk)
+        (res / "resonance.nc").unlink()
+        out = _run(own, workdir, capsys)
+        stored = xr.load_dataset(res / "resonance.nc")
+        at = np.flatnonzero(stored["pa_over_q"].values == 0.6)
+        assert np.array_equal(stored["app_um"].values[at], marked["app_um"].values)
         _check_resonance(res, out)
         return
     if line.startswith("contactvib atlas ... ") or line.startswith("contactvib query atlas/"):

@@ -55,7 +55,7 @@ OPTIONS = {
               "--fmax": "value", "--df": "value", "--multistart-per-octave": "value", "--starts": "value",
               "--seed": "value", "--kmax": "value", "--workers": "value", "--set": "set",
               "--dask-workers": "value", "--scheduler": "value"},
-    "query": {"--pa": "value", "--fe": "value"},
+    "query": {"--pa": "value", "--fe": "value", "--completeness": "value", "--seed": "value"},
     "animate": {"--fps": "value", "--size": "value"},
     "paper": {"--fmin": "value", "--fmax": "value", "--df": "value", "--multistart-per-octave": "value",
               "--starts": "value", "--seed": "value", "--kmax": "value", "--workers": "value",
@@ -154,7 +154,11 @@ def test_every_option_is_covered():
 
 def _argv(command, option, kind, value, tmp_path, small_dataset):
     head = [command]
-    if command == "query":
+    if command == "query" and option == "--completeness":
+        head += [str(small_dataset)]
+    elif command == "query" and option == "--seed":  # the seed of --completeness
+        head += [str(small_dataset), "--completeness", "1"]
+    elif command == "query":
         head += [str(small_dataset), "--pa", "0.65", "--fe", "360"]
     if command == "map":
         head += [str(small_dataset)]

@@ -87,7 +87,7 @@ def _resumed_equals(reference, out: Path):
     """``--resume`` reuses the kept chunks, completes and gives the uninterrupted dataset (in
     one process: the pool is what the interrupted runs test)."""
     kept = {c: c.stat().st_mtime_ns for c in (out / ".chunks").glob("level_pa*.nc")}
-    p = _contactvib("--out", str(out), "--workers", "1", "--resume")
+    p = _contactvib("--out", str(out), "--workers", "1", "--resume", "--keep-chunks")  # kept: compared below
     stdout, stderr = p.communicate(timeout=300)
     assert p.returncode == 0, stderr
     assert stderr == ""

@@ -125,10 +125,11 @@ def _cli(args, capsys, cwd=None, monkeypatch=None):
     (["--fe", "-5"], "contactvib: error: --fe (f_e) = -5: must be > 0 Hz"),
     (["--set", "h_n=0"], "contactvib: error: --set h_n (h_n) = 0: must be > 0 for basins of attraction"),
 ])
-def test_cli_bad_input_one_line(args, message, capsys):
+def test_cli_bad_input_one_line(args, message, capsys, tmp_path, monkeypatch):
     t = time.perf_counter()
-    rc, out, err = _cli(args, capsys)
+    rc, out, err = _cli(args, capsys, tmp_path, monkeypatch)
     assert rc == 2 and out == ""
+    assert list(tmp_path.iterdir()) == []  # refused before the default folder basins/ is made
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(message), err
     assert time.perf_counter() - t < 5.0

@@ -37,7 +37,7 @@ def test_a_long_search_draws_a_progress_bar_on_stderr():
     finally:
         p.send_signal(signal.SIGKILL)
         p.communicate()
-    assert "attractor search, about" in err and " min estimated" in err and "0/536" in err
+    assert "attractor search, at most " in err and " min" in err and "0/536" in err
 
 
 def test_a_short_search_draws_none():

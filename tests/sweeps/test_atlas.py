@@ -87,7 +87,7 @@ def test_each_level_equals_resonance(reference, tmp_path):
     """The atlas's level is resonance's level, value for value (chunk for chunk)."""
     out, ds = reference
     res = tmp_path / "res"
-    assert main(["resonance", "--pa", "0.4", *GRID, "--workers", "1", "--out", str(res)]) == 0
+    assert main(["resonance", "--pa", "0.4", *GRID, "--workers", "1", "--out", str(res), "--keep-chunks"]) == 0
     a = xr.load_dataset(out / ".chunks" / "level_pa0.4.nc")
     r = xr.load_dataset(res / ".chunks" / "level_pa0.4.nc")
     assert a.identical(r)
@@ -185,7 +185,7 @@ def test_kernel_cache_cold_reads_the_index_files(tmp_path, monkeypatch):
 def test_progress_counts_points_and_announces_a_cold_cache(tmp_path, monkeypatch, capsys):
     from contactvib import ContactModel
     from contactvib.sweeps.backends import LocalPool
-    from contactvib.sweeps.resonance import resonance_dataset
+    from contactvib.sweeps.resonance import COMPILING_MESSAGE, resonance_dataset
     from contactvib.sweeps.sweep import SweepSettings
 
     monkeypatch.setattr("contactvib.sweeps.backends.kernel_cache_cold", lambda: True)
@@ -193,7 +193,7 @@ def test_progress_counts_points_and_announces_a_cold_cache(tmp_path, monkeypatch
     resonance_dataset(ContactModel(), levels=[0.5], settings=st, out=tmp_path, name="atlas", backend=LocalPool(1),
                       progress=True)
     err = capsys.readouterr().err
-    assert "compiling the kernels (first run, ~30 s)…" in err
+    assert COMPILING_MESSAGE in err
     assert "3/3 f_e points" in err and "atlas" in err
 
 

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from contactvib.cli.common import (
     InputError,
+    checked_option,
     checked_output_folder,
     ctrl_c,
     echo_json,
@@ -66,6 +69,7 @@ def _box(y_range, ydot_range, model, exc):
 def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_periods, starts, out, as_json):
     """Basins of attraction: which attractor each initial state (y, dy/dt) reaches."""
     from contactvib.steady.basins import check_basins
+    from contactvib.steady.transients import check_damped
 
     model = parse_model(settings)
     exc = parse_excitation(model, pa, pa_newton, fe)
@@ -75,18 +79,24 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
         checked = check_basins(_grid(grid), box, kmax, mp, starts)
     except ParameterError as e:
         raise option_error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e) from None
+    checked_option("--set h_n", check_damped, model, "basins of attraction")
     if out is None and not as_json:
         out = "basins"
+    new = out is not None and not Path(out).exists()
     folder = None if out is None else checked_output_folder(out)
     from contactvib.steady.basins import basins as run
 
     grid_, box_, kmax_, mp_, starts_, seed_ = checked
-    with ctrl_c():
-        try:
+    try:
+        with ctrl_c():
             bmap = run(exc, grid=grid_, box=box_, kmax=kmax_, max_periods=mp_, n_starts=starts_, seed=seed_)
-        except ParameterError as e:  # a --set that moved f_n0 out of reach is named (not --fe)
-            blamed = model_blamed(model, e, _grid_within_reach(exc, grid_[0] * grid_[1], mp_))
-            raise (blamed or option_error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e, _BASIN_OPTIONS)) from None
+    except ParameterError as e:  # a --set that moved f_n0 out of reach is named (not --fe)
+        _remove_if_empty(folder if new else None)
+        blamed = model_blamed(model, e, _grid_within_reach(exc, grid_[0] * grid_[1], mp_))
+        raise (blamed or option_error(_BASIN_OPTIONS.get(e.symbol, e.symbol), e, _BASIN_OPTIONS)) from None
+    except BaseException:
+        _remove_if_empty(folder if new else None)
+        raise
     paths = [] if folder is None else _write(bmap, folder)
     if as_json:
         echo_json(bmap.to_json())
@@ -94,6 +104,12 @@ def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_per
     _table(bmap, exc, model)
     for p in paths:
         click.echo(f"wrote {p}")
+
+
+def _remove_if_empty(folder) -> None:
+    """Remove ``folder`` (made by this command for its output) if nothing was written into it."""
+    if folder is not None and folder.is_dir() and not any(folder.iterdir()):
+        folder.rmdir()
 
 
 def _grid_within_reach(exc, n_grid: int, max_periods):

@@ -79,7 +79,9 @@ def _header(model, exc, no_seeds, max_periods=None, header=True):
     """A progress callback of the search: it prints the table's header lines when the search
     starts (its inputs checked), so that they show what runs while it runs (``header``), and for
     a search estimated beyond :data:`~contactvib.steady.attractors.LONG_SEARCH_S` a bar on stderr
-    with the starts done and the time left; ``close()`` removes the bar."""
+    with the starts done and the time left (tqdm's, from the measured rate); its title states the
+    estimate as what it is, an upper bound (every start integrated to the transient limit; most
+    settle long before); ``close()`` removes the bar."""
     from contactvib.steady.attractors import LONG_SEARCH_S, ballistic_seeds, default_max_periods
     from contactvib.steady.transients import check_work, duration_text, estimated_seconds
 
@@ -106,7 +108,7 @@ def _header(model, exc, no_seeds, max_periods=None, header=True):
             from tqdm import tqdm
 
             bar.append(tqdm(total=total, unit="start", file=sys.stderr, leave=False, dynamic_ncols=True,
-                            desc=f"attractor search, about {duration_text(seconds)} estimated"))
+                            desc=f"attractor search, at most {duration_text(seconds)}"))
 
     def close():
         while bar:

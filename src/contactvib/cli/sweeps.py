@@ -6,6 +6,7 @@ Thin: parse and validate (one-line errors, exit 2), call :mod:`contactvib.sweeps
 
 from __future__ import annotations
 
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -30,10 +31,15 @@ from contactvib.cli.common import (
     parse_number,
     parse_positive,
 )
+from contactvib.cli.errors import ctrl_c
 from contactvib.cli.friction import friction_spec_option
 from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
+from contactvib.sweeps.completeness import COMPLETENESS_STARTS
 
 __all__: list = []
+
+#: The most grid points ``query --completeness`` searches again.
+COMPLETENESS_POINTS_MAX = 100_000
 
 
 @contextmanager
@@ -85,6 +91,12 @@ def sweep_options(f):
     ]):
         f = opt(f)
     return f
+
+
+keep_chunks_option = click.option(
+    "--keep-chunks", is_flag=True,
+    help="Keep OUT/.chunks (one finished level per file) after a complete run, for a later --resume; "
+         "by default they are removed once the dataset and figures are written.")
 
 
 #: Options of the sweeps, by SweepSettings' symbols.
@@ -153,15 +165,16 @@ def _workers(text):
 @sweep_options
 @friction_spec_option
 @click.option("--out", default="resonance", show_default=True, type=click.Path(file_okay=False),
-              help="Output folder: resonance.nc, .chunks/, one resonance graph and one extrema "
-                   "diagram per level.")
-def resonance(pa, out, **sweep):
+              help="Output folder: resonance.nc, one resonance graph and one extrema diagram per level "
+                   "(.chunks/ while it runs).")
+@keep_chunks_option
+def resonance(pa, out, keep_chunks, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
     model, st, n_workers = sweep_inputs(sweep)
     levels = sweep_levels(pa, model, st)
     from contactvib.interrupts import check_interrupt
     from contactvib.sweeps.paper import write_level_figures
-    from contactvib.sweeps.resonance import resonance_dataset
+    from contactvib.sweeps.resonance import remove_chunks, resonance_dataset
 
     out = checked_output_folder(out)
     with writing_into(out):
@@ -171,17 +184,34 @@ def resonance(pa, out, **sweep):
             tag = _level_file_tag(p, st.excitation)
             write_level_figures(ds, p, out / f"resonance_{tag}.png", out / f"extrema_{tag}.png", model)
             check_interrupt()
+        if not keep_chunks:
+            remove_chunks(out, levels)
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on "
                f"{len(set(levels))} levels -> {out / 'resonance.nc'}")
 
 
 @click.command()
 @click.argument("dataset", type=click.Path())
-@click.option("--pa", required=True, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
-@click.option("--fe", required=True, metavar="HZ", help="Frequency [Hz] (nearest grid point within half a step).")
-@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels).")
-def query(dataset, pa, fe, as_json):
-    """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one (P_a, f_e)."""
+@click.option("--pa", default=None, metavar="Q", help="Stored P_a level [Q] (matched within 1e-6).")
+@click.option("--fe", default=None, metavar="HZ", help="Frequency [Hz] (nearest grid point within half a step).")
+@click.option("--completeness", default=None, metavar="N",
+              help=f"Instead of --pa/--fe: search N random grid points again by brute force "
+                   f"({COMPLETENESS_STARTS} starts each) and list the attractors the dataset lacks.")
+@click.option("--seed", default="0", show_default=True, help="Random seed of --completeness (points and starts).")
+@click.option("--no-progress", is_flag=True, help="No progress bar for --completeness.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (attractors contract + branch labels; "
+                                                      "with --completeness its report).")
+def query(dataset, pa, fe, completeness, seed, no_progress, as_json):
+    """The attractors stored in a resonance dataset (a file, or an atlas/paper/resonance folder) at one
+    (P_a, f_e), or with --completeness the attractors it lacks at random grid points."""
+    if completeness is not None:
+        if pa is not None or fe is not None:
+            raise InputError("--completeness checks random grid points: not with --pa or --fe")
+        n = parse_int("--completeness", completeness, 1, COMPLETENESS_POINTS_MAX)
+        _completeness(dataset, n, parse_int("--seed", seed, 0), not no_progress and not as_json, as_json)
+        return
+    if pa is None or fe is None:
+        raise InputError(f"{'--pa' if pa is None else '--fe'} is required (or --completeness N)")
     p = parse_number("--pa", "P_a/Q", pa)
     f = parse_positive("--fe", "f_e", fe, "Hz")
     from contactvib.sweeps.stored import DamagedDataset
@@ -215,22 +245,70 @@ def query(dataset, pa, fe, as_json):
                    f"{a['contact_loss_fraction']:>10.3f} {basin:>7}  {a['branch_label']} ({a['found_by']})")
 
 
+def _completeness(dataset, n: int, seed: int, progress: bool, as_json: bool) -> None:
+    """``query --completeness N``: the report of :func:`contactvib.sweeps.completeness.check_completeness`."""
+    from contactvib.sweeps.completeness import check_completeness
+    from contactvib.sweeps.stored import DatasetError
+
+    data = open_dataset_argument(dataset)
+    bar = []
+
+    def advance(done, total):
+        if not bar:
+            from tqdm import tqdm
+
+            bar.append(tqdm(total=total, unit="point", file=sys.stderr, leave=False, dynamic_ncols=True,
+                            desc="completeness search", disable=None if progress else True))  # None: a terminal only
+        else:
+            bar[0].update(done - bar[0].n)
+
+    with data, ctrl_c():
+        try:
+            report = check_completeness(data, n_points=n, seed=seed, progress=advance)
+        except DatasetError as e:
+            raise InputError(f"DATASET = {data.path}: {e}") from None
+        finally:
+            while bar:
+                bar.pop().close()
+    if as_json:
+        echo_json({"completeness": report})
+        return
+    unit = data.level_unit
+    click.echo(f"{report['points_checked']} grid points searched again ({report['n_starts']} starts each, "
+               f"seed {seed}): {len(report['missing'])} missing attractor{'' if len(report['missing']) == 1 else 's'}, "
+               f"{report['found_fraction']:.1%} of those found are stored")
+    if report["missing"]:
+        click.echo(f"{'level [' + unit + ']':>10} {'f_e [Hz]':>9} {'period':>6} {'minima':>6} "
+                   f"{'A_pp [um]':>10} {'basin':>7}")
+    for m in report["missing"]:
+        per = "-" if m["period"] is None else str(m["period"])
+        mins = "-" if m["minima_per_period"] is None else str(m["minima_per_period"])
+        click.echo(f"{m['level']:>10g} {m['fe_hz']:>9g} {per:>6} {mins:>6} {m['app_um']:>10.5g} "
+                   f"{m['basin_fraction']:>7.1%}")
+    click.echo(f"same attractor: {report['rule']}")
+
+
 @click.command()
 @click.option("--out", default="paper", show_default=True, type=click.Path(file_okay=False),
-              help="Output folder: paper.nc, .chunks/, fig2*/fig3* per level, fig4–fig9, index.md.")
+              help="Output folder: paper.nc, fig2*/fig3* per level, fig4–fig9, index.md (.chunks/ while "
+                   "it runs).")
 @sweep_options
-def paper(out, **sweep):
+@keep_chunks_option
+def paper(out, keep_chunks, **sweep):
     """Reproduce Kostek (2013) Figs. 2a–h, 3a–h and 4–9 with an index page (the paper's defaults)."""
     if sweep.get("level_kind", "force") != "force":
         raise InputError(f"--excitation {sweep['level_kind']}: the paper's levels are force amplitudes "
                          "P_a [Q]; sweep base motion with `contactvib resonance` or `atlas`")
     model, st, n_workers = sweep_inputs(sweep)
     folder = checked_output_folder(out)
-    from contactvib.sweeps.paper import reproduce_paper
+    from contactvib.sweeps.paper import PAPER_LEVELS, reproduce_paper
+    from contactvib.sweeps.resonance import remove_chunks
 
     with writing_into(folder):
         res = reproduce_paper(model, out=out, settings=st, resume=sweep["resume"],
                               workers=n_workers, progress=not sweep["no_progress"])
+        if not keep_chunks:
+            remove_chunks(folder, PAPER_LEVELS)
     ds = res.dataset
     click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches; "
                f"{res.timing['sweeps_and_figures_s']:.1f} s")

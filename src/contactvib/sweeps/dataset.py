@@ -54,9 +54,10 @@ from contactvib.model import LEVEL_KINDS, ContactModel, excitation_at
 
 __all__ = ["level_dataset", "merge_levels", "write_atomic", "check_consistency", "STOP_REASONS", "TRACE_ROOTS"]
 
-#: How a trace was started, inherited by the reverse traces it spawns. Points first reached by a
+#: How a trace was started, inherited by the reverse traces it spawns ("level seed": an orbit of
+#: another level walked in the level to this one, ``SweepSettings.level_seeds``). Points first reached by a
 #: "sweep"-rooted trace are reachable by a laboratory sweep (up, down, reversing at a jump).
-TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation")
+TRACE_ROOTS = ("sweep", "perturbation seed", "multi-start", "continuation", "level seed")
 
 #: Layout version written into every dataset (``format`` attribute); chunks and datasets of
 #: another version are recomputed (resume) or refused (query).

@@ -10,9 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
+from contactvib.labels import resonance_order
 from contactvib.sweeps.facts import SUPERHARMONIC_ORDERS, intervals, level_stages, max_coexistence, resonance_facts
 
-__all__ = ["write_index", "S3_LEVELS", "paper_statements"]
+__all__ = ["write_index", "S3_LEVELS", "paper_statements", "peak_place", "minima_sentence"]
 
 #: The P_a levels [Q] of each statement S3.1–S3.7 (S3.8 is the sequence over all of them).
 S3_LEVELS = _S3_LEVELS = {"S3.1": (0.50, 0.60), "S3.2": (0.65,), "S3.3": (0.70,), "S3.4": (0.75,),
@@ -49,20 +50,69 @@ def _fmt_iv(iv) -> str:
     return ", ".join(f"{a:g}–{b:g}" if a != b else f"{a:g}" for a, b in iv) + " Hz" if iv else "—"
 
 
+def peak_place(fe_hz: float, grid: tuple) -> tuple[str, str]:
+    """Where a resonance peak lies on the sweep's grid ``(f_min, f_max, Δf)`` [Hz], as ("at F
+    Hz", note): at an end of the grid "at or below F Hz" with the note "the sweep's lower edge"
+    (or "at or above", "the sweep's upper edge"), since the largest amplitude there may belong to
+    a peak beyond the range; the note is "" inside the grid."""
+    fmin, fmax, df = grid
+    if fe_hz <= fmin + 0.5 * df:
+        return f"at or below {fe_hz:g} Hz", "the sweep's lower edge"
+    if fe_hz >= fmax - 0.5 * df:
+        return f"at or above {fe_hz:g} Hz", "the sweep's upper edge"
+    return f"at {fe_hz:g} Hz", ""
+
+
+def minima_sentence(time_rows) -> str:
+    """S4.7 from the tables of Figs. 4–9 (``time_rows``: (TimeFigure, path, [(attractor record,
+    note)])): whether the 1/m orbits (main: m = 1) have m minima per excitation period, i.e.
+    ``minima_per_period`` = m × period, and which do not."""
+    n, odd = 0, []
+    for tf, _path, rows in time_rows:
+        for a, _note in rows:
+            m = resonance_order(a["resonance"])
+            if m is None or a["period"] is None or a["minima_per_period"] is None:
+                continue
+            n += 1
+            k, mins = int(a["period"]), int(a["minima_per_period"])
+            if mins != m * k:
+                per = f"{mins} minima" if k == 1 else f"{mins} minima over {k} periods"
+                odd.append(f"the {a['resonance']} at {tf.pa_over_q:g} Q, {tf.fe_hz:g} Hz "
+                           f"({per}, {tf.statement})")
+    if n == 0:
+        return "Dataset: the tables above hold no 1/m orbit."
+    if not odd:
+        which = "the one periodic 1/m orbit (main: m = 1) has" if n == 1 else \
+            f"all {n} periodic 1/m orbits (main: m = 1) have"
+        return f"Dataset: in the tables above {which} m minima per excitation period."
+    return (f"Dataset: in the tables above {n - len(odd)} of the {n} periodic 1/m orbits (main: m = 1) have "
+            f"m minima per excitation period; the exception{'s are' if len(odd) > 1 else ' is'} "
+            + "; ".join(odd) + ". contactvib therefore names a resonance by the harmonic the contact "
+            "amplifies, not by its minima (documentation: tutorials/resonance, 'Resonance labels').")
+
+
 def _level_text(ds, pa: float, m_max: int = 6) -> list:
-    gap = 1.5 * float(json.loads(ds.attrs["settings"])["df_hz"])
+    settings = json.loads(ds.attrs["settings"])
+    grid = (float(settings["fmin_hz"]), float(settings["fmax_hz"]), float(settings["df_hz"]))
+    gap = 1.5 * grid[2]
     lines = []
     n, fs = max_coexistence(ds, pa)
-    if n:
+    if n > 1:
         lines.append(f"at most {n} resonances coexist at one frequency ({_fmt_iv(intervals(np.array(fs), gap))})")
+    elif n == 1:
+        lines.append("no two resonances coexist at one frequency")
     for m in range(1, m_max + 1):
         f = resonance_facts(ds, pa, m)
         name = "main" if m == 1 else f"1/{m}"
         if not f.present:
             lines.append(f"{name}: not found")
             continue
-        bits = [f"peak {f.peak_app_um:.3g} µm at {f.peak_fe_hz:g} Hz (f_n0/{m} = {f.fn0_over_m_hz:.0f} Hz)"
-                if math.isfinite(f.peak_fe_hz) else "no period-1 orbit"]
+        if math.isfinite(f.peak_fe_hz):
+            where, edge = peak_place(f.peak_fe_hz, grid)
+            bits = [f"peak {f.peak_app_um:.3g} µm {where} ({edge + '; ' if edge else ''}"
+                    f"f_n0/{m} = {f.fn0_over_m_hz:.0f} Hz)"]
+        else:
+            bits = ["no period-1 orbit"]
         if f.coexisting_fe_hz:
             bits.append(f"bent (two period-1 orbits at {_fmt_iv(intervals(np.array(f.coexisting_fe_hz), gap))})")
         elif f.bent:
@@ -94,7 +144,8 @@ def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spe
     L.append("")
     L.append("Every 'dataset' line below is computed from `paper.nc` by `contactvib.sweeps.facts.resonance_facts`; "
              "stages follow S3.8 (grows → bent → period doubling → chaos → divided). Bouncing "
-             "sub-/ultrasubharmonic orbits (dotted in the graphs) are not drawn in the paper.")
+             "sub-/ultrasubharmonic orbits (dotted in the resonance graphs, light blue in the extrema "
+             "diagrams) are not drawn in the paper.")
     L.append("")
     L.append("## Section 3: resonance graphs (Fig. 2) and local-extrema diagrams (Fig. 3)")
     L.append("")
@@ -151,9 +202,7 @@ def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spe
     if "S4.7" in st:
         L.append(f"> {st['S4.7']}")
     L.append("")
-    L.append("Dataset: in the tables above the minima per period equal m for the 1/m orbits except the "
-             "early 1/5 at 287 Hz (two minima, S4.2), which is why contactvib names resonances by the "
-             "dominant amplified harmonic (documentation: tutorials/resonance, 'Resonance labels').")
+    L.append(minima_sentence(time_rows))
     path = out / "index.md"
     tmp = out / ".index.md.tmp"
     tmp.write_text("\n".join(L) + "\n")

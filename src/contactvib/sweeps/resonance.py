@@ -10,8 +10,10 @@ atomically to ``OUT/<name>.nc``.
 Resume is safe: a chunk is named by its exact level (``repr``) and stores it; a finished chunk
 of a requested level made with another model or other settings is refused (ParameterError
 ``resume``) before anything is computed. One run at a time writes into a folder: it holds an
-exclusive lock on ``OUT/.lock`` (a second run fails at once, ParameterError ``out``), and at its
-start removes the temporary files ``.*.tmp<pid>`` of runs that are no longer running.
+exclusive lock on ``OUT/.lock`` (a second run fails at once, ParameterError ``out``), at its
+start removes the temporary files ``.*.tmp<pid>`` of runs that are no longer running, and removes
+the lock file when it ends. The commands ``paper`` and ``resonance`` remove the chunks once the
+dataset and figures are written (:func:`remove_chunks`; ``--keep-chunks`` keeps them).
 
 Interrupts are clean (:mod:`contactvib.interrupts`): SIGINT stops the run between kernel
 calls, terminates the workers and raises :class:`Interrupted` (a KeyboardInterrupt saying how
@@ -43,7 +45,8 @@ from contactvib.steady.transients import check_damped
 from contactvib.sweeps.stage_times import for_level, stage
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid
 
-__all__ = ["resonance_dataset", "check_sweep_level", "chunk_path", "output_lock", "ResumeMismatch", "OutputLocked",
+__all__ = ["resonance_dataset", "check_sweep_level", "chunk_path", "remove_chunks", "sweep_bar_format",
+           "COMPILING_MESSAGE", "output_lock", "ResumeMismatch", "OutputLocked",
            "Interrupted"]
 
 #: Chunk attribute holding the exact level P_a/Q the chunk was computed for.
@@ -85,6 +88,39 @@ def chunk_path(out: Path, pa_over_q: float) -> Path:
     return Path(out) / ".chunks" / f"level_pa{float(pa_over_q)!r}.nc"
 
 
+#: What a run whose kernels are not compiled yet prints first (measured on 2 cores: ``paper`` takes
+#: about 44 s with a warm cache, 65 s on its first run).
+COMPILING_MESSAGE = ("compiling the kernels (first run only: about 20 s more on 2 cores; "
+                     "the time left shows once a level is done)…")
+#: The bar of a run that compiles first: no time left (tqdm's {remaining}), which the compilation
+#: would inflate many times over, until a level is done.
+_BAR_WITHOUT_ETA = "{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]"
+
+
+def sweep_bar_format(cold: bool) -> str | None:
+    """The tqdm ``bar_format`` of the sweeps' bar: without the time left while the kernels of a
+    cold cache compile (``cold``), tqdm's default (None) otherwise."""
+    return _BAR_WITHOUT_ETA if cold else None
+
+
+def remove_chunks(out: Path, levels) -> int:
+    """Remove the finished-level chunks of ``levels`` from ``OUT/.chunks`` (once the merged
+    dataset holding them is written) and the folder when it is left empty; chunks of other
+    levels stay. Returns the number of files removed."""
+    n = 0
+    for pa in levels:
+        try:
+            chunk_path(out, pa).unlink()
+            n += 1
+        except FileNotFoundError:
+            pass
+    try:
+        (Path(out) / ".chunks").rmdir()
+    except OSError:  # absent, or holds other levels' chunks
+        pass
+    return n
+
+
 _HELD: dict[str, list] = {}  # resolved folder -> [open lock file, depth] held by this process
 
 
@@ -105,25 +141,42 @@ def output_lock(out):
         return
     out.mkdir(parents=True, exist_ok=True)
     lock = out / ".lock"
-    f = open(lock, "a+")
+    f = _locked_file(out, lock)
     try:
-        try:
-            import fcntl
-        except ImportError:  # not POSIX: no lock
-            fcntl = None
-        if fcntl is not None:
-            try:
-                fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                raise OutputLocked(out, lock) from None
         _HELD[key] = [f, 1]
         try:
             _remove_stale_temporaries(out)
             yield
         finally:
             del _HELD[key]
+            try:  # removed while still held: a run that opened it meanwhile sees another file
+                lock.unlink()
+            except OSError:
+                pass
     finally:
         f.close()  # releases the lock
+
+
+def _locked_file(out: Path, lock: Path):
+    """``lock`` opened and locked exclusively (``OutputLocked`` if another run holds it). A file
+    unlinked by the holder between our open and our lock is not the lock any more: open it again."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: no lock
+        return open(lock, "a+")
+    while True:
+        f = open(lock, "a+")
+        try:
+            fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            f.close()
+            raise OutputLocked(out, lock) from None
+        try:
+            if os.stat(lock).st_ino == os.fstat(f.fileno()).st_ino:
+                return f
+        except FileNotFoundError:
+            pass
+        f.close()
 
 
 def _pid_running(pid: int) -> bool:
@@ -156,14 +209,14 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
 
 
 def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None, on_level=None,
-               compress: bool = False):
+               compress: bool = False, seeds=()):
     from contactvib.sweeps.dataset import level_dataset, write_atomic
     from contactvib.sweeps.sweep import trace_level
 
     model = ContactModel(**model_params)
     st = SweepSettings(**settings)
     with for_level(pa):
-        level = trace_level(model, pa_over_q=pa, settings=st)
+        level = trace_level(model, pa_over_q=pa, settings=st, **({"seeds": seeds} if len(seeds) else {}))
         with stage("level dataset"):
             ds = level_dataset(model, level, settings)
         if st.friction is not None:  # the tangential motion under every periodic point
@@ -325,6 +378,8 @@ def _resonance(model, levels, sd, out, store, resume, backend, progress, on_leve
                 _reuse_chunks(model, levels, sd, out, on_level, level_results, done)
             _sweep_levels(model, [pa for pa in levels if pa not in done], sd, out, backend,
                           progress, on_level, level_results, done, len(levels), store)
+            if sd.get("level_seeds"):
+                _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress)
             with stage("merge levels"):
                 ds = merge_levels([done[pa] for pa in levels])
             if out is not None:
@@ -333,6 +388,29 @@ def _resonance(model, levels, sd, out, store, resume, backend, progress, on_leve
     except KeyboardInterrupt:
         raise _interrupted(out, levels, done, started) from None
     return ds
+
+
+def _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress):
+    """``SweepSettings.level_seeds``: sweep again, in this process, each level that lacks an
+    orbit a neighbouring level holds (:func:`contactvib.sweeps.level_seeds.level_seeds`), with all its
+    seeds so far; its chunk is rewritten. Repeated while a pass finds new seeds (an orbit a level
+    gained may reach the next level), at most once per level. A level already swept with them
+    has none left (a resumed run)."""
+    from contactvib.sweeps.level_seeds import level_seeds
+
+    st = SweepSettings(**sd)
+    seeds: dict = {}
+    for _pass in range(len(done)):
+        new = level_seeds(model, done, st)
+        if not new:
+            return
+        for pa in sorted(new):
+            seeds.setdefault(pa, []).extend(new[pa])
+            chunk = None if out is None else str(chunk_path(out, pa).absolute())
+            done[pa], extra = _run_level(model.parameters(), pa, sd, chunk, on_level, compress, seeds[pa])
+            if level_results is not None:
+                level_results[pa] = extra
+            check_interrupt()
 
 
 def _reuse_chunks(model, levels, sd, out, on_level, level_results, done):
@@ -361,14 +439,14 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
     n_points = frequency_grid(SweepSettings(**sd)).size
     points = {pa: 0 for pa in todo}  # frequency points done in each level still to finish
     n_done = n_levels - len(todo)
-    bar = tqdm(total=n_levels * n_points, initial=n_done * n_points, unit="f_e point", desc=name,
-               disable=not progress, leave=False, unit_scale=True)
-    bar.set_postfix_str(f"{n_done}/{n_levels} levels")
     cold = bool(todo) and kernel_cache_cold()
+    bar = tqdm(total=n_levels * n_points, initial=n_done * n_points, unit="f_e point", desc=name,
+               disable=not progress, leave=False, unit_scale=True, bar_format=sweep_bar_format(cold))
+    bar.set_postfix_str(f"{n_done}/{n_levels} levels")
     if progress and cold:
         import sys
 
-        bar.write("compiling the kernels (first run, ~30 s)…", file=sys.stderr)
+        bar.write(COMPILING_MESSAGE, file=sys.stderr)
 
     def advance(pa, n, final=False):
         """Level ``pa`` has ``n`` frequency points done (the bar never moves back; a running
@@ -386,6 +464,7 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
             write_atomic(done[pa].assign_attrs({_LEVEL_ATTR: float(pa)}), chunk_path(out, pa), compress=compress)
         if level_results is not None:
             level_results[pa] = extra
+        bar.bar_format = None  # a level done: the rate, and the time left from it, are the sweeps'
         advance(pa, n_points, final=True)
         points.pop(pa, None)
         n_finished = n_levels - len(points)

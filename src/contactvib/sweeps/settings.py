@@ -56,6 +56,12 @@ class SweepSettings:
         dict) whose friction ratio, stick and free fractions and tangential oscillation are
         computed for every periodic point of the level (``contactvib.friction.columns``);
         None (the default): no friction columns.
+    level_seeds : bool
+        After every level is swept, sweep again each level that lacks an orbit of period ≤ 4
+        a neighbouring level holds (repeated while a pass adds one, at most once per level), seeded by
+        Newton with that orbit walked in the level to this one
+        (``contactvib.sweeps.level_seeds``; root "level seed"). Off by default: the levels
+        are then independent of one another.
     """
 
     fmin_hz: float = 30.0
@@ -74,6 +80,7 @@ class SweepSettings:
     capture_tol: float = 1e-3
     excitation: str = "force"
     friction: object = None
+    level_seeds: bool = False
 
     def __post_init__(self):
         # stored as checked (a number given as text is a float, a count an int)
@@ -99,6 +106,9 @@ class SweepSettings:
         v["seed"] = check_int("seed", self.seed, 0)
         v["excitation"] = check_level_kind(self.excitation)
         v["friction"] = _friction_model(self.friction)
+        if not isinstance(self.level_seeds, (bool, np.bool_)):
+            raise ParameterError("level_seeds", self.level_seeds, "must be True or False")
+        v["level_seeds"] = bool(self.level_seeds)
         for name, value in v.items():
             object.__setattr__(self, name, value)
 
@@ -111,6 +121,8 @@ class SweepSettings:
             del d["excitation"]
         if d["friction"] is None:  # a sweep without friction: no friction field
             del d["friction"]
+        if not d["level_seeds"]:  # off: the record of a sweep without them
+            del d["level_seeds"]
         return d
 
     def excitation_at(self, model: ContactModel, level: float, f_e: float):

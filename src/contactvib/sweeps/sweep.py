@@ -178,8 +178,12 @@ def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int
 
 
 @old_form("model", "pa_over_q", "settings")
-def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSettings) -> LevelTrace:
+def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSettings, seeds=()) -> LevelTrace:
     """All attractors along the frequency grid at one P_a level, as flat arrays (see module doc).
+
+    ``seeds``: (grid index, orbit point (x, x') at phase 0 [y0, y0 ω_n0], period) of stable orbits
+    found another way (``contactvib.sweeps.level_seeds``), traced up and down after the
+    multi-start (root "level seed") where no trace has met them.
 
     As the level goes on it reports the frequency points done so far
     (``contactvib.sweeps.level_progress.report_points``, a no-op unless a run listens): two fifths
@@ -213,6 +217,11 @@ def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSetting
         report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
     with stage("late Newton seeds"):
         late_newton_seeds(lv, model, pa_over_q, starts)
+    with stage("level seeds"):
+        for i, z, k in seeds:
+            z = np.array(z, float)
+            if lv.known_slot(int(i), z, int(k), 0) < 0:
+                lv.trace_both_ways(z, int(k), 0, int(i), "level seed")
     with stage("unstable parts (continuation)"):
         continue_unstable_parts(lv, model, pa_over_q)  # stable parts beyond a jump (root "continuation")
     basin = np.full(lv.n_rows, np.nan)
