@@ -130,6 +130,47 @@ def _level_text(ds, pa: float, m_max: int = 6) -> list:
     return lines
 
 
+def nonperiodic_text(ds, levels) -> list:
+    """What the points the sweep reached without a period ≤ kmax are, by the attractor search's
+    rule (``attractor_type``, ``true_period``, ``lyapunov_per_s`` of the dataset): per level the
+    chaotic bands and the long-period orbits, computed; empty for a dataset without them."""
+    if "true_period" not in ds or "lyapunov_per_s" not in ds:
+        return []
+    k, typ = ds["period"].values, ds["attractor_type"].values.astype(str)
+    tp, pa, fe = ds["true_period"].values, ds["pa_over_q"].values, ds["fe_hz"].values
+    lam = ds["lyapunov_per_s"].values[:, 0]
+    out = ["Dataset, the points the sweep reached without a period ≤ kmax, judged by the attractor search's "
+           "rule (the Lyapunov spectrum over 2000 periods: chaotic when λ1 > 3 standard errors; a stable orbit "
+           "of a longer period is periodic; a transient still converging is not stored):", ""]
+    for p in levels:
+        sel = (np.abs(pa - p) < 1e-9) & (k == 0)
+        if not sel.any():
+            continue
+        chaos = sel & (typ == "chaotic")
+        long = sel & (typ == "periodic")
+        parts = []
+        if chaos.any():
+            parts.append(f"chaotic at {int(chaos.sum())} points ({_fmt_iv(_runs(np.unique(fe[chaos])))}, "
+                         f"λ1 {lam[chaos].min():.3g}..{lam[chaos].max():.3g} /s)")
+        if long.any():
+            ks = ", ".join(f"{int(x)} ({int(((tp == x) & long).sum())})" for x in np.unique(tp[long]))
+            parts.append(f"long-period orbits at {int(long.sum())} points (period (points): {ks})")
+        quasi = sel & (typ == "quasi-periodic")
+        if quasi.any():
+            parts.append(f"quasi-periodic at {int(quasi.sum())} points")
+        out.append(f"- {p:g} Q: " + "; ".join(parts) + ".")
+    out.append("")
+    return out
+
+
+def _runs(f: np.ndarray, gap: float = 1.5) -> list:
+    """Runs of frequencies [Hz] closer than ``gap`` as (start, end) intervals."""
+    if f.size == 0:
+        return []
+    cut = np.flatnonzero(np.diff(f) > gap)
+    return [(float(a), float(b)) for a, b in zip(np.r_[f[0], f[cut + 1]], np.r_[f[cut], f[-1]])]
+
+
 def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spec_path) -> Path:
     st = _statements(spec_path)
     L = ["# contactvib reproduction of Kostek (2013), Part 3", ""]
@@ -175,6 +216,7 @@ def write_index(ds, out: Path, levels, level_paths, time_rows, timing: dict, spe
     for m in SUPERHARMONIC_ORDERS:
         L.append(f"| 1/{m} | " + " | ".join(stages[p][m] for p in levels) + " |")
     L.append("")
+    L.extend(nonperiodic_text(ds, levels))
     L.append("### S3.9")
     if "S3.9" in st:
         L.append(f"> {st['S3.9']}")
