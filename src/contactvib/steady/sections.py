@@ -22,7 +22,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib._kernels.flow import REC_MODE, REC_T, REC_V, REC_X
 from contactvib._kernels.orbit import record_steps, sample_records
 from contactvib._kernels.shooting import is_stable, strobe_map
@@ -42,6 +41,8 @@ SECTION_RTOL = 1e-10
 _CHUNK = 64
 #: Initial step records per period (the buffer grows as needed).
 _ROWS_PER_PERIOD = 512
+#: Periods of the Benettin run that gives a non-periodic attractor's λ1 (10 batches).
+LAMBDA_PERIODS = 1000
 #: Bytes per recorded period of a section (its points and impacts; generous).
 _BYTES_PER_PERIOD = 256
 
@@ -52,13 +53,20 @@ def largest_exponent(excitation: Excitation, z, period: int | None = None, *, mu
 
     A period-k orbit (``period`` = k): λ1 = ln(max |μ|) / k, μ its Floquet ``multipliers`` (the
     eigenvalues of the k-period monodromy; without them the orbit is refined by Newton shooting
-    from ``z``). Otherwise (``period`` None) the tangent-vector estimate of
-    ``contactvib._kernels.describe.lyapunov_strobe`` over ``NP_LYAPUNOV`` (64) periods from
-    ``z`` (Benettin et al. 1980). NaN where the integration fails.
+    from ``z``). Otherwise (``period`` None) the largest exponent of the spectrum by Benettin's
+    method over :data:`LAMBDA_PERIODS` periods from ``z`` (:func:`contactvib.steady.lyapunov.benettin`,
+    the attractor search's own estimate), per excitation period. NaN where the integration fails.
     """
     z = np.asarray(z, float)
     if period is None:
-        return float(lyapunov_strobe(z.copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
+        from contactvib.errors import ComputationError
+        from contactvib.steady.lyapunov import benettin
+
+        try:
+            spec = benettin(excitation, z, LAMBDA_PERIODS, 10, 0, rtol, with_trace=False)
+        except ComputationError:
+            return math.nan
+        return float(spec.exponents_per_s[0]) / excitation.f_e
     if multipliers is None or np.size(multipliers) == 0:
         from contactvib.steady.orbits import refine_orbit
 
