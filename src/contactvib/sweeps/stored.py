@@ -437,7 +437,8 @@ _SYSTEM_POINT = ("fe_hz", "period", "kind", "minima_per_period", "app_um", "lose
                  "floquet_abs_max", "floquet_re", "floquet_im", "closure", "branch_index", "origin", "found_by",
                  "strobe_start", "strobe_count", "strobe_q", "strobe_qdot", "branch_id", "branch_label",
                  "branch_reached_by_sweep") + _DOF_POINT
-_SYSTEM_ATTRIBUTES = ("settings", "system", "system_coordinates", "system_units", "level_variable", "level_symbol", "level_unit")
+_SYSTEM_ATTRIBUTES = ("settings", "system", "system_coordinates", "system_units", "level_variable", "level_symbol",
+                      "level_unit")
 _SYSTEM_FINITE = ("pa_newton", "fe_hz", "app_um", "strobe_q", "strobe_qdot")
 
 
