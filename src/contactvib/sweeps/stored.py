@@ -268,9 +268,10 @@ class ResonanceData:
         _refuse_damaged(ds)
         pa = self.match(level)
         if pa is None:
-            sym = "P_a/Q" if self.level_unit == "Q" else self.level_symbol
+            system = "level_variable" in ds.attrs  # a system's dataset: its levels in Q or N
+            sym = self.level_symbol if system and self.level_unit != "Q" else "P_a/Q"
             raise MissingLevel(f"--pa ({sym}) = {level:g}: not in the dataset; stored levels: "
-                               + self.levels_text() + f" {self.level_unit}", level, self.levels)
+                               + self.levels_text() + (f" {self.level_unit}" if system else ""), level, self.levels)
         df, fmin, fmax = _grid_settings(ds)
         sel = self.points(pa)
         fes = ds["fe_hz"].values[sel]
