@@ -79,11 +79,11 @@ def _dof_contact(system, rows) -> dict:
                                 {"long_name": "the system's contact elements"})}
     unit = "the dof's unit (dof_unit)"
 
-    def col(name):
-        return np.array([np.asarray(r["columns"][name]) for r in rows])
+    size = {"dof": system.n, "contact": len(system.contacts)}
 
     def per(dim, coords, name, attrs, dtype=float):
-        return _array(("point", dim), col(name).astype(dtype).reshape(len(rows), -1), attrs, coords)
+        values = np.array([np.asarray(r["columns"][name]) for r in rows], dtype=dtype).reshape(len(rows), size[dim])
+        return _array(("point", dim), values, attrs, coords)
 
     return {
         "dof_min": per("dof", dof, "dof_min", {"units": unit, "long_name": "minimum of the coordinate"}),
@@ -175,7 +175,7 @@ def _states(system, rows) -> dict:
     n = system.n
     qf = np.array([DISPLAY_UNITS[u][1] for u in system.units])
     vf = np.array([DISPLAY_UNITS[u][3] for u in system.units])
-    z = np.array([r["z"] for r in rows])
+    z = np.array([r["z"] for r in rows], dtype=float).reshape(len(rows), 2 * n)
     strobe = np.concatenate([r["strobe"] for r in rows]) if rows else np.zeros((0, 2 * n))
     count = np.array([len(r["strobe"]) for r in rows], np.int64)
     dof = _dof_coords(system)
@@ -184,7 +184,7 @@ def _states(system, rows) -> dict:
         "state_q": _array(("point", "dof"), z[:, :n] * qf, {"units": qunit, "long_name": "orbit point at phase 0"},
                           dof),
         "state_qdot": _array(("point", "dof"), z[:, n:] * vf, {"units": vunit}, dof),
-        "strobe_start": ("point", np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)),
+        "strobe_start": ("point", (np.cumsum(count) - count).astype(np.int64)),
         "strobe_count": ("point", count),
         "strobe_q": _array(("strobe", "dof"), strobe[:, :n] * qf, {"units": qunit}, dof),
         "strobe_qdot": _array(("strobe", "dof"), strobe[:, n:] * vf, {"units": vunit}, dof),
@@ -197,16 +197,14 @@ def system_level_dataset(system, level, settings, desc: dict):
     module docstring."""
     import xarray as xr
 
-    rows = level.rows
-    if not rows:
-        raise ValueError("no attractor was found on this level")
+    rows = level.rows  # none where no periodic attractor settled at any grid point
     n = len(rows)
     names = _level_names(desc)
     q = desc.get("q_newton")
     pa_value = level.pa_newton / q if q else level.pa_newton
     pa_value = desc.get("level", pa_value)
     branch, branch_vars = _branches(level, rows, names, pa_value)
-    mu = np.array([r["mu"] for r in rows])
+    mu = np.array([r["mu"] for r in rows], dtype=complex).reshape(n, 2 * system.n)
     point = {
         "pa_newton": ("point", np.full(n, level.pa_newton), {"units": "N", "long_name": "excitation amplitude P_a"}),
         "fe_hz": ("point", np.array([level.f_hz[r["i"]] for r in rows]),
@@ -241,7 +239,7 @@ def system_level_dataset(system, level, settings, desc: dict):
              "system_units": json.dumps(list(system.units)),
              "contacts": json.dumps([c.name for c in system.contacts]),
              "natural_frequencies_hz": json.dumps([float(f) for f in system.linear_modes()]),
-             "level_variable": names[0], "level_symbol": names[1], "level_unit": names[2],
+             "level_variable": names[0], "level_symbol": names[1], "level_unit": names[2], "level": pa_value,
              "settings": json.dumps(settings.to_dict()),
              "conventions": "coordinates as the system defines them; ragged strobe points via strobe_start/count"}
     for key in ("model", "fn0_hz", "y0_um"):
@@ -255,8 +253,7 @@ def merge_system_levels(datasets: list):
     """Concatenate system level datasets (offsetting the ragged and branch indices), levels increasing."""
     import xarray as xr
 
-    var = datasets[0].attrs["level_variable"]
-    datasets = sorted(datasets, key=lambda d: float(d[var].values[0]))
+    datasets = sorted(datasets, key=lambda d: float(d.attrs["level"]))
     parts, s_off, b_off = [], 0, 0
     for d in datasets:
         d = d.copy()
@@ -267,5 +264,6 @@ def merge_system_levels(datasets: list):
         parts.append(d)
     out = {name: xr.concat([p[name] for p in parts], dim=parts[0][name].dims[0]) for name in parts[0].data_vars}
     ds = xr.Dataset(out, attrs=dict(parts[0].attrs))
-    ds.attrs["levels"] = json.dumps([float(p[var].values[0]) for p in parts])
+    ds.attrs["levels"] = json.dumps([float(p.attrs["level"]) for p in parts])
+    del ds.attrs["level"]
     return ds
