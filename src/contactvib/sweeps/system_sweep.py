@@ -22,7 +22,9 @@ points), and a followed attractor ends. Each stored orbit is measured once on on
 recorded run of its k periods (``contactvib._kernels.system_map.record_span``): the extrema of every
 coordinate refined on the dense output to ~1e-9 of the range, its component at f_e, the minima per
 period of the first contact's deflection, each contact's open fraction and mean force (Gauss–Legendre
-on every step). Settling is a Python loop over single-period kernel calls (``strobe_map``).
+on every step). The sweeps' settling is one compiled call (``system_map.settle_periodic``); the
+searches settle their starts period by period in Python
+(:func:`~contactvib.steady.system_attractors.find_system_attractors`).
 """
 
 from __future__ import annotations
@@ -263,23 +265,15 @@ class _Walker:
         return orbit, pts
 
     def settle(self, sa, x):
-        """Integrate period by period from x: (x, k) once the last k points repeat, else (the last
-        state, 0), or (None, 0) where the integration fails."""
-        kmax, tol, rtol = self.st.kmax, SETTLE_TOL, self.st.rtol
-        hist = [np.array(x, float)]
-        out, phi = np.empty(x.size), np.empty((0, 0))
-        for _ in range(self.st.max_periods):
-            if km.strobe_map(sa, np.ascontiguousarray(hist[-1]), 1, rtol, rtol, out, phi) != STATUS_OK \
-                    or not np.all(np.isfinite(out)):
-                return None, 0
-            hist.append(out.copy())
-            del hist[:-2 * kmax - 1]
-            for kk in range(1, kmax + 1):
-                if len(hist) >= 2 * kk + 1 and all(
-                        np.max(np.abs(hist[-1 - j] - hist[-1 - j - kk])) <= tol * max(1.0, np.max(np.abs(hist[-1 - j])))
-                        for j in range(kk)):
-                    return hist[-1], kk
-        return hist[-1], 0
+        """Integrate period by period from x (compiled: ``system_map.settle_periodic``): (x, k) once
+        the last k points repeat, else (the last state, 0), or (None, 0) where the integration fails."""
+        kmax = self.st.kmax
+        out = np.empty(x.size)
+        k, _p, st = km.settle_periodic(sa, np.ascontiguousarray(x, dtype=float), kmax, self.st.max_periods,
+                                       SETTLE_TOL, self.st.rtol, np.empty((2 * kmax + 1, x.size)), out)
+        if st != STATUS_OK or not np.all(np.isfinite(out)):
+            return None, 0
+        return out, int(k)
 
     def find(self, i, k, pts):
         """The row of the orbit known at grid point i that equals (k, pts), or None."""
