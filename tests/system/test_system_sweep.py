@@ -162,3 +162,25 @@ def test_resonance_system_command_writes_dataset_and_figure(tmp_path, capsys):
     rc = main(["query", str(out), "--pa", "0.65", "--fe", "330"])
     text = capsys.readouterr().out
     assert rc in (0, None) and "theta A_pp [urad]" in text
+
+
+def test_resume_reuses_a_finished_level_and_refuses_other_settings(tmp_path):
+    """``resume``: a finished chunk of the same system and settings is read back, not recomputed;
+    one made with other settings is refused (ParameterError ``resume``) before anything runs."""
+    from contactvib.model import ParameterError
+    from contactvib.sweeps.backends import LocalPool
+
+    model = ContactModel()
+    system = rocking_system(model)
+    desc = system_description(system, "rocking", "rocking", model)
+    st = SystemSweepSettings(300.0, 400.0, 50.0, search_every=0)
+    first = system_resonance_dataset(system, levels=[0.5], settings=st, desc=desc, out=tmp_path, backend=LocalPool(1),
+                                     progress=False)
+    chunk = next((tmp_path / ".chunks").glob("level_*.nc"))
+    stamp = chunk.stat().st_mtime_ns
+    again = system_resonance_dataset(system, levels=[0.5], settings=st, desc=desc, out=tmp_path, resume=True,
+                                     backend=LocalPool(1), progress=False)
+    assert chunk.stat().st_mtime_ns == stamp and again.identical(first)
+    with pytest.raises(ParameterError, match="resume"):
+        system_resonance_dataset(system, levels=[0.5], settings=SystemSweepSettings(300.0, 400.0, 25.0), desc=desc,
+                                 out=tmp_path, resume=True, backend=LocalPool(1), progress=False)

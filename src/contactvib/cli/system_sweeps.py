@@ -177,6 +177,10 @@ def system_atlas(pa, pa_range, pa_newton, out, backend, sweep: dict) -> None:
     from contactvib.sweeps.system_resonance import system_resonance_dataset
 
     pa_min, pa_max, npa = pa_range
+    given = [o for o, v in zip(("--pa-min", "--pa-max", "--npa"), pa_range) if v is not None]
+    if given and (pa or pa_newton):
+        raise InputError(f"{given[0]}: give the levels either as a list ({'--pa' if pa else '--pa-newton'}) or as "
+                         f"a range (--pa-min, --pa-max, --npa [Q]), not both")
     system, levels, _c, st, _w, desc, label = _inputs(sweep["settings"], pa or ("0.65",), pa_newton, None, sweep)
     if not pa and not pa_newton:
         from contactvib.sweeps.atlas import atlas_levels
