@@ -8,7 +8,9 @@ Built on :func:`.system_flow.advance` (the scaled equation and its events are de
   :func:`sample_records` (state and modes at given τ) and integrated by
   :func:`mean_element_forces` (∫ f_i dτ per element, Gauss–Legendre on each step: steps end on
   the switches, so each is smooth);
-* :func:`element_forces` — f_i at sampled states (0 out of contact).
+* :func:`element_forces` — f_i at sampled states (0 out of contact);
+* :func:`settle_periodic` — period after period until the stroboscopic points repeat with a
+  period k ≤ kmax (the settling of the system sweeps).
 """
 
 from __future__ import annotations
