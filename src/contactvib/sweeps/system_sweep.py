@@ -157,10 +157,9 @@ class _Walker:
         rest = sc.to_scaled(np.concatenate([self.system.static_state(), np.zeros(self.system.n)]))
         end = self.walk(0, None, rest, 0, +1, "sweep up", "sweep", False, progress)
         # from the up-sweep's orbit at f_max where it got there, else from rest
-        row, x, k = end if end is not None and self.level.rows[end[0]]["i"] == n - 1 else (None, rest, 0)
+        _row, x, k = end if end is not None and self.level.rows[end[0]]["i"] == n - 1 else (None, rest, 0)
         self.walk(n - 1, None, x, k, -1, "sweep down", "sweep", False,
                   None if progress is None else (lambda j: progress(n + j)))
-        del row
 
     def searches(self) -> None:
         from contactvib.steady.system_attractors import find_system_attractors
