@@ -184,3 +184,23 @@ def test_resume_reuses_a_finished_level_and_refuses_other_settings(tmp_path):
     with pytest.raises(ParameterError, match="resume"):
         system_resonance_dataset(system, levels=[0.5], settings=SystemSweepSettings(300.0, 400.0, 25.0), desc=desc,
                                  out=tmp_path, resume=True, backend=LocalPool(1), progress=False)
+
+
+def test_levels_in_newton_without_a_q(tmp_path):
+    """A system without a Q (as a TOML file's): the levels are P_a [N] in ``pa_newton``, no
+    ``pa_over_q`` is written, and the readers find the level in N."""
+    from contactvib.sweeps.regimes import regime_maps
+    from contactvib.sweeps.stored import open_resonance
+
+    model = ContactModel()
+    system = System.single_dof(model)
+    desc = system_description(system, "slider.toml", "[system]  # the slider", None)
+    st = SystemSweepSettings(340.0, 380.0, 20.0, search_every=0)
+    pa = round(0.65 * model.Q, 6)
+    ds = system_resonance_dataset(system, levels=[pa], settings=st, desc=desc, out=tmp_path, progress=False)
+    assert "pa_over_q" not in ds and ds.attrs["level_variable"] == "pa_newton"
+    with open_resonance(tmp_path) as data:
+        assert data.levels == (pa,) and data.level_unit == "N"
+        res = data.attractors_at(pa, 360.0)
+        assert res["level_unit"] == "N" and res["attractors"][0]["dofs"][0]["name"] == "y"
+        assert regime_maps(data.ds)["n_attractors"].values.sum() == ds.sizes["point"]
