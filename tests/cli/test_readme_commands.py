@@ -69,6 +69,11 @@ _FIT = ["fit", "--static", str(_EXAMPLES / "fit_static.csv"), "--set", "M=0.2106
 FIT_KEYS = {"parameters", "derived", "fixed", "correlation", "residual_rms", "noise", "n_forward", "time_s",
             "converged", "identifiability", "model"}
 
+_RES_ROCK = ["resonance", "--system", "rocking", "--pa", "0.65", "--fmin", "297", "--fmax", "357", "--df", "30",
+             "--starts", "2", "--no-progress", "--out", "res_rock/"]
+_ATLAS_ROCK = ["atlas", "--system", "rocking", "--pa-min", "0.6", "--pa-max", "0.7", "--npa", "2", "--fmin", "600",
+               "--fmax", "650", "--df", "50", "--starts", "2", "--no-progress", "--out", "atlas_rock/"]
+
 #: README command line (comment stripped) -> the reduced argument list it is tested with.
 REDUCED: dict[str, list[str]] = {
     "contactvib paper": ["paper", *_PAPER_GRID],
@@ -242,6 +247,14 @@ REDUCED: dict[str, list[str]] = {
     "contactvib atlas --pa-min 0.3 --pa-max 0.9 --npa 7 --friction default --out at/":
         ["atlas", *_ATLAS_GRID, "--friction", "default", "--out", "at/"],
     "contactvib map at/ --out at/map": ["map", "at/", "--out", "at/map"],
+    # the rocking unit's sweeps (docs/tutorials/systems.md): three frequencies, two levels, two starts
+    "contactvib resonance --system rocking --pa 0.65 --out res_rock/": _RES_ROCK,
+    "contactvib query res_rock/ --pa 0.65 --fe 1000": ["query", "res_rock/", "--pa", "0.65", "--fe", "327"],
+    "contactvib atlas --system rocking --pa-min 0.3 --pa-max 1.0 --npa 8 --fmin 600 --fmax 2600 --df 50 "
+    "--out atlas_rock/": _ATLAS_ROCK,
+    "contactvib atlas --system rocking --pa-min 0.3 --pa-max 1.0 --npa 8 --fmin 600 --fmax 2600 --df 50 "
+    "--dask-workers 2 --out atlas_rock_dask/": [*_ATLAS_ROCK[:-2], "--dask-workers", "2", "--out", "atlas_rock_dask/"],
+    "contactvib map atlas_rock/ --out map_rock/": ["map", "atlas_rock/", "--out", "map_rock/"],
     "contactvib resonance --model fitted.json --pa 0.3 --fmin 900 --fmax 1600 --out res_fit/":
         ["resonance", "--model", "fitted.json", "--pa", "0.3", "--fmin", "1190", "--fmax", "1210", "--df", "10",
          "--multistart-per-octave", "1", "--starts", "2", "--workers", "1", "--no-progress", "--out", "res_fit/"],
@@ -428,6 +441,29 @@ def _check_query(stdout: str, pa: float = 0.65, fe: float = 360.0) -> None:
     assert d["attractors"]
     for a in d["attractors"]:
         assert QUERY_KEYS <= set(a), sorted(QUERY_KEYS - set(a))
+
+
+def _check_system_sweep(args: list[str], stdout: str, workdir: Path) -> None:
+    """``resonance``/``atlas --system rocking``, and ``query``/``map`` of their datasets."""
+    from contactvib.sweeps.stored import open_resonance
+
+    if args[0] == "query":
+        assert "system rocking" in stdout and "theta A_pp [urad]" in stdout
+        return
+    folder = workdir / args[args.index("--out") + 1]
+    if args[0] == "map":
+        for name in ("n_attractors", "contact_loss_share", "max_period"):
+            assert_figure_file(folder / f"map_{name}.png")
+        return
+    name = "resonance.nc" if args[0] == "resonance" else "atlas.nc"
+    with open_resonance(folder / name) as data:
+        assert data.ds.attrs["system"] == "rocking" and data.ds.sizes["dof"] == 2 and data.ds.sizes["point"] >= 1
+        assert data.levels == ((0.65,) if args[0] == "resonance" else (0.6, 0.7))
+    assert "attractor points" in stdout
+    if args[0] == "resonance":
+        assert_figure_file(folder / "resonance_0.65Q_y_theta_app.png")
+    elif "--dask-workers" in args:
+        assert xr.load_dataset(folder / name).identical(xr.load_dataset(workdir / "atlas_rock" / name))
 
 
 def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
@@ -623,7 +659,17 @@ def test_readme_command_runs_and_writes_its_outputs(line, workdir, request, caps
         _run(REDUCED["contactvib evolution --order 2 --pa-min 0.3 --pa-max 0.9 --out evo/"], workdir, capsys)
     if "--model" in args and not (workdir / "fitted.json").is_file():
         _run(_FIT, workdir, capsys)
+    # the lines that read the rocking unit's resonance.nc or atlas.nc (or compare with it) run it first
+    first = {"res_rock/": _RES_ROCK, "atlas_rock/": _ATLAS_ROCK, "atlas_rock_dask/": _ATLAS_ROCK}
+    for token, run_first in first.items():
+        if token in args and args != run_first and not (workdir / run_first[-1]).is_dir():
+            _run(run_first, workdir, capsys)
     out = _run(args, workdir, capsys)
+    if (args[0] in ("resonance", "atlas") and "--system" in args) or (args[0] in ("query", "map")
+                                                                      and "_rock" in args[1]):
+        # the rocking unit's sweeps, their query and map
+        _check_system_sweep(args, out, workdir)
+        return
     cmd = args[0]
     folder = workdir / m.group(1) if m else None
     if cmd == "fit" and "--json" in args:

@@ -14,6 +14,7 @@ COMPUTATIONS = [
     "contactvib.steady.basins.basins",
     "contactvib.steady.orbit_diagram.orbit_diagram",
     "contactvib.sweeps.resonance.resonance_dataset",
+    "contactvib.sweeps.system_resonance.system_resonance_dataset",
     "contactvib.sweeps.paper.reproduce_paper",
     "contactvib.sweeps.film.animate",
     "contactvib.continuation.diagram.continue_attractors",

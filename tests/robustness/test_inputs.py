@@ -122,6 +122,9 @@ for _name in ("resonance", "atlas", "paper", "continue", "bifurcations", "hbm"):
 #: The friction columns of the sweeps (issue 26): NAME=VALUE pairs, or `default`.
 for _name in ("resonance", "atlas"):
     OPTIONS[_name]["--friction"] = "value"
+#: The sweeps of a system (--system rocking|FILE.toml): its level in N, the coordinate and measure drawn.
+for _name in ("resonance", "atlas"):
+    OPTIONS[_name].update({"--system": "value", "--pa-newton": "value", "--plot": "value", "--measure": "value"})
 
 #: Arguments an option needs to be read at all (--periods only with --from-state; --pa-min and
 #: --pa-max are a range with --parameter pa).

@@ -18,7 +18,15 @@ from contactvib.cli.common import (
     parse_levels,
 )
 from contactvib.cli.friction import friction_spec_option
-from contactvib.cli.sweeps import sweep_inputs, sweep_levels, sweep_options, writing_into
+from contactvib.cli.sweeps import (
+    refuse_system_only,
+    sweep_inputs,
+    sweep_levels,
+    sweep_options,
+    system_sweep_options,
+    writing_into,
+)
+from contactvib.cli.system import system_given
 from contactvib.model import WORKERS_MAX, ParameterError
 
 __all__: list = []
@@ -90,8 +98,17 @@ def _backend(workers, dask_workers, scheduler):
 @click.option("--out", default="atlas", show_default=True, type=click.Path(file_okay=False),
               help="Output folder: atlas.nc (NetCDF4, zlib level 4, chunked along point) and .chunks/ (one "
                    "compressed file per level).")
+@system_sweep_options
 def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, **sweep):
     """The evolution atlas: resonance's sweep at many P_a levels, locally or on Dask, resumable."""
+    if system_given():
+        from contactvib.cli.system_sweeps import system_atlas
+
+        sweep.pop("plot"), sweep.pop("measure")
+        workers = None if sweep["workers"] is None else parse_int("--workers", sweep["workers"], 1, WORKERS_MAX)
+        return system_atlas(pa, (pa_min, pa_max, npa), sweep.pop("pa_newton"), out,
+                            _backend(workers, dask_workers, scheduler), sweep)
+    refuse_system_only(sweep)
     model, st, n_workers = sweep_inputs(sweep)
     levels = _atlas_levels(pa, pa_min, pa_max, npa, model, st)
     backend = _backend(n_workers, dask_workers, scheduler)

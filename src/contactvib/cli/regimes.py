@@ -103,9 +103,9 @@ def run(ds, outp: Path, curves, model, orders, pa_range):
         save_figure(regime_figure(maps, name, curves), outp / f"map_{name}.png")
     n = maps["n_attractors"].values
     nl = maps.sizes["pa_over_q"]
+    chaos = f", chaos at {int(maps['chaotic'].values.sum())} grid points" if "chaotic" in maps else ""
     click.echo(f"{nl} level{'s' * (nl != 1)} x {maps.sizes['fe_hz']} frequencies: "
-               f"{int(n.min())}..{int(n.max())} coexisting attractors, chaos at "
-               f"{int(maps['chaotic'].values.sum())} grid points")
+               f"{int(n.min())}..{int(n.max())} coexisting attractors{chaos}")
     folds = [c for c in curves if c.type == "fold"]
     if folds:
         df = float(maps.attrs["df_hz"])

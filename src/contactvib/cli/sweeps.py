@@ -33,6 +33,7 @@ from contactvib.cli.common import (
 )
 from contactvib.cli.errors import ctrl_c
 from contactvib.cli.friction import friction_spec_option
+from contactvib.cli.system import system_given, system_option
 from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
 from contactvib.sweeps.completeness import COMPLETENESS_STARTS
 
@@ -40,6 +41,29 @@ __all__: list = []
 
 #: The most grid points ``query --completeness`` searches again.
 COMPLETENESS_POINTS_MAX = 100_000
+
+
+def system_sweep_options(f):
+    """--system with its level --pa-newton, the coordinate drawn (--plot) and the measure (--measure)."""
+    for opt in reversed([
+        system_option,
+        click.option("--pa-newton", multiple=True, metavar="N",
+                     help="With --system: a force level P_a [N] (repeat for several; a system file defines no Q)."),
+        click.option("--plot", default=None, metavar="NAME",
+                     help="With --system: the coordinate drawn (default: every coordinate, one panel each)."),
+        click.option("--measure", type=click.Choice(["app", "h1"]), default="app", show_default=True,
+                     help="With --system: draw the peak-to-peak value (app) or the amplitude at f_e (h1)."),
+    ]):
+        f = opt(f)
+    return f
+
+
+def refuse_system_only(sweep: dict) -> None:
+    """One line for an option of --system given without it (and drop them from ``sweep``)."""
+    for name in ("pa_newton", "plot", "measure"):
+        value = sweep.pop(name, None)
+        if value not in (None, (), "app"):
+            raise InputError(f"--{name.replace('_', '-')}: an option of --system only")
 
 
 @contextmanager
@@ -168,8 +192,14 @@ def _workers(text):
               help="Output folder: resonance.nc, one resonance graph and one extrema diagram per level "
                    "(.chunks/ while it runs).")
 @keep_chunks_option
+@system_sweep_options
 def resonance(pa, out, keep_chunks, **sweep):
     """Resonance graphs: up/down sweeps + seeds + multi-start over f_e for each P_a (Figs. 2, 3)."""
+    if system_given():
+        from contactvib.cli.system_sweeps import system_resonance
+
+        return system_resonance(pa, sweep.pop("pa_newton"), sweep.pop("plot"), sweep.pop("measure"), out, sweep)
+    refuse_system_only(sweep)
     model, st, n_workers = sweep_inputs(sweep)
     levels = sweep_levels(pa, model, st)
     from contactvib.interrupts import check_interrupt
@@ -231,6 +261,10 @@ def query(dataset, pa, fe, completeness, seed, no_progress, as_json):
     if as_json:
         echo_json(res)
         return
+    if "system" in res:  # a system's dataset
+        from contactvib.cli.system_sweeps import echo_system_query
+
+        return echo_system_query(res, p, f)
     kind = res.get("excitation", "force")
     unit = LEVEL_KINDS[kind][1]
     click.echo(f"{level_text(res['pa_over_q'], kind, 6)}, f_e = {res['fe_hz']:g} Hz "

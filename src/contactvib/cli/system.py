@@ -29,7 +29,8 @@ from contactvib.cli.common import (
 from contactvib.model import ParameterError
 
 __all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "load_system_option",
-           "system_operating_point", "option_given", "modes_text", "system_label", "system_lyapunov"]
+           "system_operating_point", "option_given", "modes_text", "system_label", "system_lyapunov",
+           "load_given_system"]
 
 #: The --system option of the command being run.
 _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", default=None)
@@ -98,6 +99,11 @@ def _load(settings: tuple):
     except ParameterError as e:
         raise InputError(f"--system {name}: {e.symbol}" + ("" if e.value is None else f" = {show_value(e.value)}")
                          + f": {e.allowed}") from None
+
+
+def load_given_system(settings: tuple):
+    """(System, the slider's ContactModel or None, the system's label) of --system and --set."""
+    return _load(settings)
 
 
 def _excitation(model, label, pa, pa_newton, fe, fe_option="--fe") -> tuple[float, float, str]:

@@ -43,6 +43,8 @@ def _discrete(values: np.ndarray, cmap_name: str):
 
     v = values[values >= 0]
     lo, hi = (int(v.min()), int(v.max())) if v.size else (0, 1)
+    if np.any(values < 0):  # grey at -1, then every integer from 0: the bins stay contiguous
+        lo = min(lo, 0)
     hi = max(hi, lo + 1)
     base = colormaps[cmap_name].resampled(hi - lo + 1)
     colours = [base(i) for i in range(hi - lo + 1)]

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from contactvib.plotting.figures import new_figure
 
-__all__ = ["system_history_figure", "contact_forces_figure", "system_hb_figure", "crossing_kind"]
+__all__ = ["system_history_figure", "contact_forces_figure", "system_hb_figure", "crossing_kind",
+           "system_resonance_figure"]
 
 
 def system_history_figure(history, title: str):
@@ -100,3 +101,44 @@ def crossing_kind(mu_a, mu_b) -> str:
     if abs(mu.imag) > 1e-9 * max(1.0, abs(mu)):
         return "Neimark–Sacker"
     return "period doubling" if mu.real < 0 else "fold"
+
+
+def system_resonance_figure(ds, coordinates, measure: str, title: str):
+    """Resonance graphs of one level of a system's dataset (``contactvib.sweeps.system_dataset``):
+    one panel per coordinate index in ``coordinates``, its peak-to-peak value (``measure`` "app",
+    ``dof_app``) or first-harmonic amplitude ("h1", ``dof_h1``) [the dof's unit] against f_e [Hz]
+    for every stored (stable) periodic attractor; each branch a line, coloured by its period,
+    points reached by the laboratory sweeps filled, those only found by the searches hollow."""
+    import numpy as np
+
+    names = [str(x) for x in ds["dof_name"].values]
+    units = [str(x).replace("u", "µ", 1) for x in ds["dof_unit"].values]
+    fig, axes = new_figure(len(coordinates), 1, figsize=(8, 2.9 * len(coordinates) + 0.8), sharex=True)
+    var = "dof_app" if measure == "app" else "dof_h1"
+    fe, period = ds["fe_hz"].values, ds["period"].values
+    branch, sweep = ds["branch_index"].values, ds["found_by"].values == "sweep"
+    colours, labelled = {}, set()
+    for row, j in enumerate(coordinates):
+        ax = axes[row, 0]
+        y = ds[var].values[:, j]
+        for b in np.unique(branch):
+            sel = np.flatnonzero(branch == b)
+            sel = sel[np.argsort(fe[sel])]
+            k = int(period[sel[0]])
+            c = colours.setdefault(k, f"C{len(colours) % 10}")
+            label = f"period {k}" if row == 0 and k not in labelled else None
+            labelled.add(k)
+            ax.plot(fe[sel], y[sel], "-", color=c, lw=1.0, label=label)
+            ax.plot(fe[sel][sweep[sel]], y[sel][sweep[sel]], "o", color=c, ms=3.5)
+            ax.plot(fe[sel][~sweep[sel]], y[sel][~sweep[sel]], "o", color=c, ms=3.5, mfc="none")
+        what = "peak-to-peak" if measure == "app" else "amplitude at $f_e$"
+        ax.set_ylabel(f"{names[j]} {what} [{units[j]}]")
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("$f_e$ [Hz]")
+    ax0 = axes[0, 0]
+    ax0.plot([], [], "o", color="0.3", ms=3.5, label="reached by the sweeps")
+    ax0.plot([], [], "o", color="0.3", ms=3.5, mfc="none", label="found by a search only")
+    ax0.legend(fontsize=7, loc="best", ncol=2)
+    fig.suptitle(title + " (stable periodic attractors)", fontsize=10)
+    fig.tight_layout()
+    return fig

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from contactvib.labels import LYAPUNOV_ZERO, resonance_order
-from contactvib.sweeps.stored import ResonanceData
+from contactvib.sweeps.stored import ResonanceData, level_variable
 
 __all__ = ["regime_maps", "MapCurve", "evolution_curves", "load_curves", "curves_dataset", "curve_crossings",
            "count_changes", "MAP_VARIABLES", "FRICTION_MAPS"]
@@ -106,22 +106,23 @@ def regime_maps(ds):
 
     levels, grid, df = _grid(ds)
     nl, nf = levels.size, grid.size
-    pa = ds["pa_over_q"].values
+    pa = ds[level_variable(ds)].values
     fe = ds["fe_hz"].values
     il = np.searchsorted(levels, pa)
     jf = np.clip(np.searchsorted(grid, fe - 1e-6 * (df if np.isfinite(df) else 1.0)), 0, max(nf - 1, 0))
     cell = il * nf + jf
     size = nl * nf
     count = np.bincount(cell, minlength=size)
-    labels = ds["resonance"].values
-    uniq, inv = np.unique(labels.astype(str), return_inverse=True)
-    orders = np.array([resonance_order(u) or 0 for u in uniq], dtype=np.int64)[inv]
     max_order = np.full(size, -1, np.int64)
-    np.maximum.at(max_order, cell, orders)
+    if "resonance" in ds:  # a system's dataset carries no resonance labels
+        labels = ds["resonance"].values
+        uniq, inv = np.unique(labels.astype(str), return_inverse=True)
+        orders = np.array([resonance_order(u) or 0 for u in uniq], dtype=np.int64)[inv]
+        np.maximum.at(max_order, cell, orders)
     loses = ds["loses_contact"].values.astype(float)
     with np.errstate(invalid="ignore", divide="ignore"):
         share = np.bincount(cell, weights=loses, minlength=size) / count
-    lyap = ds["lyapunov_per_period"].values
+    lyap = ds["lyapunov_per_period"].values if "lyapunov_per_period" in ds else np.full(pa.size, np.nan)
     nonperiodic = ds["period"].values == 0
     chaos = nonperiodic & np.isfinite(lyap) & (lyap > LYAPUNOV_ZERO)
     chaotic = (np.bincount(cell, weights=chaos.astype(float), minlength=size) > 0).astype(np.int8)
@@ -139,10 +140,12 @@ def regime_maps(ds):
             "contact_loss_share": share.reshape(shape), "chaotic": chaotic.reshape(shape),
             "max_period": max_period.reshape(shape),
             "max_lambda1": np.where(np.isfinite(max_lam), max_lam, np.nan).reshape(shape)}
+    if "system" in ds.attrs:  # periodic attractors only, no labels: orders and chaos are not known
+        del data["max_order"], data["chaotic"]
     if "friction_ratio" in ds:
         data.update({k: v.reshape(shape) for k, v in _friction_extremes(ds, cell, size).items()})
     dims = ("pa_over_q", "fe_hz")
-    level_attrs = {k: v for k, v in ds["pa_over_q"].attrs.items() if k in ("units", "long_name")}
+    level_attrs = {k: v for k, v in ds[level_variable(ds)].attrs.items() if k in ("units", "long_name")}
     coords = {"pa_over_q": ("pa_over_q", levels, level_attrs or {"units": "Q",
                                                                  "long_name": "excitation amplitude P_a/(M g)"}),
               "fe_hz": ("fe_hz", grid, {"units": "Hz", "long_name": "excitation frequency f_e"})}
@@ -153,6 +156,8 @@ def regime_maps(ds):
         out.attrs["friction"] = ds.attrs["friction"]
     if "excitation" in ds.attrs:  # a base-motion dataset: the levels are U [um] or A [g]
         out.attrs.update({k: ds.attrs[k] for k in ("excitation", "level_symbol", "level_unit")})
+    if "system" in ds.attrs:  # a system's dataset: its levels P_a/Q [Q] or P_a [N]
+        out.attrs.update({k: ds.attrs[k] for k in ("system", "level_symbol", "level_unit")})
     return out
 
 

@@ -31,7 +31,7 @@ from contactvib.steady.results import dofs_and_contacts
 from contactvib.sweeps.dataset import FORMAT
 
 __all__ = ["DATASET_NAMES", "LEVEL_TOL", "find_dataset", "open_resonance", "ResonanceData", "matching_level",
-           "attractors_at", "check_damage", "DatasetError", "DamagedDataset", "MissingLevel"]
+           "attractors_at", "check_damage", "level_variable", "DatasetError", "DamagedDataset", "MissingLevel"]
 
 #: The dataset files a folder (an atlas, paper or resonance output folder) may hold, in the order
 #: they are looked for: the first one found is the folder's dataset.
@@ -130,16 +130,17 @@ def open_resonance(path, *, load: bool = False) -> ResonanceData:
     except Exception as e:  # not NetCDF, damaged, unreadable
         raise DatasetError(f"{file}: not a readable NetCDF dataset ({type(e).__name__})") from None
     try:
-        if "branch_label" not in ds or "pa_over_q" not in ds:
+        if "branch_label" not in ds or level_variable(ds) not in ds:
             raise DatasetError(f"{file}: not a contactvib resonance dataset (made by paper, resonance or atlas)")
         if ds.attrs.get("format") != FORMAT:
             raise DatasetError(f"{file}: written by another contactvib version (format "
                                f"{ds.attrs.get('format')!r}, not {FORMAT!r}): recompute it")
-        missing = [f"variable {v!r}" for v in _QUERY_POINT + _QUERY_OTHER if v not in ds]
-        missing += [f"attribute {a!r}" for a in _ATTRIBUTES if a not in ds.attrs]
+        needed, attributes = _required(ds)
+        missing = [f"variable {v!r}" for v in needed if v not in ds]
+        missing += [f"attribute {a!r}" for a in attributes if a not in ds.attrs]
         if missing:
             raise DatasetError(f"{file}: damaged: {missing[0]} is missing: recompute it")
-        if ds["pa_over_q"].size == 0:
+        if ds[level_variable(ds)].size == 0:
             raise DatasetError(f"{file}: holds no P_a level")
     except BaseException:
         ds.close()
@@ -194,13 +195,16 @@ class ResonanceData:
     def _kind_entry(self):
         from contactvib.model import LEVEL_KINDS
 
+        if "level_variable" in self.ds.attrs:  # a system's dataset: P_a/Q [Q] or P_a [N]
+            return self.ds.attrs["level_symbol"], self.ds.attrs["level_unit"]
+
         return LEVEL_KINDS.get(self.kind, LEVEL_KINDS["force"])
 
     @property
     def pa_over_q(self) -> np.ndarray:
         """The level of every point (the variable ``pa_over_q``), float, read once."""
         if self._pa is None:
-            self._pa = np.asarray(self.ds["pa_over_q"].values, float)
+            self._pa = np.asarray(self.ds[level_variable(self.ds)].values, float)
         return self._pa
 
     @property
@@ -264,8 +268,10 @@ class ResonanceData:
         _refuse_damaged(ds)
         pa = self.match(level)
         if pa is None:
-            raise MissingLevel(f"--pa (P_a/Q) = {level:g}: not in the dataset; stored levels: "
-                               + self.levels_text(), level, self.levels)
+            system = "level_variable" in ds.attrs  # a system's dataset: its levels in Q or N
+            sym = self.level_symbol if system and self.level_unit != "Q" else "P_a/Q"
+            raise MissingLevel(f"--pa ({sym}) = {level:g}: not in the dataset; stored levels: "
+                               + self.levels_text() + (f" {self.level_unit}" if system else ""), level, self.levels)
         df, fmin, fmax = _grid_settings(ds)
         sel = self.points(pa)
         fes = ds["fe_hz"].values[sel]
@@ -275,6 +281,8 @@ class ResonanceData:
             raise LookupError(f"--fe (f_e) = {fe_hz:g}: no grid point within half a step ({0.5 * df:g} Hz); "
                               f"grid {fmin:g}..{fmax:g} Hz step {df:g} Hz")
         idx = sel[np.abs(fes - g) <= 1e-9]
+        if "system" in ds.attrs:
+            return _system_records(self, ds, idx, pa, g, (level, fe_hz))
         atts = _attractor_records(ds, idx)
         atts.sort(key=lambda a: -a["app_um"])
         return {
@@ -301,21 +309,22 @@ def check_damage(ds) -> str | None:
     """Where a resonance dataset is damaged, in one line (a variable :func:`attractors_at` needs
     is missing, a value that must be finite is not, an index points outside its array), or
     None."""
-    for name in _QUERY_POINT + _QUERY_OTHER:
+    for name in _required(ds)[0]:
         if name not in ds:
             return f"variable {name!r} is missing"
-    pa, fe = np.asarray(ds["pa_over_q"].values, float), np.asarray(ds["fe_hz"].values, float)
+    pa, fe = np.asarray(ds[level_variable(ds)].values, float), np.asarray(ds["fe_hz"].values, float)
 
     def at(name, i):
         dim = ds[name].dims[0]
         return f"point {i} (P_a = {pa[i]:g} Q, f_e = {fe[i]:g} Hz)" if dim == "point" else f"{dim} {i}"
 
-    for name in _FINITE:
+    for name in (_SYSTEM_FINITE if "system" in ds.attrs else _FINITE):
         bad = np.nonzero(~np.isfinite(np.asarray(ds[name].values, float)))[0]
         if bad.size:
             return f"{name} is {ds[name].values[bad[0]]} at {at(name, int(bad[0]))}"
-    for start, count, dim in (("extrema_start", "extrema_count", "extremum"),
-                              ("strobe_start", "strobe_count", "strobe"), ("branch_index", None, "branch")):
+    ragged = (("extrema_start", "extrema_count", "extremum"), ("strobe_start", "strobe_count", "strobe"),
+              ("branch_index", None, "branch"))
+    for start, count, dim in (r for r in ragged if r[0] in ds):
         s0 = np.asarray(ds[start].values)
         n = np.ones_like(s0) if count is None else np.asarray(ds[count].values)
         size = ds.sizes.get(dim, 0)
@@ -422,3 +431,61 @@ def _level_kind_record(ds, idx) -> dict:
     return {"excitation": ds.attrs["excitation"], "level_symbol": ds.attrs["level_symbol"],
             "level_unit": ds.attrs["level_unit"],
             "force_pa_over_q": float(ds["force_pa_over_q"].values[idx[0]]) if idx.size else None}
+
+
+#: What a system's dataset (``contactvib.sweeps.system_dataset``) must hold, and its finite variables.
+_SYSTEM_POINT = ("fe_hz", "period", "kind", "minima_per_period", "app_um", "loses_contact", "basin_fraction",
+                 "floquet_abs_max", "floquet_re", "floquet_im", "closure", "branch_index", "origin", "found_by",
+                 "strobe_start", "strobe_count", "strobe_q", "strobe_qdot", "branch_id", "branch_label",
+                 "branch_reached_by_sweep") + _DOF_POINT
+_SYSTEM_ATTRIBUTES = ("settings", "system", "system_coordinates", "system_units", "level_variable", "level_symbol",
+                      "level_unit")
+_SYSTEM_FINITE = ("pa_newton", "fe_hz", "app_um", "strobe_q", "strobe_qdot")
+
+
+def level_variable(ds) -> str:
+    """The variable that holds a dataset's levels: ``pa_over_q``, or a system dataset's
+    ``level_variable`` attribute (``pa_newton`` [N] for a system without a Q)."""
+    return str(ds.attrs.get("level_variable", "pa_over_q"))
+
+
+def _required(ds) -> tuple:
+    """(variables, attributes) a reader needs of ``ds``: a system's dataset or the 1-DOF layout."""
+    if "system" in ds.attrs:
+        return (level_variable(ds),) + _SYSTEM_POINT, _SYSTEM_ATTRIBUTES
+    return _QUERY_POINT + _QUERY_OTHER, _ATTRIBUTES
+
+
+def _system_records(data, ds, idx, level, fe, requested) -> dict:
+    """:meth:`ResonanceData.attractors_at` of a system's dataset: the attractors at the rows
+    ``idx`` in the JSON contract of ``contactvib attractors --system`` (dofs, contacts), with their
+    stroboscopic points per coordinate (display units)."""
+    v = {name: ds[name].values for name in ("period", "minima_per_period", "app_um", "basin_fraction",
+                                            "floquet_abs_max", "floquet_re", "floquet_im", "closure",
+                                            "branch_index", "origin", "found_by", "strobe_start", "strobe_count")}
+    sq, sv = ds["strobe_q"].values, ds["strobe_qdot"].values
+    names = [str(x) for x in ds["dof_name"].values]
+    dofs = _dofs_and_contacts_of(ds)
+    b_id = ds["branch_id"].values
+    atts = []
+    for p in idx:
+        s0, ns = int(v["strobe_start"][p]), int(v["strobe_count"][p])
+        basin = float(v["basin_fraction"][p])
+        atts.append({
+            "period": int(v["period"][p]), "minima_per_period": int(v["minima_per_period"][p]),
+            "floquet_multipliers": [[float(v["floquet_re"][p, q]), float(v["floquet_im"][p, q])]
+                                    for q in range(ds.sizes["multiplier"])],
+            "floquet_abs_max": float(v["floquet_abs_max"][p]), "stable": True,
+            "basin_fraction": basin if math.isfinite(basin) else None, "closure": float(v["closure"][p]),
+            "app_um": float(v["app_um"][p]), "branch": str(b_id[int(v["branch_index"][p])]),
+            "origin": str(v["origin"][p]), "found_by": str(v["found_by"][p]),
+            "strobe_points": [{"q": dict(zip(names, map(float, sq[q]))), "qdot": dict(zip(names, map(float, sv[q])))}
+                              for q in range(s0, s0 + ns)],
+            **dofs(p)})
+    atts.sort(key=lambda a: -a["app_um"])
+    return {"system": ds.attrs["system"] if ds.attrs["system"] == "rocking" else "file",
+            "system_label": ds.attrs["system"] if ds.attrs["system"] == "rocking" else "from a TOML file",
+            "coordinates": json.loads(ds.attrs["system_coordinates"]), "level": float(level),
+            "level_symbol": data.level_symbol, "level_unit": data.level_unit, "fe_hz": float(fe),
+            "requested": {"level": float(requested[0]), "fe_hz": float(requested[1])},
+            "units": {"m": "um", "rad": "urad", "force": "N", "f": "Hz"}, "attractors": atts}
