@@ -45,7 +45,7 @@ def test_maps_hold_the_extremes_of_the_friction_ratio(friction_dataset):
 def test_map_command_draws_the_friction_maps(friction_dataset, tmp_path, capsys):
     out = tmp_path / "map"
     assert main(["map", str(friction_dataset), "--out", str(out)]) == 0
-    assert "and 7 figures map_*.png" in capsys.readouterr().out
+    assert "and 8 figures map_*.png" in capsys.readouterr().out
     for name in FRICTION_MAPS:
         assert_figure_file(out / f"map_{name}.png")
     assert set(FRICTION_MAPS) <= set(xr.load_dataset(out / "map.nc").variables)

@@ -239,7 +239,7 @@ def test_sigint_interrupts_a_long_search_within_a_second(into_search):
     # reads the bar's carriage returns as line ends)
     lines = err.splitlines()
     assert lines[-1] == "contactvib: interrupted" and err.endswith("\n")
-    assert all("attractor search, about" in line or not line.strip() for line in lines[:-1]), err
+    assert all("attractor search, at most" in line or not line.strip() for line in lines[:-1]), err
     assert out == ""  # no table
     assert waited < 1.5
 
