@@ -13,7 +13,7 @@ import pytest
 
 from contactvib._kernels import system_map as km
 from contactvib._kernels import system_settle as ks
-from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
+from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_INTERRUPTED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
 from contactvib._kernels.system_flow import system_arrays
 from contactvib.model import ContactModel, ParameterError
 from contactvib.model.rocking import rocking_system
@@ -64,16 +64,20 @@ def test_compiled_settling_is_the_python_loop(name):
     ids = np.array([3, 7], np.int64)
     outcomes = set()
     for p, i in ((np.empty((0, X.shape[1])), np.empty(0, np.int64)), (pts, ids)):
-        how, kk, xs, nper = ks.settle_starts(sa, X, 8, 300, 1e-7, p, i, 1e-4, 1e-10)
+        how, kk, xs, nper = ks.settle_starts(sa, X, 8, 300, 1e-7, p, i, 1e-4, 1e-10, np.zeros(1, np.int64))
         for q in range(len(X)):
             h, k, n, y = _python_settle(sa, X[q], 8, 300, 1e-7, p, i, 1e-4, 1e-10)
             assert (how[q], kk[q], nper[q]) == (h, k, n)
             np.testing.assert_array_equal(xs[q], y)
             outcomes.add(int(how[q]))
     assert SETTLE_CAPTURED in outcomes  # start 0 with the capture points
-    one = ks._settle_serial(sa, X, np.int64(8), np.int64(300), 1e-7, pts, ids, 1e-4, 1e-10)
-    for a, b in zip(one, ks.settle_starts(sa, X, 8, 300, 1e-7, pts, ids, 1e-4, 1e-10)):
+    go = np.zeros(1, np.int64)
+    one = ks._settle_serial(sa, X, np.int64(8), np.int64(300), 1e-7, pts, ids, 1e-4, 1e-10, go)
+    for a, b in zip(one, ks.settle_starts(sa, X, 8, 300, 1e-7, pts, ids, 1e-4, 1e-10, go)):
         np.testing.assert_array_equal(a, b)
+    # a set stop flag ends every start after its first period
+    how, kk, xs, nper = ks.settle_starts(sa, X, 8, 300, 1e-7, pts, ids, 1e-4, 1e-10, np.ones(1, np.int64))
+    assert (how == SETTLE_INTERRUPTED).all() and (nper == 1).all()
 
 
 #: (system, P_a, f_e, starts): unsettled starts, [(period, hits, A_pp of each coordinate [µm, µrad])],
@@ -127,3 +131,17 @@ def test_bad_search_settings_are_refused(kw, words):
     s, pa, fe = _case("file")
     with pytest.raises(ParameterError, match=words):
         find_system_attractors(s, pa, fe, **kw)
+
+
+def test_the_scipy_reference_without_the_liouville_integral():
+    """``contactvib.testing.integrate_system(..., liouville=False)`` (the benchmark's scipy side)
+    integrates the same flow: one period of the file system agrees with the run that carries the
+    Liouville integral to 1e-8 of the state's size (both at rtol 1e-11), and returns nan for it."""
+    from contactvib.testing import integrate_system
+
+    s, pa, fe = _case("file")
+    z0 = np.array([1.5, 0.2, 0.0, 0.3])
+    z1, liou, sw1 = integrate_system(s, pa, fe, z0, 1 / fe, atol_q=1e-12)
+    z2, nan, sw2 = integrate_system(s, pa, fe, z0, 1 / fe, atol_q=1e-12, liouville=False)
+    assert sw1 == sw2 >= 1 and np.isfinite(liou) and np.isnan(nan)
+    assert np.max(np.abs(z1 - z2)) < 1e-8 * np.max(np.abs(z1))

@@ -11,7 +11,9 @@ After each period, in this order:
   points repeats the one k periods before: ``|x_{n−j} − x_{n−j−k}|∞ ≤ tol · max(1, |x_{n−j}|∞)``,
   j = 0..k−1;
 
-else, after ``max_periods`` periods, unsettled. An integration that fails is ``SETTLE_FAILED``.
+else, after ``max_periods`` periods, unsettled. An integration that fails is ``SETTLE_FAILED``; a
+start whose ``stop[0]`` is set (Ctrl-C, :mod:`contactvib.interrupts`) ends after the period it is
+in with ``SETTLE_INTERRUPTED``. The kernels release the GIL.
 """
 
 from __future__ import annotations
@@ -21,7 +23,14 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_NONPERIODIC, SETTLE_PERIODIC, STATUS_OK
+from .status import (
+    SETTLE_CAPTURED,
+    SETTLE_FAILED,
+    SETTLE_INTERRUPTED,
+    SETTLE_NONPERIODIC,
+    SETTLE_PERIODIC,
+    STATUS_OK,
+)
 from .system_flow import MAX_STEPS_PER_PERIOD, advance, initial_modes
 
 
@@ -65,13 +74,13 @@ def _repeats(hist, c, L, k, tol):
     return True
 
 
-@njit(cache=True)
-def settle_start(sa, x0, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, out_x):
+@njit(cache=True, nogil=True)
+def settle_start(sa, x0, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop, out_x):
     """Settle the scaled start ``x0`` (2n); ``out_x`` ← the last stroboscopic point.
 
     Returns (outcome, k, periods): ``SETTLE_PERIODIC`` with its period k, ``SETTLE_CAPTURED``
     with the ``cap_id`` of the row it came near, ``SETTLE_NONPERIODIC`` (unsettled) or
-    ``SETTLE_FAILED`` (k = 0); periods integrated."""
+    ``SETTLE_FAILED`` or ``SETTLE_INTERRUPTED`` (k = 0); periods integrated."""
     n2 = x0.shape[0]
     L = 2 * kmax + 1
     hist = np.empty((L, n2))
@@ -86,6 +95,8 @@ def settle_start(sa, x0, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, r
     for n in range(max_periods):
         if one_period(sa, y, mode, T, rtol) != STATUS_OK:
             return SETTLE_FAILED, 0, n + 1
+        if stop[0] != 0:
+            return SETTLE_INTERRUPTED, 0, n + 1
         a = c % L
         for i in range(n2):
             hist[a, i] = y[i]
@@ -105,9 +116,9 @@ def settle_start(sa, x0, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, r
 
 
 @njit(cache=True, inline="always")
-def _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, how, kk, xs, nper):
+def _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop, how, kk, xs, nper):
     o = np.empty(X.shape[1])
-    h, k, n = settle_start(sa, X[q], kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, o)
+    h, k, n = settle_start(sa, X[q], kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop, o)
     how[q] = h
     kk[q] = k
     nper[q] = n
@@ -115,31 +126,31 @@ def _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, 
         xs[q, i] = o[i]
 
 
-@njit(cache=True, parallel=True)
-def _settle_threads(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol):
+@njit(cache=True, parallel=True, nogil=True)
+def _settle_threads(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop):
     N = X.shape[0]
     how = np.empty(N, np.int64)
     kk = np.empty(N, np.int64)
     nper = np.empty(N, np.int64)
     xs = np.empty((N, X.shape[1]))
     for q in prange(N):
-        _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, how, kk, xs, nper)
+        _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop, how, kk, xs, nper)
     return how, kk, xs, nper
 
 
-@njit(cache=True)
-def _settle_serial(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol):
+@njit(cache=True, nogil=True)
+def _settle_serial(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop):
     N = X.shape[0]
     how = np.empty(N, np.int64)
     kk = np.empty(N, np.int64)
     nper = np.empty(N, np.int64)
     xs = np.empty((N, X.shape[1]))
     for q in range(N):
-        _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, how, kk, xs, nper)
+        _settle_one(q, sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop, how, kk, xs, nper)
     return how, kk, xs, nper
 
 
-def settle_starts(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol):
+def settle_starts(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, rtol, stop):
     """:func:`settle_start` for every row of ``X`` (N, 2n), independently; with more than one
     numba thread on the threads (a ``parallel=True`` kernel), else in a plain loop (the same
     results). Returns outcome, k, periods (int64[N]) and the last points (N, 2n), as
@@ -149,4 +160,4 @@ def settle_starts(sa, X, kmax, max_periods, tol, cap_pts, cap_id, capture_tol, r
     kernel = _settle_threads if get_num_threads() > 1 and X.shape[0] > 1 else _settle_serial
     return kernel(sa, np.ascontiguousarray(X, dtype=np.float64), np.int64(kmax), np.int64(max_periods),
                   float(tol), np.ascontiguousarray(cap_pts, dtype=np.float64),
-                  np.ascontiguousarray(cap_id, dtype=np.int64), float(capture_tol), float(rtol))
+                  np.ascontiguousarray(cap_id, dtype=np.int64), float(capture_tol), float(rtol), stop)

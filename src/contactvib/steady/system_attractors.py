@@ -29,9 +29,10 @@ import numpy as np
 
 from contactvib._kernels import system_map as km
 from contactvib._kernels import system_settle as ks
-from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_PERIODIC, STATUS_OK
+from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_INTERRUPTED, SETTLE_PERIODIC, STATUS_OK
 from contactvib._kernels.system_flow import system_arrays
 from contactvib.errors import ComputationError
+from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation
@@ -223,14 +224,18 @@ def _settled(sa, starts: np.ndarray, found: list, kmax, max_periods, tol, rtol):
 
     Start j is captured by the stable orbits in ``found`` when it is taken, as if the starts were
     settled one after another; the starts run in batches on the numba threads, and the rest of a
-    batch is settled again when the caller has added a stable orbit in the meantime."""
+    batch is settled again when the caller has added a stable orbit in the meantime. The kernel
+    runs in a helper thread (:func:`contactvib.interrupts.run_interruptible`): Ctrl-C ends it
+    within one excitation period."""
     names = {SETTLE_PERIODIC: "periodic", SETTLE_CAPTURED: "captured", SETTLE_FAILED: "failed"}
     threads = numba.get_num_threads()
-    j, batch = 0, threads
+    j, batch, stop = 0, threads, new_stop_flag()
     while j < len(starts):
         pts, ids = _capture(found)
-        how, kk, xs, _n = ks.settle_starts(sa, starts[j:j + batch], kmax, max_periods, tol,
-                                           pts.reshape(-1, starts.shape[1]), ids, 1e-4, rtol)
+        how, kk, xs, _n = run_interruptible(ks.settle_starts, sa, starts[j:j + batch], kmax, max_periods, tol,
+                                            pts.reshape(-1, starts.shape[1]), ids, 1e-4, rtol, stop, stop=stop)
+        if (how == SETTLE_INTERRUPTED).any():
+            raise KeyboardInterrupt
         for q in range(len(how)):
             if len(_capture(found)[1]) != len(ids):
                 batch = threads  # a new stable orbit: settle the rest again with it
