@@ -242,8 +242,8 @@ def _settled(sa, starts: np.ndarray, found: list, kmax, max_periods, tol, rtol):
                 break
             j += 1
             yield names.get(int(how[q]), "unsettled"), int(kk[q]), xs[q]
-        else:
-            batch = min(2 * batch, 8 * threads)
+        else:  # batches grow while no orbit is new (on one thread: one start at a time)
+            batch = min(2 * batch, 8 * threads) if threads > 1 else 1
 
 
 def _strobes(sa, form, x, k, rtol) -> np.ndarray:
