@@ -14,6 +14,8 @@ of ``benchmarks/`` use it, and so can a user who wants to check a result or a ne
 * :func:`power_law_rhs`, :func:`scipy_in_contact`: the paper's nondimensional equation.
 * :class:`ContactODE`, :func:`model_ode`, :func:`integrate_contact`: any contact law under any
   forcing, in SI, with the turning points, the impulse and the Liouville integral.
+* :func:`integrate_system`: a structure of n coordinates with m contacts (``contactvib.System``),
+  in SI, mode by mode with an event on every contact.
 
 A grazing switch (contact left or entered with ẏ ≈ 0) puts the root of the new mode's event at
 its own start; the new mode is then started again a hair (``graze``) on its own side of y = 0,
@@ -28,7 +30,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["ContactODE", "ModeTrajectory", "Trajectory", "benettin_reference", "initial_mode", "integrate_contact",
-           "integrate_modes", "model_ode", "power_law_rhs", "power_law_variational_rhs", "scipy_in_contact"]
+           "integrate_modes", "integrate_system", "model_ode", "power_law_rhs", "power_law_variational_rhs",
+           "scipy_in_contact"]
 
 #: consecutive zero-length segments after which :func:`integrate_modes` gives up (a trajectory
 #: held on y = 0 by opposing fields, which two modes switched at y = 0 cannot represent)
@@ -421,3 +424,123 @@ def benettin_reference(par, z0, n_periods: int, rtol: float = 1e-10):
         logr[j] = np.log(np.diag(R))
         trace[j] = tr.y[6]
     return logr, trace, z
+
+
+# ------------------------------------------------------------------ structures of n coordinates
+def _odd_power_scalar(x, a):
+    if a == 0.0:
+        return 1.0
+    return math.copysign(abs(x) ** a, x)
+
+
+def _system_element(c):
+    """(spring(δ), rate(δ)) of a contact in contact, SI, continued below δ = 0."""
+    law, S = c.law, c.S
+    if getattr(law, "name", None) == "power":
+        Sc, m2 = S * law.c_n, law.m2
+
+        def spring(d):
+            return Sc * _odd_power_scalar(d, m2)
+    else:
+        def spring(d):
+            return law.contact_force(d, S)
+    if c.damping == "hunt-crossley":
+        alpha = c.alpha
+
+        def rate(d):
+            return alpha * spring(d)
+    else:
+        Sh, l = S * c.h_n, c.l
+
+        def rate(d):
+            return Sh * _odd_power_scalar(d, l)
+    return spring, rate
+
+
+def integrate_system(system, pa_newton, fe_hz, z0, t1, rtol=1e-11, atol_q=None, max_switches=10_000, t0=0.0,
+                     liouville=True):
+    """A structure (``contactvib.model.System``) under P_a cos(2π f_e t), integrated by
+    ``solve_ivp`` (DOP853) mode by mode from z0 = (q, q̇) [SI] at t = ``t0`` (default 0) to ``t1``
+    [s]: the equation
+
+        M q̈ + C q̇ + K q = f0 + b P_a cos(2π f_e t) − Σ_i [δ_i > 0] w_i F_i(δ_i, δ̇_i)
+
+    with a terminal event on every contact's δ_i = w_i·q − e_i (leaving a contact in contact,
+    entering one out of it), restarting in the new mode. Only the system's SI fields are read: the
+    power spring S c_n δ^m2 (continued oddly) written here, any other law through its own SI
+    ``contact_force``; damping S h_n δ^l δ̇ or α F_s δ̇ (Hunt–Crossley).
+
+    Parameters
+    ----------
+    rtol : float
+        solve_ivp's relative tolerance.
+    atol_q : float or array (n,), optional
+        Absolute tolerance of q [m or rad] (default 1e-12); of q̇ that times 2π f_e.
+    liouville : bool
+        Also integrate ∫ trace(M⁻¹ C(t)) dt, C(t) = C + Σ_i c_d,i w_i w_iᵀ over the contacts in
+        contact (Liouville's formula: ln |det Φ| = −that); False leaves it out (nan returned).
+
+    Returns
+    -------
+    z : ndarray (2n,)
+        End state.
+    liouville : float
+        ∫ trace(M⁻¹ C(t)) dt [1].
+    n_switches : int
+        Contact switches located.
+    """
+    from scipy.integrate import solve_ivp
+
+    n = system.n
+    Minv = np.linalg.inv(np.asarray(system.M))
+    K, C, f0, b = (np.asarray(a, float) for a in (system.K, system.C, system.f0, system.b))
+    W = [np.asarray(c.direction, float) for c in system.contacts]
+    e = [c.gap + c.law.engagement_m for c in system.contacts]
+    laws = [_system_element(c) for c in system.contacts]
+    om = 2.0 * math.pi * fe_hz
+
+    def make_rhs(mode):
+        def rhs(t, s):
+            q, v = s[:n], s[n:2 * n]
+            f = f0 + b * pa_newton * math.cos(om * t) - C @ v - K @ q
+            Ceff = np.array(C) if liouville else None
+            for i, on in enumerate(mode):
+                if on:
+                    d, dd = W[i] @ q - e[i], W[i] @ v
+                    spring, rate = laws[i]
+                    cd = rate(d)
+                    f = f - W[i] * (spring(d) + cd * dd)
+                    if liouville:
+                        Ceff = Ceff + cd * np.outer(W[i], W[i])
+            if not liouville:
+                return np.concatenate([v, Minv @ f])
+            return np.concatenate([v, Minv @ f, [np.trace(Minv @ Ceff)]])
+        return rhs
+
+    def make_events(mode):
+        evs = []
+        for i, on in enumerate(mode):
+            def ev(t, s, i=i):
+                return W[i] @ s[:n] - e[i]
+            ev.terminal, ev.direction = True, (-1.0 if on else 1.0)
+            evs.append(ev)
+        return evs
+
+    z0 = np.asarray(z0, float)
+    s = np.concatenate([z0, [0.0]]) if liouville else z0.copy()
+    mode = [bool(w @ z0[:n] - ei > 0.0 or (w @ z0[:n] - ei == 0.0 and w @ z0[n:] > 0.0)) for w, ei in zip(W, e)]
+    scale_q = np.full(n, 1e-12) if atol_q is None else np.broadcast_to(np.asarray(atol_q, float), (n,))
+    atol = np.concatenate([scale_q, scale_q * om, [1e-14]] if liouville else [scale_q, scale_q * om])
+    t, switches = float(t0), 0
+    while t < t1:
+        sol = solve_ivp(make_rhs(mode), (t, t1), s, method="DOP853", rtol=rtol, atol=atol,
+                        events=make_events(mode))
+        assert sol.status >= 0, sol.message
+        t, s = float(sol.t[-1]), sol.y[:, -1].copy()
+        if sol.status == 1:
+            hit = [i for i, te in enumerate(sol.t_events) if len(te)]
+            assert len(hit) == 1, f"simultaneous switches at t = {t}"
+            mode[hit[0]] = not mode[hit[0]]
+            switches += 1
+            assert switches < max_switches, "chattering"
+    return s[:2 * n], (float(s[2 * n]) if liouville else math.nan), switches

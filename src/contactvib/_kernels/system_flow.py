@@ -29,6 +29,10 @@ controller, the landing on an interval's end and the dense output — is :mod:`.
 with the 1-DOF flow and the friction contact; only the right-hand side, the elements' events and
 the modes are this module's.
 
+The step's helpers (:func:`rhs`, :func:`_stages`, :func:`_rk_step`, :func:`_dense`,
+:func:`_event_fraction`) are inlined into :func:`advance`: a call hands over every array of the
+:class:`SystemArrays` record with its reference count, which cost a third of a step.
+
 Kernels never raise on the caller's behalf: they return integer status codes (:mod:`.status`).
 
 References
@@ -195,7 +199,7 @@ def rhs_row(paper, sa, mode, t, y, out, row, nvar, Jx, Jv):
                 out[row, n2 + (n + r) * n2 + col] = s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
     """:func:`rhs_row` into the vector ``out``."""
     out2 = out.reshape((1, out.shape[0]))
@@ -205,7 +209,7 @@ def rhs(sa, mode, t, y, out, nvar, Jx, Jv):
         rhs_row(False, sa, mode, t, y, out2, 0, nvar, Jx, Jv)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _stages(sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, Jv):
     """K[s] = f(t + C[s] h, y + h Σ_{j<s} A[s, j] K[j]) for s = s_first..s_last − 1 (the first
     ``N`` components); the scalar path of the power law compiled alone when every element takes
@@ -224,7 +228,7 @@ def _stage_loop(paper, sa, mode, t, y, h, K, ys, s_first, s_last, N, nvar, Jx, J
         rhs_row(paper, sa, mode, t + C[s] * h, ys, K, s, nvar, Jx, Jv)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rk_step(sa, mode, t, y, f, h, rtol, atol, K, ys, ynew, fnew, Jx, Jv):
     """One DOP853 step; fills K[0..12], ``ynew``, ``fnew``; returns the error norm (< 1: accept)."""
     N = y.shape[0]
@@ -239,7 +243,7 @@ def _rk_step(sa, mode, t, y, f, h, rtol, atol, K, ys, ynew, fnew, Jx, Jv):
     return error_norm(K, y, ynew, h, N, atol, rtol)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _dense(sa, mode, t, y, ynew, h, K, ys, F, Jx, Jv):
     """Fill F[7, 2n] with the 7th-order interpolant of x and x' over the last step."""
     n2 = 2 * sa.Kx.shape[0]
@@ -261,7 +265,7 @@ def _element_interpolant(sa, i, F, E):
         E[q, 1] = b
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _event_fraction(sa, mode, t, y, ynew, h, K, ys, F, E, eo, record, fresh, Jx, Jv):
     """(θ, i): the earliest fraction θ ∈ [0, 1] of the step at which an element i switches, or
     (−1, −1). ``fresh[i]``: element i switched at the step's start (its ξ taken as exactly 0, no

@@ -24,12 +24,15 @@ import json
 import math
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from contactvib._kernels import system_map as km
-from contactvib._kernels.status import STATUS_OK
+from contactvib._kernels import system_settle as ks
+from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_INTERRUPTED, SETTLE_PERIODIC, STATUS_OK
 from contactvib._kernels.system_flow import system_arrays
 from contactvib.errors import ComputationError
+from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation
@@ -222,35 +225,44 @@ def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) ->
     return xs + rng.uniform(-1.0, 1.0, (n, 2 * nq)) * half
 
 
-def _closes(hist: list, k: int, tol: float) -> bool:
-    """Whether the last k stroboscopic points each repeat the one k periods before."""
-    if len(hist) < 2 * k + 1:
-        return False
-    return all(np.max(np.abs(hist[-1 - j] - hist[-1 - j - k])) <= tol * max(1.0, np.max(np.abs(hist[-1 - j])))
-               for j in range(k))
-
-
 def _near(x, points, tol) -> bool:
     return bool(np.any(np.max(np.abs(points - x), axis=1) <= tol * max(1.0, float(np.max(np.abs(x))))))
 
 
-def _settle(sa, x, kmax, max_periods, tol, capture, rtol):
-    """Integrate period by period: ("periodic", k, x), ("captured", index, x) or ("unsettled", 0, x)."""
-    hist = [x]
-    out, phi = np.empty(x.size), np.empty((0, 0))
-    for _ in range(max_periods):
-        st = km.strobe_map(sa, np.ascontiguousarray(hist[-1]), 1, rtol, rtol, out, phi)
-        if st != STATUS_OK:
-            raise ComputationError("the settling of a start failed", stage="integration")
-        hist.append(out.copy())
-        del hist[:-2 * kmax - 1]
-        for i, pts in capture:
-            if _near(hist[-1], pts, 1e-4):
-                return "captured", i, hist[-1]
-        for k in range(1, kmax + 1):
-            if _closes(hist, k, tol):
-                return "periodic", k, hist[-1]
-    return "unsettled", 0, hist[-1]
+def _capture(found: list) -> tuple[np.ndarray, np.ndarray]:
+    """The stroboscopic points of the stable orbits found (rows) and their indices in ``found``."""
+    caps = [(i, f["points"]) for i, f in enumerate(found) if f["orbit"].stable]
+    if not caps:
+        return np.empty((0, 0)), np.empty(0, np.int64)
+    return np.concatenate([p for _, p in caps]), np.concatenate([np.full(len(p), i, np.int64) for i, p in caps])
+
+
+def _settled(sa, starts: np.ndarray, found: list, kmax, max_periods, tol, rtol):
+    """Each start settled period by period (:func:`.system_settle.settle_start`), in order:
+    ("periodic", k, x), ("captured", index in ``found``, x), ("unsettled", 0, x) or ("failed", 0, x).
+
+    Start j is captured by the stable orbits in ``found`` when it is taken, as if the starts were
+    settled one after another; the starts run in batches on the numba threads, and the rest of a
+    batch is settled again when the caller has added a stable orbit in the meantime. The kernel
+    runs in a helper thread (:func:`contactvib.interrupts.run_interruptible`): Ctrl-C ends it
+    within one excitation period."""
+    names = {SETTLE_PERIODIC: "periodic", SETTLE_CAPTURED: "captured", SETTLE_FAILED: "failed"}
+    threads = numba.get_num_threads()
+    j, batch, stop = 0, threads, new_stop_flag()
+    while j < len(starts):
+        pts, ids = _capture(found)
+        how, kk, xs, _n = run_interruptible(ks.settle_starts, sa, starts[j:j + batch], kmax, max_periods, tol,
+                                            pts.reshape(-1, starts.shape[1]), ids, 1e-4, rtol, stop, stop=stop)
+        if (how == SETTLE_INTERRUPTED).any():
+            raise KeyboardInterrupt
+        for q in range(len(how)):
+            if len(_capture(found)[1]) != len(ids):
+                batch = threads  # a new stable orbit: settle the rest again with it
+                break
+            j += 1
+            yield names.get(int(how[q]), "unsettled"), int(kk[q]), xs[q]
+        else:  # batches grow while no orbit is new (on one thread: one start at a time)
+            batch = min(2 * batch, 8 * threads) if threads > 1 else 1
 
 
 def _strobes(sa, form, x, k, rtol) -> np.ndarray:
@@ -300,10 +312,12 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
     n_unsettled = n_failed = 0
     if progress is not None:
         progress(0, n_starts)
-    for j, x0 in enumerate(_start_box(system, form, pa, fe, n_starts, seed)):
+    settled = _settled(sa, _start_box(system, form, pa, fe, n_starts, seed), found, kmax, max_periods, settle_tol,
+                       rtol)
+    for j, (how, k, x) in enumerate(settled):
         try:
-            capture = [(i, f["points"]) for i, f in enumerate(found) if f["orbit"].stable]
-            how, k, x = _settle(sa, x0, kmax, max_periods, settle_tol, capture, rtol)
+            if how == "failed":
+                raise ComputationError("the settling of a start failed", stage="integration")
             if how == "captured":
                 found[k]["hits"] += 1
             elif how == "unsettled":
