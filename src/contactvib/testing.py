@@ -14,7 +14,7 @@ of ``benchmarks/`` use it, and so can a user who wants to check a result or a ne
 * :func:`power_law_rhs`, :func:`scipy_in_contact`: the paper's nondimensional equation.
 * :class:`ContactODE`, :func:`model_ode`, :func:`integrate_contact`: any contact law under any
   forcing, in SI, with the turning points, the impulse and the Liouville integral.
-* :func:`integrate_system`: a structure of n coordinates with m contacts (``contactvib.System``),
+* :func:`integrate_system`: a structure of n coordinates with m contacts (``contactvib.model.System``),
   in SI, mode by mode with an event on every contact.
 
 A grazing switch (contact left or entered with ẏ ≈ 0) puts the root of the new mode's event at
@@ -374,11 +374,9 @@ def model_ode(model, excitation):
 
 def power_law_variational_rhs(par):
     """The paper's nondimensional right-hand sides (contact, flight) of the state (x, x'), the
-    variational equation Φ' = J Φ (Φ row-major, 4 entries) and the Liouville integral ∫ tr J dτ,
-    for ``par = (m2, l, c, p, r)`` with l ≥ 1 (the force is continuous at x = 0: no saltation).
-    The Jacobian is J = [[0, 1], [−(m2 x^(m2−1) + c l x^(l−1) x')/m2, −c x^l/m2]] in contact and
-    [[0, 1], [0, 0]] in flight.
-    """
+    variational equation Φ' = J Φ (Φ row-major) and ∫ tr J dτ, ``par = (m2, l, c, p, r)``, l ≥ 1 (no
+    saltation): J = [[0, 1], [−(m2 x^(m2−1) + c l x^(l−1) x')/m2, −c x^l/m2]] in contact, [[0, 1], [0, 0]]
+    in flight."""
     m2, l, c, p, r = (float(v) for v in par)
     contact_state, flight_state = power_law_rhs(par)
 
@@ -398,16 +396,8 @@ def power_law_variational_rhs(par):
 def benettin_reference(par, z0, n_periods: int, rtol: float = 1e-10):
     """Benettin's QR method on the paper's period map with scipy (:func:`integrate_modes`, DOP853,
     located switches), the reference of ``contactvib.steady.lyapunov``: each period from Φ = I,
-    the frame advanced by Gram–Schmidt of M_j Q_j.
-
-    Returns
-    -------
-    logr : ndarray (n_periods, 2)
-        ln R_j[i, i] of each period [1].
-    trace : ndarray (n_periods,)
-        ∫ tr J dτ over each period [1].
-    z : ndarray (2,)
-        The state after ``n_periods``.
+    the frame advanced by Gram–Schmidt of M_j Q_j. Returns ``(logr, trace, z)``: ln R_j[i, i] of
+    each period (n_periods, 2) [1], ∫ tr J dτ over each period [1], the state after ``n_periods``.
     """
     f_contact, f_flight = power_law_variational_rhs(par)
     T = 2.0 * math.pi / float(par[4])
@@ -426,13 +416,8 @@ def benettin_reference(par, z0, n_periods: int, rtol: float = 1e-10):
     return logr, trace, z
 
 
+
 # ------------------------------------------------------------------ structures of n coordinates
-def _odd_power_scalar(x, a):
-    if a == 0.0:
-        return 1.0
-    return math.copysign(abs(x) ** a, x)
-
-
 def _system_element(c):
     """(spring(δ), rate(δ)) of a contact in contact, SI, continued below δ = 0."""
     law, S = c.law, c.S
@@ -440,7 +425,7 @@ def _system_element(c):
         Sc, m2 = S * law.c_n, law.m2
 
         def spring(d):
-            return Sc * _odd_power_scalar(d, m2)
+            return Sc * _power(d, m2)
     else:
         def spring(d):
             return law.contact_force(d, S)
@@ -453,41 +438,26 @@ def _system_element(c):
         Sh, l = S * c.h_n, c.l
 
         def rate(d):
-            return Sh * _odd_power_scalar(d, l)
+            return Sh * _power(d, l)
     return spring, rate
 
 
 def integrate_system(system, pa_newton, fe_hz, z0, t1, rtol=1e-11, atol_q=None, max_switches=10_000, t0=0.0,
                      liouville=True):
     """A structure (``contactvib.model.System``) under P_a cos(2π f_e t), integrated by
-    ``solve_ivp`` (DOP853) mode by mode from z0 = (q, q̇) [SI] at t = ``t0`` (default 0) to ``t1``
-    [s]: the equation
+    ``solve_ivp`` (DOP853) mode by mode from z0 = (q, q̇) [SI] at t = ``t0`` to ``t1`` [s]:
 
         M q̈ + C q̇ + K q = f0 + b P_a cos(2π f_e t) − Σ_i [δ_i > 0] w_i F_i(δ_i, δ̇_i)
 
-    with a terminal event on every contact's δ_i = w_i·q − e_i (leaving a contact in contact,
-    entering one out of it), restarting in the new mode. Only the system's SI fields are read: the
-    power spring S c_n δ^m2 (continued oddly) written here, any other law through its own SI
-    ``contact_force``; damping S h_n δ^l δ̇ or α F_s δ̇ (Hunt–Crossley).
+    with a terminal event on every contact's δ_i = w_i·q − e_i, restarting in the new mode. Only
+    the system's SI fields are read: the power spring S c_n δ^m2 written here, any other law
+    through its own SI ``contact_force``; damping S h_n δ^l δ̇ or α F_s δ̇ (Hunt–Crossley).
+    ``rtol``: solve_ivp's; ``atol_q``: of q [m or rad] (default 1e-12), of q̇ times 2π f_e;
+    ``liouville``: also integrate ∫ trace(M⁻¹ C(t)) dt, C(t) = C + Σ_i c_d,i w_i w_iᵀ over the
+    contacts in contact (ln |det Φ| = −that).
 
-    Parameters
-    ----------
-    rtol : float
-        solve_ivp's relative tolerance.
-    atol_q : float or array (n,), optional
-        Absolute tolerance of q [m or rad] (default 1e-12); of q̇ that times 2π f_e.
-    liouville : bool
-        Also integrate ∫ trace(M⁻¹ C(t)) dt, C(t) = C + Σ_i c_d,i w_i w_iᵀ over the contacts in
-        contact (Liouville's formula: ln |det Φ| = −that); False leaves it out (nan returned).
-
-    Returns
-    -------
-    z : ndarray (2n,)
-        End state.
-    liouville : float
-        ∫ trace(M⁻¹ C(t)) dt [1].
-    n_switches : int
-        Contact switches located.
+    Returns ``(z, liouville, n_switches)``: the end state (2n,), that integral [1] (nan without
+    it) and the contact switches located.
     """
     from scipy.integrate import solve_ivp
 
