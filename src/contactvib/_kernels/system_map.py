@@ -8,9 +8,9 @@ Built on :func:`.system_flow.advance` (the scaled equation and its events are de
   :func:`sample_records` (state and modes at given τ) and integrated by
   :func:`mean_element_forces` (∫ f_i dτ per element, Gauss–Legendre on each step: steps end on
   the switches, so each is smooth);
-* :func:`element_forces` — f_i at sampled states (0 out of contact);
-* :func:`settle_periodic` — period after period until the stroboscopic points repeat with a
-  period k ≤ kmax (the settling of the system sweeps).
+* :func:`element_forces` — f_i at sampled states (0 out of contact).
+
+The settling of a start (the search's and the sweeps') is :mod:`.system_settle`.
 """
 
 from __future__ import annotations
@@ -165,48 +165,3 @@ def mean_element_forces(sa, rec, nrec, out):
                 if rec[row, 2 + i] > 0.5:
                     xi, xv = element_state(sa, i, y)
                     out[i] += GAUSS_W[g] * h * element_force(sa, i, xi, xv)
-
-
-@njit(cache=True)
-def settle_periodic(sa, z, kmax, max_periods, tol, rtol, hist, out_z):
-    """Integrate z period by period from phase 0 until its stroboscopic points repeat: the last k
-    points (k = 1..``kmax``, the least first) each within ``tol`` · max(1, |x|∞) of the point k
-    periods before. ``hist`` is a work array of (2 kmax + 1, 2n) rows (a ring of the last points);
-    ``out_z`` ← the last point. Returns (k, 0 if none within ``max_periods``; periods run; status)."""
-    n2 = z.shape[0]
-    ring = hist.shape[0]
-    y, mode = _start(sa, z, False)
-    T = 2.0 * math.pi / sa.r
-    h = 0.01
-    for i in range(n2):
-        hist[0, i] = z[i]
-    count = 1
-    for p in range(max_periods):
-        h, _i, _ns, _ne, st = advance(sa, y, 0.0, T, mode, h, rtol, rtol, np.empty((0, 1)), np.int64(0),
-                                      np.int64(MAX_STEPS_PER_PERIOD))
-        if st != STATUS_OK:
-            _unpack(y, out_z, np.empty((0, 0)))
-            return 0, p, st
-        cur = count % ring
-        for i in range(n2):
-            hist[cur, i] = y[i]
-        count += 1
-        for k in range(1, kmax + 1):
-            if count < 2 * k + 1:
-                break
-            same = True
-            for j in range(k):
-                a = (count - 1 - j) % ring
-                b = (count - 1 - j - k) % ring
-                scale, d = 1.0, 0.0
-                for i in range(n2):
-                    scale = max(scale, abs(hist[a, i]))
-                    d = max(d, abs(hist[a, i] - hist[b, i]))
-                if not d <= tol * scale:
-                    same = False
-                    break
-            if same:
-                _unpack(y, out_z, np.empty((0, 0)))
-                return k, p + 1, STATUS_OK
-    _unpack(y, out_z, np.empty((0, 0)))
-    return 0, max_periods, STATUS_OK

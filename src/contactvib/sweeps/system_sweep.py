@@ -22,7 +22,7 @@ points), and a followed attractor ends. Each stored orbit is measured once on on
 recorded run of its k periods (``contactvib._kernels.system_map.record_span``): the extrema of every
 coordinate refined on the dense output to ~1e-9 of the range, its component at f_e, the minima per
 period of the first contact's deflection, each contact's open fraction and mean force (Gauss–Legendre
-on every step). The sweeps' settling is one compiled call (``system_map.settle_periodic``); the
+on every step). The sweeps' settling is one compiled call (``system_settle.settle_start``, the search's own); the
 searches settle their starts period by period in Python
 (:func:`~contactvib.steady.system_attractors.find_system_attractors`).
 """
@@ -264,15 +264,17 @@ class _Walker:
         return orbit, pts
 
     def settle(self, sa, x):
-        """Integrate period by period from x (compiled: ``system_map.settle_periodic``): (x, k) once
+        """Integrate period by period from x (compiled: ``system_settle.settle_start``, the search's own): (x, k) once
         the last k points repeat, else (the last state, 0), or (None, 0) where the integration fails."""
-        kmax = self.st.kmax
+        from contactvib._kernels.system_settle import SETTLE_FAILED, SETTLE_PERIODIC, settle_start
+
         out = np.empty(x.size)
-        k, _p, st = km.settle_periodic(sa, np.ascontiguousarray(x, dtype=float), kmax, self.st.max_periods,
-                                       SETTLE_TOL, self.st.rtol, np.empty((2 * kmax + 1, x.size)), out)
-        if st != STATUS_OK or not np.all(np.isfinite(out)):
+        how, k, _p = settle_start(sa, np.ascontiguousarray(x, dtype=float), self.st.kmax, self.st.max_periods,
+                                  SETTLE_TOL, np.empty((0, x.size)), np.empty(0, np.int64), 0.0, self.st.rtol,
+                                  np.zeros(1, np.int64), out)
+        if how == SETTLE_FAILED or not np.all(np.isfinite(out)):
             return None, 0
-        return out, int(k)
+        return out, int(k) if how == SETTLE_PERIODIC else 0
 
     def find(self, i, k, pts):
         """The row of the orbit known at grid point i that equals (k, pts), or None."""
