@@ -454,7 +454,7 @@ def integrate_system(system, pa_newton, fe_hz, z0, t1, rtol=1e-11, atol_q=None, 
     through its own SI ``contact_force``; damping S h_n δ^l δ̇ or α F_s δ̇ (Hunt–Crossley).
     ``rtol``: solve_ivp's; ``atol_q``: of q [m or rad] (default 1e-12), of q̇ times 2π f_e;
     ``liouville``: also integrate ∫ trace(M⁻¹ C(t)) dt, C(t) = C + Σ_i c_d,i w_i w_iᵀ over the
-    contacts in contact (ln |det Φ| = −that).
+    contacts in contact (``ln |det Φ|`` = −that).
 
     Returns ``(z, liouville, n_switches)``: the end state (2n,), that integral [1] (nan without
     it) and the contact switches located.
