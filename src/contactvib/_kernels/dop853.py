@@ -151,6 +151,21 @@ def interpolant(K, y, ynew, h, n, F):
 
 
 @njit(cache=True)
+def record_value(rec, row, x0, f0, stride, theta, comp):
+    """:func:`dense_value` of a step stored as a row of a record array: the step's start state at
+    column ``x0 + comp`` and its interpolant's coefficient q of component ``comp`` at column
+    ``f0 + q * stride + comp`` (the 1-DOF records: stride 2; the n-DOF records: stride 2n)."""
+    acc = 0.0
+    for q in range(6, -1, -1):
+        acc += rec[row, f0 + q * stride + comp]
+        if (6 - q) % 2 == 0:
+            acc *= theta
+        else:
+            acc *= 1.0 - theta
+    return rec[row, x0 + comp] + acc
+
+
+@njit(cache=True)
 def dense_value(F, y_old, theta, comp):
     """Interpolated component ``comp`` at fraction ``theta`` of a step (F from :func:`interpolant`)."""
     acc = 0.0

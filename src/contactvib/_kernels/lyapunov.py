@@ -30,6 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .dop853 import record_value
 from .flow import REC_F, REC_H, REC_MODE, REC_WIDTH, REC_X, advance, initial_mode, jacobian_row
 from .shooting import MAX_STEPS_PER_PERIOD
 from .status import STATUS_INTERRUPTED, STATUS_NONFINITE, STATUS_OK, STATUS_RECORD_FULL
@@ -44,19 +45,6 @@ _GL_W = np.array([0.11846344252809454, 0.23931433524968324, 0.28444444444444444,
 #: Step records per period kept for the trace quadrature (more: the quadrature is skipped, NaN).
 REC_ROWS = 8192
 
-@njit(cache=True, inline="always")
-def _rec_value(rec, row, theta, comp):
-    """Component ``comp`` (0: x, 1: x') of step record ``row`` at fraction θ (:func:`.dop853.dense_value`)."""
-    acc = 0.0
-    for q in range(6, -1, -1):
-        acc += rec[row, REC_F + 2 * q + comp]
-        if (6 - q) % 2 == 0:
-            acc *= theta
-        else:
-            acc *= 1.0 - theta
-    return rec[row, REC_X + comp] + acc
-
-
 @njit(cache=True)
 def trace_integral(rec, n_rows, par):
     """∫ tr J dτ over the first ``n_rows`` step records: Gauss–Legendre on each step's dense output
@@ -68,8 +56,8 @@ def trace_integral(rec, n_rows, par):
         h = rec[row, REC_H]
         s = 0.0
         for q in range(5):
-            x = _rec_value(rec, row, _GL_X[q], 0)
-            v = _rec_value(rec, row, _GL_X[q], 1)
+            x = record_value(rec, row, REC_X, REC_F, 2, _GL_X[q], 0)
+            v = record_value(rec, row, REC_X, REC_F, 2, _GL_X[q], 1)
             _j21, j22 = jacobian_row(True, x, v, par)
             s += _GL_W[q] * j22
         acc += h * s

@@ -20,6 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .dop853 import record_value
 from .status import STATUS_OK
 from .system_flow import GAUSS_W, GAUSS_X, MAX_STEPS_PER_PERIOD, advance, element_force, element_state, initial_modes
 
@@ -100,20 +101,6 @@ def record_span(sa, z, k, rtol, atol, rec, out_z):
 
 
 @njit(cache=True)
-def _record_value(rec, row, o, n2, theta, comp):
-    """Component ``comp`` of the recorded interpolant at fraction θ of the step (as
-    :func:`.flow.dense_value`)."""
-    acc = 0.0
-    for q in range(6, -1, -1):
-        acc += rec[row, o + n2 + q * n2 + comp]
-        if (6 - q) % 2 == 0:
-            acc *= theta
-        else:
-            acc *= 1.0 - theta
-    return rec[row, o + comp] + acc
-
-
-@njit(cache=True)
 def sample_records(rec, nrec, m, tau, out_y, out_mode):
     """The state (x, x') [2n, len(tau)] and modes [m, len(tau)] at the sorted times ``tau``
     inside the recorded span."""
@@ -128,7 +115,7 @@ def sample_records(rec, nrec, m, tau, out_y, out_mode):
         theta = (ts - rec[row, 0]) / h if h > 0.0 else 0.0
         theta = min(1.0, max(0.0, theta))
         for c in range(n2):
-            out_y[c, s] = _record_value(rec, row, o, n2, theta, c)
+            out_y[c, s] = record_value(rec, row, o, o + n2, n2, theta, c)
         for i in range(m):
             out_mode[i, s] = rec[row, 2 + i] > 0.5
 
@@ -160,7 +147,7 @@ def mean_element_forces(sa, rec, nrec, out):
         h = rec[row, 1]
         for g in range(GAUSS_X.shape[0]):
             for c in range(n2):
-                y[c] = _record_value(rec, row, o, n2, GAUSS_X[g], c)
+                y[c] = record_value(rec, row, o, o + n2, n2, GAUSS_X[g], c)
             for i in range(m):
                 if rec[row, 2 + i] > 0.5:
                     xi, xv = element_state(sa, i, y)
