@@ -46,7 +46,8 @@ from contactvib.steady.system_orbits import (
 )
 
 __all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "check_system_search",
-           "default_max_periods", "orbit_columns",
+           "default_max_periods", "orbit_columns", "start_box", "settled_orbit", "same_orbit_index",
+           "measure_attractor",
            "SAME_TOL", "MEASURE_SAMPLES", "STARTS_DEFAULT", "MAX_PERIODS_DEFAULT"]
 
 #: Two orbits are the same when a stroboscopic point of one is within this of one of the other's
@@ -207,8 +208,10 @@ def check_system_search(n_starts=STARTS_DEFAULT, seed=0, kmax=8, max_periods=MAX
             check_int("kmax", kmax, 1, KMAX_SEARCH_MAX), check_int("max_periods", max_periods, 1, MAX_PERIODS_MAX))
 
 
-def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) -> np.ndarray:
-    """``n`` scaled starts (rows of 2n) about the static state."""
+def start_box(system: System, form, pa: float, fe: float) -> tuple[np.ndarray, np.ndarray]:
+    """The search's box of starts in the scaled state (rows of 2n): its centre, the static state
+    (q_s, 0), and its half-widths: per coordinate 2, or 1.5 times the linear response to the force
+    where that is larger; per rate the same times max(1, ω_e / ω)."""
     sc, nq = form.scales, system.n
     xs = sc.to_scaled(np.concatenate([system.static_state(), np.zeros(nq)]))
     w = 2.0 * math.pi * fe
@@ -220,9 +223,14 @@ def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) ->
     except np.linalg.LinAlgError:
         amp = np.zeros(nq)
     half = np.maximum(2.0, 1.5 * np.where(np.isfinite(amp), amp, 0.0))
-    half = np.concatenate([half, half * max(1.0, w / sc.omega)])
+    return xs, np.concatenate([half, half * max(1.0, w / sc.omega)])
+
+
+def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) -> np.ndarray:
+    """``n`` scaled starts (rows of 2n) drawn uniformly in :func:`start_box`."""
+    xs, half = start_box(system, form, pa, fe)
     rng = np.random.default_rng(seed)
-    return xs + rng.uniform(-1.0, 1.0, (n, 2 * nq)) * half
+    return xs + rng.uniform(-1.0, 1.0, (n, 2 * system.n)) * half
 
 
 def _near(x, points, tol) -> bool:
@@ -331,7 +339,7 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
                 n_failed += 1
         if progress is not None:
             progress(j + 1, n_starts)
-    attractors = [_measure(system, pa, fe, f, n_starts) for f in found]
+    attractors = [measure_attractor(system, pa, fe, f, n_starts) for f in found]
     attractors.sort(key=lambda a: -a.columns["dof_app"][0])
     return SystemAttractorSet(attractors=tuple(attractors), natural_frequencies_hz=system.linear_modes(),
                               pa_newton=pa, fe_hz=fe, n_starts=n_starts, n_unsettled=n_unsettled, n_failed=n_failed,
@@ -339,21 +347,36 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
                                         "settle_tol": settle_tol, "rtol": rtol})
 
 
-def _add_orbit(system, pa, fe, sa, form, x, k, found: list) -> None:
-    """Refine the settled point x (period k); count it on an equal orbit or add it to ``found``."""
+def settled_orbit(system: System, pa: float, fe: float, sa, form, x, k: int):
+    """The orbit of minimal period through the settled scaled point x (period k, or a divisor of
+    it), refined by Newton shooting: ``(SystemOrbit, its scaled stroboscopic points)``."""
     orbit = periodic_orbit(system, pa, fe, form.scales.to_si(x), k)
     xo = form.scales.to_scaled(orbit.z)
     points = _strobes(sa, form, xo, k, 1e-12)
     d = _least_period(points)
     if d < k:  # settled first on a multiple of its period (a transient that turns by 2π/k)
         orbit = periodic_orbit(system, pa, fe, orbit.z, d)
-        k, xo = d, form.scales.to_scaled(orbit.z)
-        points = _strobes(sa, form, xo, k, 1e-12)
-    for f in found:
-        if f["orbit"].k == k and _near(xo, f["points"], SAME_TOL * 100):
-            f["hits"] += 1
-            return
-    found.append({"orbit": orbit, "points": points, "hits": 1})
+        points = _strobes(sa, form, form.scales.to_scaled(orbit.z), d, 1e-12)
+    return orbit, points
+
+
+def same_orbit_index(orbit, points: np.ndarray, found: list) -> int | None:
+    """The index in ``found`` (records with "orbit" and scaled "points") of the orbit equal to
+    ``orbit`` (same period, a common stroboscopic point within 100 ``SAME_TOL``), or None."""
+    for i, f in enumerate(found):
+        if f["orbit"].k == orbit.k and _near(points[0], f["points"], SAME_TOL * 100):
+            return i
+    return None
+
+
+def _add_orbit(system, pa, fe, sa, form, x, k, found: list) -> None:
+    """Refine the settled point x (period k); count it on an equal orbit or add it to ``found``."""
+    orbit, points = settled_orbit(system, pa, fe, sa, form, x, k)
+    i = same_orbit_index(orbit, points, found)
+    if i is None:
+        found.append({"orbit": orbit, "points": points, "hits": 1})
+    else:
+        found[i]["hits"] += 1
 
 
 def _least_period(points: np.ndarray) -> int:
@@ -393,7 +416,9 @@ def orbit_columns(system: System, pa: float, fe: float, z, k: int) -> tuple[dict
     return cols, minima
 
 
-def _measure(system: System, pa: float, fe: float, f: dict, n_starts: int) -> SystemAttractor:
+def measure_attractor(system: System, pa: float, fe: float, f: dict, n_starts: int) -> SystemAttractor:
+    """The attractor of the record ``f`` ("orbit", scaled "points", "hits"), its basin fraction
+    ``hits / n_starts``, measured on its orbit (:func:`orbit_columns`)."""
     orbit = f["orbit"]
     cols, minima = orbit_columns(system, pa, fe, orbit.z, orbit.k)
     return SystemAttractor(orbit=orbit, strobe=_points_si(f["points"], system, pa, fe), minima_per_period=minima,
