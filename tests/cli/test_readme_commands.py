@@ -139,6 +139,9 @@ REDUCED: dict[str, list[str]] = {
     "contactvib simulate --system examples/two_dof_stop.toml --pa-newton 2 --fe 0.2 --out stop/":
         ["simulate", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "2", "--fe", "0.2",
          "--starts", "4", "--out", "stop/"],
+    "contactvib basins --system examples/two_dof_stop.toml --pa-newton 0.1 --fe 0.0935 --out stop_basins/":
+        ["basins", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fe", "0.0935",
+         "--grid", "6x5", "--starts", "16", "--out", "stop_basins/"],
     "contactvib continue --system examples/two_dof_stop.toml --pa-newton 0.1 --from-fe 0.08 --fmin 0.08 "
     "--fmax 0.14 --out sys_branch/":
         ["continue", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--from-fe", "0.08",
@@ -474,6 +477,11 @@ def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
         assert {"natural_frequencies_hz", "n_unsettled", "attractors"} <= set(d)
         for a in d["attractors"]:
             assert {"period", "floquet_multipliers", "stable", "basin_fraction", "dofs", "contacts"} <= set(a)
+    elif args[0] == "basins":  # docs/tutorials/systems.md: the table, the labels' dataset, the figure
+        assert stdout.startswith("system ") and "q1 in [" in stdout and "fraction" in stdout
+        with xr.open_dataset(folder / "system_basins.nc") as b:
+            assert b["label"].shape == (5, 6) and b["a"].attrs["units"] == "um" and b.attrs["slice"] == "q1,q1_dot"
+        _figures(folder, "system_basins_*.png", 1)
     elif args[0] == "attractors":
         assert stdout.startswith("system ") and "linear modes:" in stdout
     elif args[0] == "bifurcations":  # docs/tutorials/systems.md: every branch, each followed once

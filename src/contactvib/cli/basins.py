@@ -21,6 +21,7 @@ from contactvib.cli.common import (
     parse_number,
 )
 from contactvib.cli.system import system_given, system_option
+from contactvib.cli.system_basins import slice_options, slice_values
 from contactvib.model import ParameterError
 
 #: Options of basins(), by the library's symbols.
@@ -58,16 +59,7 @@ def _box(y_range, ydot_range, model, exc):
 @click.option("--grid", "grid", default="400x400", show_default=True, metavar="NxM",
               help="Grid points in y and in dy/dt (each >= 2); with --system along the two --slice components "
                    "(default 100x100).")
-@click.option("--slice", "slice_", default=None, metavar="A,B",
-              help="With --system: the two state components the grid varies, each a coordinate (displacement, um "
-                   "or urad) or a coordinate with _dot (its rate, mm/s or mrad/s), e.g. q1,q1_dot or y,theta; the "
-                   "other components stay at the static state, at rest. Default: the first contact's coordinate "
-                   "and its rate.")
-@click.option("--a-range", nargs=2, default=None, metavar="MIN MAX",
-              help="With --system: the range of the first --slice component [its display unit] (default: the "
-                   "attractor search's box).")
-@click.option("--b-range", nargs=2, default=None, metavar="MIN MAX",
-              help="With --system: the range of the second --slice component [its display unit].")
+@slice_options
 @click.option("--y-range", nargs=2, default=None, metavar="YMIN YMAX",
               help="Initial displacements y [µm] (default: the attractor search's box).")
 @click.option("--ydot-range", nargs=2, default=None, metavar="VMIN VMAX",
@@ -80,8 +72,7 @@ def _box(y_range, ydot_range, model, exc):
 @click.option("--out", "out", default=None, type=click.Path(file_okay=False),
               help="Output folder for basins.nc and the figure [default: basins; none with --json].")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the documented contract).")
-def basins(pa, pa_newton, fe, settings, grid, slice_, a_range, b_range, y_range, ydot_range, kmax, max_periods,
-           starts, out, as_json):
+def basins(pa, pa_newton, fe, settings, grid, y_range, ydot_range, kmax, max_periods, starts, out, as_json):
     """Basins of attraction: which attractor each initial state (y, dy/dt) reaches; with --system, on a
     2-D slice of the system's state space (--slice)."""
     from contactvib.steady.basins import check_basins
@@ -90,10 +81,9 @@ def basins(pa, pa_newton, fe, settings, grid, slice_, a_range, b_range, y_range,
     if system_given():
         from contactvib.cli.system_basins import system_basins_command
 
-        system_basins_command(pa, pa_newton, fe, settings, grid, slice_, a_range, b_range, kmax, max_periods, starts,
-                              out, as_json, _grid)
+        system_basins_command(pa, pa_newton, fe, settings, grid, kmax, max_periods, starts, out, as_json, _grid)
         return
-    for value, option in ((slice_, "--slice"), (a_range, "--a-range"), (b_range, "--b-range")):
+    for option, value in slice_values().items():
         if value is not None:
             raise InputError(f"{option} belongs to --system (a slice of a system's state space); the paper's slider "
                              f"takes --y-range and --ydot-range")

@@ -6,6 +6,7 @@ Thin: the options are checked here (one line, exit 2) before anything is compute
 
 from __future__ import annotations
 
+import contextvars
 import sys
 
 import click
@@ -18,10 +19,14 @@ from contactvib.cli.common import (
     mapped_options,
     parse_int,
     parse_number,
+    scoped_options,
 )
 from contactvib.cli.system import load_system_option, modes_text, option_given, system_operating_point
 
-__all__ = ["system_basins_command", "GRID_DEFAULT_TEXT"]
+__all__ = ["system_basins_command", "GRID_DEFAULT_TEXT", "slice_options", "slice_values"]
+
+#: --slice, --a-range and --b-range of the command being run.
+_SLICE: contextvars.ContextVar = contextvars.ContextVar("contactvib_slice", default=None)
 
 #: The grid with --system unless --grid is given.
 GRID_DEFAULT_TEXT = "100x100"
@@ -31,6 +36,27 @@ _OPTIONS = {"slice": "--slice", "n_a": "--grid", "n_b": "--grid", "grid": "--gri
             "max_periods": "--max-periods", "n_starts": "--starts", "P_a": "--pa-newton", "f_e": "--fe"}
 
 
+def slice_options(f):
+    """--slice, --a-range, --b-range (kept out of the command's signature: :func:`slice_values`)."""
+    f = scoped_options(_SLICE, ("slice_", "a_range", "b_range"), f)
+    f = click.option("--b-range", "b_range", nargs=2, default=None, metavar="MIN MAX",
+                     help="With --system: the range of the second --slice component [its display unit].")(f)
+    f = click.option("--a-range", "a_range", nargs=2, default=None, metavar="MIN MAX",
+                     help="With --system: the range of the first --slice component [its display unit] (default: "
+                          "the attractor search's box).")(f)
+    return click.option("--slice", "slice_", default=None, metavar="A,B",
+                        help="With --system: the two state components the grid varies, each a coordinate "
+                             "(displacement, um or urad) or a coordinate with _dot (its rate, mm/s or mrad/s), e.g. "
+                             "q1,q1_dot or y,theta; the other components stay at the static state, at rest. Default: "
+                             "the first contact's coordinate and its rate.")(f)
+
+
+def slice_values() -> dict:
+    """{"--slice": ..., "--a-range": ..., "--b-range": ...} of the command being run (None: not given)."""
+    v = _SLICE.get() or {}
+    return {"--slice": v.get("slice_"), "--a-range": v.get("a_range"), "--b-range": v.get("b_range")}
+
+
 def _range(option: str, lo_sym: str, hi_sym: str, values):
     """(min, max) of a two-number range option, or None."""
     if values is None:
@@ -38,8 +64,8 @@ def _range(option: str, lo_sym: str, hi_sym: str, values):
     return parse_number(option, lo_sym, values[0]), parse_number(option, hi_sym, values[1])
 
 
-def system_basins_command(pa, pa_newton, fe, settings, grid, slice_, a_range, b_range, kmax, max_periods, starts,
-                          out, as_json, parse_grid) -> None:
+def system_basins_command(pa, pa_newton, fe, settings, grid, kmax, max_periods, starts, out, as_json,
+                          parse_grid) -> None:
     """``contactvib basins --system ...``: the table and OUT/system_basins.nc and its figure, or the
     JSON contract with --json. ``parse_grid``: the ``NxM`` parser of ``basins``."""
     from contactvib.steady.system_attractors import STARTS_DEFAULT
@@ -49,6 +75,8 @@ def system_basins_command(pa, pa_newton, fe, settings, grid, slice_, a_range, b_
         if option_given(name):
             raise InputError(f"--system and {option}: name the slice's components with --slice and their ranges "
                              f"with --a-range and --b-range")
+    given = slice_values()
+    slice_, a_range, b_range = given["--slice"], given["--a-range"], given["--b-range"]
     system, model, label = load_system_option(settings)
     p, f_e, level = system_operating_point(model, label, pa, pa_newton, fe)
     axes = None if slice_ is None else tuple(s.strip() for s in slice_.split(","))
