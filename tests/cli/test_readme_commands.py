@@ -160,6 +160,9 @@ REDUCED: dict[str, list[str]] = {
     "contactvib attractors --system examples/two_dof_stop.toml --pa-newton 0.1 --fe 0.095 --starts 8":
         ["attractors", "--system", str(_EXAMPLES / "two_dof_stop.toml"), "--pa-newton", "0.1", "--fe", "0.095",
          "--starts", "8"],
+    "contactvib attractors --system examples/self_excited_stop.toml --pa-newton 0.05 --fe 0.12 --starts 4":
+        ["attractors", "--system", str(_EXAMPLES / "self_excited_stop.toml"), "--pa-newton", "0.05", "--fe", "0.12",
+         "--starts", "2"],
     "contactvib attractors --pa 0.65 --fe 700 --preload 2":
         ["attractors", "--pa", "0.65", "--fe", "700", "--preload", "2", "--starts", "8"],
     "contactvib attractors --fe 1200 --base-um 0.05":
@@ -484,6 +487,8 @@ def _check_system(args: list[str], stdout: str, folder: Path | None) -> None:
         _figures(folder, "system_basins_*.png", 1)
     elif args[0] == "attractors":
         assert stdout.startswith("system ") and "linear modes:" in stdout
+        if any(a.endswith("self_excited_stop.toml") for a in args):  # docs/tutorials/systems.md: a torus
+            assert stdout.splitlines()[3].split()[1] == "q-per" and "quasi-periodic" in stdout
     elif args[0] == "bifurcations":  # docs/tutorials/systems.md: every branch, each followed once
         d = json.loads((folder / "bifurcations.json").read_text())
         assert d["stops"] and d["cascades"] == [] and "neimark-sacker" in {sp["type"] for sp in d["special_points"]}

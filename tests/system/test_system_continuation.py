@@ -305,7 +305,7 @@ def test_cli_system_attractors_exit_1_when_nothing_settles(capsys):
                "--max-periods", "1"])
     err = capsys.readouterr().err.strip()
     assert rc == 1
-    assert len(err.splitlines()) == 1 and err.startswith("contactvib: error: no periodic attractor")
+    assert len(err.splitlines()) == 1 and err.startswith("contactvib: error: no attractor")
 
 
 def test_two_dof_neimark_sacker_in_pa_is_one_in_fe():

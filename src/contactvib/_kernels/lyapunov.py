@@ -35,7 +35,7 @@ from .flow import REC_F, REC_H, REC_MODE, REC_WIDTH, REC_X, advance, initial_mod
 from .shooting import MAX_STEPS_PER_PERIOD
 from .status import STATUS_INTERRUPTED, STATUS_NONFINITE, STATUS_OK, STATUS_RECORD_FULL
 from .system_flow import advance as system_advance
-from .system_flow import initial_modes
+from .system_flow import element_state, initial_modes, law_partials
 
 #: 5-point Gauss–Legendre nodes and weights on [0, 1].
 _GL_X = np.array([0.04691007703066800, 0.23076534494715845, 0.5, 0.76923465505284155,
@@ -168,14 +168,57 @@ def spectrum_map(z, par, rtol, n_transient, n_batches, per_batch, with_trace, ou
     return STATUS_OK
 
 
+@njit(cache=True)
+def system_trace_integral(sa, rec, n_rows, out_contact):
+    """∫ tr J dτ over the first ``n_rows`` n-DOF step records (:mod:`.system_flow`): Gauss–Legendre
+    (5 nodes) on each step's dense output of tr ∂x''/∂x' = −tr C_x − Σ_i mode_i (∂f_i/∂ξ_i')
+    (A_i · U_i); ``out_contact[i]`` += the τ each element spends in contact."""
+    n = sa.Kx.shape[0]
+    n2 = 2 * n
+    m = sa.U.shape[0]
+    o = 2 + m
+    tr_c = 0.0
+    for k in range(n):
+        tr_c += sa.Cx[k, k]
+    y = np.empty(n2)
+    acc = 0.0
+    for row in range(n_rows):
+        h = rec[row, 1]
+        acc -= h * tr_c
+        for i in range(m):
+            if rec[row, 2 + i] < 0.5:
+                continue
+            out_contact[i] += h
+            au = 0.0
+            for k in range(n):
+                au += sa.Aw[i, k] * sa.U[i, k]
+            s = 0.0
+            for q in range(5):
+                for c in range(n2):
+                    y[c] = record_value(rec, row, o, o + n2, n2, _GL_X[q], c)
+                xi, xv = element_state(sa, i, y)
+                _fx, fv = law_partials(False, sa, i, xi, xv)
+                s += _GL_W[q] * fv
+            acc -= h * au * s
+    return acc
+
+
 @njit(cache=True, nogil=True)
-def system_spectrum_map(sa, z, rtol, n_transient, n_batches, per_batch, out_log, out_z, stop):
+def system_spectrum_map(sa, z, rtol, n_transient, n_batches, per_batch, with_trace, out_log, out_trace, out_z,
+                        out_contact, out_strobe, stop):
     """Benettin's spectrum of an n-DOF period map (:mod:`.system_flow`) from ``z`` (scaled, phase 0):
-    as :func:`spectrum_map` with the 2n × 2n monodromy of each period, without the trace
-    (``out_log[b, i]``, i < 2n; ``out_z`` the end state)."""
+    as :func:`spectrum_map` with the 2n × 2n monodromy of each period.
+
+    Outputs: ``out_log[b, i]`` Σ ln R_ii over batch b (i < 2n); ``out_trace[b]`` ∫ tr J dτ over
+    batch b (:func:`system_trace_integral`; NaN when not ``with_trace`` or a period took more than
+    :data:`REC_ROWS` steps); ``out_z`` the end state; ``out_contact[i]`` the fraction of the
+    batches' time element i is in contact (NaN when not ``with_trace``); ``out_strobe`` (m, 2n) the
+    last m stroboscopic points of the run (m ≤ the periods averaged; m = 0 for none). The step
+    records of ``with_trace`` leave the steps, hence the exponents, unchanged."""
     n2 = z.shape[0]
+    m = sa.U.shape[0]
     T = 2.0 * math.pi / sa.r
-    mode = np.zeros(sa.U.shape[0], dtype=np.bool_)
+    mode = np.zeros(m, dtype=np.bool_)
     y2 = z.copy()
     initial_modes(sa, y2, mode)
     h = 0.01
@@ -187,22 +230,34 @@ def system_spectrum_map(sa, z, rtol, n_transient, n_batches, per_batch, out_log,
             return st
         if stop[0] != 0:
             return STATUS_INTERRUPTED
+    rec = np.empty((REC_ROWS, 2 + m + 8 * n2)) if with_trace else no_rec
+    contact = np.zeros(m)
     y = np.zeros(n2 + n2 * n2)
     for i in range(n2):
         y[i] = y2[i]
     Q = np.eye(n2)
     A = np.empty((n2, n2))
+    first_kept = n_batches * per_batch - out_strobe.shape[0]
     for b in range(n_batches):
         logr = np.zeros(n2)
-        for _ in range(per_batch):
+        tr = 0.0
+        for q in range(per_batch):
             for i in range(n2 * n2):
                 y[n2 + i] = 0.0
             for i in range(n2):
                 y[n2 + i * n2 + i] = 1.0
-            h, _i, _ns, _ne, st = system_advance(sa, y, 0.0, T, mode, h, rtol, rtol, no_rec, np.int64(0),
-                                                 np.int64(MAX_STEPS_PER_PERIOD))
-            if st != STATUS_OK:
+            h, irec, _ns, _ne, st = system_advance(sa, y, 0.0, T, mode, h, rtol, rtol, rec, np.int64(0),
+                                                   np.int64(MAX_STEPS_PER_PERIOD))
+            if st == STATUS_RECORD_FULL:
+                tr = math.nan
+            elif st != STATUS_OK:
                 return st
+            elif with_trace:
+                tr += system_trace_integral(sa, rec, irec, contact)
+            kept = b * per_batch + q - first_kept
+            if kept >= 0:
+                for i in range(n2):
+                    out_strobe[kept, i] = y[i]
             for i in range(n2):
                 for j in range(n2):
                     s = 0.0
@@ -215,6 +270,9 @@ def system_spectrum_map(sa, z, rtol, n_transient, n_batches, per_batch, out_log,
                 return STATUS_INTERRUPTED
         for i in range(n2):
             out_log[b, i] = logr[i]
+        out_trace[b] = tr if with_trace else math.nan
     for i in range(n2):
         out_z[i] = y[i]
+    for i in range(m):
+        out_contact[i] = contact[i] / (n_batches * per_batch * T) if with_trace else math.nan
     return STATUS_OK

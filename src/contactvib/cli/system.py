@@ -167,14 +167,22 @@ def _search(system, p, f_e, starts, seed, kmax, max_periods):
             bar.pop().close()
 
 
+def _check_bounded(system) -> None:
+    """Refuse, before any output, a system whose motion grows without bound."""
+    from contactvib.steady.system_attractors import check_bounded
+
+    mapped_options({"system.damping": "--system"}, check_bounded, system)
+
+
 def _no_periodic(result, fatal: bool = False) -> None:
-    """One line on stderr when no start settled on a periodic orbit; with ``fatal`` (``attractors``
+    """One line on stderr when no start settled on an attractor; with ``fatal`` (``attractors``
     and ``simulate``, as the slider's commands) an error, exit status 1."""
     if not len(result):
-        click.echo(f"contactvib: {'error: ' if fatal else ''}no periodic attractor of period <= "
-                   f"{result.settings['kmax']}: all {result.n_starts} starts unsettled within "
-                   f"{result.settings['max_periods']} periods ({result.n_failed} failed) - a non-periodic motion "
-                   f"or a long transient; raise --max-periods or --kmax", err=True)
+        why = ", ".join(f"{v} {k}" for k, v in result.unsettled_reasons.items())
+        click.echo(f"contactvib: {'error: ' if fatal else ''}no attractor: all {result.n_starts} starts unsettled "
+                   f"({why or 'none judged'}; {result.n_failed} failed) after {result.settings['max_periods']} "
+                   f"periods without a period <= {result.settings['kmax']} - a long transient or a motion "
+                   f"the search cannot label; raise --max-periods or --kmax", err=True)
         if fatal:
             click.get_current_context().exit(1)
 
@@ -183,6 +191,7 @@ def system_attractors(pa, pa_newton, fe, settings, starts, seed, kmax, max_perio
     """``contactvib attractors --system ...``: the table, or the JSON contract with --json."""
     system, model, label = _load(settings)
     p, f_e, level = _excitation(model, label, pa, pa_newton, fe)
+    _check_bounded(system)
     if not as_json:
         units = ", ".join(f"{c} [{u}]" for c, u in zip(system.coordinates, system.units))
         click.echo(f"system {label}: {system.n} coordinates ({units}), contacts "
@@ -205,17 +214,25 @@ def _table(result) -> None:
     head = f"{'#':>2} {'period':>6} {'minima':>6} {'|mu|max':>8} {'stable':>6} {'basin':>7}"
     head += "".join(f" {d['name'] + ' A_pp [' + d['unit'] + ']':>18}" for d in a0["dofs"])
     head += "".join(f" {c['name'] + ' open':>12} {c['name'] + ' <F> [N]':>14}" for c in a0["contacts"])
+    head += f" {'type':>14} {'lambda1 [1/s]':>22}"
     click.echo(head)
     for i, a in enumerate(result):
         d = a.to_dict()
-        row = (f"{i:>2} {d['period']:>6} {d['minima_per_period']:>6} {d['floquet_abs_max']:>8.4f} "
-               f"{'yes' if d['stable'] else 'no':>6} {d['basin_fraction']:>7.2%}")
+        if a.orbit is not None:
+            row = (f"{i:>2} {d['period']:>6} {d['minima_per_period']:>6} {d['floquet_abs_max']:>8.4f} "
+                   f"{'yes' if d['stable'] else 'no':>6} {d['basin_fraction']:>7.2%}")
+        else:
+            per = {"chaotic": "chaos", "quasi-periodic": "q-per"}[a.attractor_type]
+            row = f"{i:>2} {per:>6} {'-':>6} {'-':>8} {'-':>6} {d['basin_fraction']:>7.2%}"
         row += "".join(f" {x['app']:>18.5g}" for x in d["dofs"])
         row += "".join(f" {c['contact_loss_fraction']:>12.3f} {c['mean_force_n']:>14.5g}" for c in d["contacts"])
+        lam, se = a.lyapunov_per_s[0], a.lyapunov_stderr_per_s[0]
+        row += f" {a.attractor_type:>14} {f'{lam:.4g} +- {se:.2g}' if se > 0 else f'{lam:.4g}':>22}"
         click.echo(row)
     if result.n_unsettled:
+        why = ", ".join(f"{v} {k}" for k, v in result.unsettled_reasons.items())
         click.echo(f"   unsettled within {result.settings['max_periods']} periods: {result.n_unsettled} of "
-                   f"{result.n_starts} starts")
+                   f"{result.n_starts} starts ({why})")
 
 
 def _from_state(system, from_state) -> tuple:
@@ -245,10 +262,13 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
     """``contactvib simulate --system ...``: one trajectory (--from-state) or every attractor's
     orbit; per run a figure of the coordinates (time histories, phase portraits) and one of the
     contact forces."""
+    from contactvib.steady.system_attractors import NONPERIODIC_MEASURE_PERIODS
     from contactvib.steady.system_orbits import simulate_system
 
     system, model, label = _load(settings)
     p, f_e, level = _excitation(model, label, pa, pa_newton, fe)
+    if from_state is None:
+        _check_bounded(system)
     tag = f"{label.rsplit('/', 1)[-1].removesuffix('.toml')}_pa{p:.4g}N_fe{f_e:g}"
     if from_state is not None:
         q0, v0 = _from_state(system, from_state)
@@ -265,12 +285,13 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
     out = checked_output_folder(out)
     (out / "attractors.json").write_text(result.to_json(indent=1))
     for i, a in enumerate(result):
-        n = a.period * max(1, math.ceil(4 / a.period))
-        h = simulate_system(system, p, f_e, a.orbit.z[:system.n], a.orbit.z[system.n:], n_periods=n)
-        paths = _draw(h, f"{label}: {level}, f_e = {f_e:g} Hz, attractor {i} (period {a.period})",
-                      out / f"attractor{i}_{tag}")
+        n = a.period * max(1, math.ceil(4 / a.period)) if a.period else NONPERIODIC_MEASURE_PERIODS
+        h = simulate_system(system, p, f_e, a.state[:system.n], a.state[system.n:], n_periods=n)
+        what = f"period {a.period}" if a.period else a.attractor_type
+        paths = _draw(h, f"{label}: {level}, f_e = {f_e:g} Hz, attractor {i} ({what})", out / f"attractor{i}_{tag}")
         click.echo(f"{paths[0]}  {paths[1]}  period={a.period} minima={a.minima_per_period} "
-                   f"|mu|max={a.floquet_abs_max:.4f}")
+                   f"|mu|max={a.floquet_abs_max:.4f}" if a.period else
+                   f"{paths[0]}  {paths[1]}  {a.attractor_type} lambda1={a.lyapunov_per_s[0]:.4g} 1/s")
     click.echo(str(out / "attractors.json"))
     _no_periodic(result, fatal=True)
 
@@ -291,13 +312,15 @@ def system_label() -> str:
 
 def system_lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods, from_state, kw: dict,
                     as_json) -> None:
-    """``contactvib lyapunov --system ...``: the 2n exponents [1/s] of every periodic attractor
-    (Floquet) or, with --from-state, of one trajectory (Benettin; ``kw``: periods, batches,
-    transient_periods, checked)."""
+    """``contactvib lyapunov --system ...``: the 2n exponents [1/s] of every attractor (Floquet for a
+    periodic one, Benettin's from a point of the others) or, with --from-state, of one trajectory
+    (Benettin; ``kw``: periods, batches, transient_periods, checked)."""
     from contactvib.steady.lyapunov import system_lyapunov_spectrum
 
     system, model, label = _load(settings)
     p, f_e, level = _excitation(model, label, pa, pa_newton, fe)
+    if from_state is None:
+        _check_bounded(system)
     names = {"periods": "--periods", "batches": "--batches", "transient_periods": "--transient"}
     if from_state is not None:
         q0, v0 = _from_state(system, from_state)
@@ -306,7 +329,7 @@ def system_lyapunov(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
         rows = [("-", "trajectory", None, spec)]
     else:
         result = _search(system, p, f_e, starts, seed, kmax, max_periods)
-        rows = [(i, a.attractor_type, a.period, system_lyapunov_spectrum(system, p, f_e, a, **kw))
+        rows = [(i, a.attractor_type, a.period or None, system_lyapunov_spectrum(system, p, f_e, a, **kw))
                 for i, a in enumerate(result)]
     if as_json:
         echo_json({"system": label, "pa_newton": p, "fe_hz": f_e, "units": {"lyapunov": "1/s"},

@@ -47,8 +47,8 @@ from contactvib.model import Excitation, ParameterError, check_excitation, check
 from contactvib.steady.results import kaplan_yorke_dimension
 
 __all__ = ["LyapunovSpectrum", "lyapunov_spectrum", "system_lyapunov_spectrum", "floquet_spectrum",
-           "kaplan_yorke", "closed_curve", "attractor_type", "check_periods", "SIGMA_FACTOR", "BATCHES",
-           "MIN_PERIODS_PER_BATCH", "MIN_BATCHES", "PERIODS_DEFAULT"]
+           "kaplan_yorke", "closed_curve", "system_benettin", "attractor_type", "check_periods", "SIGMA_FACTOR",
+           "BATCHES", "MIN_PERIODS_PER_BATCH", "MIN_BATCHES", "PERIODS_DEFAULT"]
 
 #: λ1 counts as non-zero beyond this many standard errors of its batch means.
 SIGMA_FACTOR = 3.0
@@ -283,11 +283,14 @@ def lyapunov_spectrum(excitation: Excitation, state=None, *, periods: int = PERI
 
 def system_lyapunov_spectrum(system, pa_newton: float, fe_hz: float, state=None, *,
                              periods: int = PERIODS_DEFAULT, transient_periods: int | None = None,
-                             batches: int = BATCHES, rtol: float = RTOL_DEFAULT) -> LyapunovSpectrum:
+                             batches: int = BATCHES, rtol: float = RTOL_DEFAULT,
+                             with_trace: bool = False) -> LyapunovSpectrum:
     """The 2n exponents [1/s] of a System's period map under P_a cos(2π f_e t) (P_a = ``pa_newton``
     [N]) by Benettin's method (``lyapunov_spectrum``'s options); ``state``: a
-    ``SystemAttractor`` (its Floquet exponents), an SI state (q, q̇) of length 2n, or None: the
-    static state. ``state`` of the result is scaled (``system.kernel_form(...).scales``)."""
+    ``SystemAttractor`` (a periodic one: its Floquet exponents; another: from its SI state, no
+    transient by default), an SI state (q, q̇) of length 2n, or None: the static state. ``state`` of
+    the result is scaled (``system.kernel_form(...).scales``). ``with_trace``: also the damping
+    average −⟨tr M⁻¹C(t)⟩ and the contact fraction (:func:`system_benettin`)."""
     from contactvib._kernels.system_flow import system_arrays
     from contactvib.model.system import System
     from contactvib.model.system import check_excitation as check_system_excitation
@@ -297,27 +300,50 @@ def system_lyapunov_spectrum(system, pa_newton: float, fe_hz: float, state=None,
     pa, fe = check_system_excitation(pa_newton, fe_hz)
     periods, batches = check_periods(periods, batches)
     rtol = check_range("rtol", rtol, 1e-14, True, upper=1e-6)
-    if hasattr(state, "orbit"):
+    if getattr(state, "orbit", None) is not None:
         return floquet_spectrum(state.floquet_multipliers, state.period, fe, state.orbit.z)
     form = system.kernel_form(pa, fe)
     sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)
     if state is None:
         z_si, default_transient = np.concatenate([system.static_state(), np.zeros(system.n)]), 2000
+    elif hasattr(state, "orbit"):
+        z_si, default_transient = np.asarray(state.state, float), 0
     else:
         z_si, default_transient = np.asarray(state, float).reshape(2 * system.n), 2000
     transient = default_transient if transient_periods is None else check_int("transient_periods",
                                                                                transient_periods, 0, 100_000_000)
+    return system_benettin(sa, form.scales.to_scaled(z_si), fe, periods, batches, transient, rtol, with_trace)
+
+
+def system_benettin(sa, x, fe_hz: float, periods: int, batches: int, transient: int = 0,
+                    rtol: float = RTOL_DEFAULT, with_trace: bool = False,
+                    strobe: np.ndarray | None = None) -> LyapunovSpectrum:
+    """:func:`~contactvib._kernels.lyapunov.system_spectrum_map` on the compiled system ``sa`` from
+    the scaled state ``x`` (phase 0): ``batches`` batches of ``periods // batches`` periods after
+    ``transient`` periods. ``with_trace``: the damping average −⟨tr M⁻¹C(t)⟩ [1/s] with its standard
+    error, and as ``contact_fraction`` the largest fraction of time one contact is closed (0 without
+    contacts); ``strobe`` (float[m, 2n], m ≤ the periods averaged), if given, receives the run's
+    last m scaled strobe points."""
     per_batch = periods // batches
-    n2 = 2 * system.n
-    logs, out, stop = np.zeros((batches, n2)), np.zeros(n2), new_stop_flag()
-    st = run_interruptible(system_spectrum_map, sa, np.ascontiguousarray(form.scales.to_scaled(z_si), float),
-                           float(rtol), int(transient), int(batches), int(per_batch), logs, out, stop, stop=stop)
+    n2 = len(x)
+    strobe = np.empty((0, n2)) if strobe is None else strobe
+    logs, trace, out = np.zeros((batches, n2)), np.zeros(batches), np.zeros(n2)
+    contact, stop = np.zeros(sa.U.shape[0]), new_stop_flag()
+    st = run_interruptible(system_spectrum_map, sa, np.ascontiguousarray(x, float), float(rtol), int(transient),
+                           int(batches), int(per_batch), bool(with_trace), logs, trace, out, contact, strobe,
+                           stop, stop=stop)
     if st != STATUS_OK:
         raise ComputationError(f"the Lyapunov spectrum's integration failed ({status_message(st)})",
                                stage="integration")
-    mean, se, _ = _batch_stats(logs, per_batch / fe)
-    return LyapunovSpectrum(exponents_per_s=mean, stderr_per_s=se, fe_hz=fe, periods=per_batch * batches,
-                            transient_periods=transient, batches=batches, state=out)
+    seconds = per_batch / fe_hz
+    mean, se, _ = _batch_stats(logs, seconds)
+    tr = trace / seconds
+    frac = float(np.max(contact)) if contact.size else (0.0 if with_trace else math.nan)
+    return LyapunovSpectrum(exponents_per_s=mean, stderr_per_s=se, fe_hz=fe_hz, periods=per_batch * batches,
+                            transient_periods=int(transient), batches=int(batches), state=out,
+                            damping_average_per_s=float(tr.mean()) if with_trace else math.nan,
+                            damping_stderr_per_s=float(tr.std(ddof=1) / math.sqrt(batches)) if with_trace
+                            else math.nan, contact_fraction=frac)
 
 
 def _one_curve(p: np.ndarray) -> bool:

@@ -9,13 +9,18 @@ stroboscopic points repeat with a period k ≤ kmax (every one of the last k poi
 ``settle_tol`` of the point k periods before it, relative to max(1, |x|∞)) or it comes within
 ``capture_tol`` of a stable orbit already found; a detected orbit is refined by Newton shooting
 (:func:`~contactvib.steady.system_orbits.periodic_orbit`), which gives its Floquet multipliers.
-Equal orbits (the same period and a common stroboscopic point within ``SAME_TOL``) are grouped;
-a start that settles on nothing within ``max_periods`` periods, or whose orbit Newton's method
-cannot refine, is unsettled and never reported as an attractor.
+Equal orbits (the same period and a common stroboscopic point within ``SAME_TOL``) are grouped.
+
+A start that settles on no period ≤ kmax within ``max_periods`` periods is judged as the 1-DOF
+search judges one (:mod:`.system_verdict`): periodic with a long period, chaotic, quasi-periodic,
+or unsettled with its reason (counted in ``unsettled_reasons``); non-periodic attractors reached
+by several starts are merged and get a basin fraction like periodic ones.
+A start whose orbit Newton's method cannot refine is unsettled ("Newton failed").
 
 Each attractor is measured on ``MEASURE_SAMPLES`` samples per period of its orbit (extrema to
 about 3e-5 of the range), its mean contact forces by Gauss–Legendre quadrature on every
-integration step (:func:`~contactvib.steady.system_orbits.mean_contact_forces`).
+integration step (:func:`~contactvib.steady.system_orbits.mean_contact_forces`); a non-periodic
+one likewise over ``NONPERIODIC_MEASURE_PERIODS`` periods from its last strobe point.
 """
 
 from __future__ import annotations
@@ -27,32 +32,29 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from contactvib._kernels import system_map as km
 from contactvib._kernels import system_settle as ks
-from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_INTERRUPTED, SETTLE_PERIODIC, STATUS_OK
+from contactvib._kernels.status import SETTLE_CAPTURED, SETTLE_FAILED, SETTLE_INTERRUPTED, SETTLE_PERIODIC
 from contactvib._kernels.system_flow import system_arrays
 from contactvib.errors import ComputationError
 from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation
+from contactvib.steady.lyapunov import LyapunovSpectrum
 from contactvib.steady.results import dofs_and_contacts, lyapunov_fields
 from contactvib.steady.system_orbits import (
     DISPLAY_UNITS,
     SystemOrbit,
     mean_contact_forces,
-    periodic_orbit,
     simulate_system,
 )
+from contactvib.steady.system_verdict import SAME_TOL, add_orbit, judge_start, same_orbit_index, settled_orbit
 
 __all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "check_system_search",
            "default_max_periods", "orbit_columns", "start_box", "settled_orbit", "same_orbit_index",
-           "measure_attractor",
-           "SAME_TOL", "MEASURE_SAMPLES", "STARTS_DEFAULT", "MAX_PERIODS_DEFAULT"]
+           "measure_attractor", "check_bounded",
+           "SAME_TOL", "MEASURE_SAMPLES", "STARTS_DEFAULT", "MAX_PERIODS_DEFAULT", "NONPERIODIC_MEASURE_PERIODS"]
 
-#: Two orbits are the same when a stroboscopic point of one is within this of one of the other's
-#: (relative to max(1, |x|∞) in the scaled state).
-SAME_TOL = 1e-6
 #: Samples per excitation period of the measured orbit.
 MEASURE_SAMPLES = 512
 #: Defaults of the search: random starts, least transient limit [periods] (``default_max_periods``),
@@ -63,83 +65,116 @@ MAX_PERIODS_AUTO_MAX = 20_000
 #: Largest number of starts and of periods per start.
 STARTS_MAX = 100_000
 MAX_PERIODS_MAX = 1_000_000
+#: Periods over which a non-periodic attractor's ranges and mean contact forces are measured.
+NONPERIODIC_MEASURE_PERIODS = 64
 
 
 @dataclass(frozen=True, eq=False)
 class SystemAttractor:
-    """A periodic attractor of a system; displacements in display units (µm, µrad).
+    """An attractor of a system; displacements in display units (µm, µrad).
 
     Attributes
     ----------
-    orbit : SystemOrbit
-        The refined orbit (SI state at phase 0, monodromy, multipliers).
+    orbit : SystemOrbit or None
+        The refined orbit (SI state at phase 0, monodromy, multipliers) of a periodic attractor;
+        None for a chaotic or quasi-periodic one.
     strobe : ndarray (k, 2n)
-        Its stroboscopic points [SI].
+        Its stroboscopic points [SI] (a non-periodic one: the last 2·WINDOW of its verdict's run).
     minima_per_period : int
         Local minima of the first contact's deflection (of the first coordinate without a contact)
-        over one period of the orbit.
+        over one period of the orbit (0 for a non-periodic attractor).
     basin_fraction : float
         Fraction of the starts that settled on it.
     hits : int
         Starts that settled on it.
     columns : dict
-        The keyword arguments of :func:`~contactvib.steady.results.dofs_and_contacts`.
+        The keyword arguments of :func:`~contactvib.steady.results.dofs_and_contacts` (a
+        non-periodic attractor: over ``NONPERIODIC_MEASURE_PERIODS`` periods).
     fe_hz : float
         The excitation frequency [Hz] (for the exponents per second).
+    kind : str
+        "periodic", "quasi-periodic" or "chaotic".
+    spectrum : LyapunovSpectrum or None
+        The Benettin spectrum of a non-periodic attractor's verdict (None for a periodic one).
 
-    Its JSON carries ``attractor_type`` ("periodic"), ``lyapunov_per_s`` (ln ``|μ_i|`` / (k T),
-    descending), ``lyapunov_stderr_per_s`` (zeros) and ``kaplan_yorke_dimension`` (null).
+    Its JSON carries ``attractor_type``, ``lyapunov_per_s`` (descending: ln ``|μ_i|`` / (k T) of a
+    periodic one, Benettin's of the others), ``lyapunov_stderr_per_s`` (zeros for a periodic one)
+    and ``kaplan_yorke_dimension`` (a chaotic one's; null for the others).
     """
 
-    orbit: SystemOrbit
+    orbit: SystemOrbit | None
     strobe: np.ndarray
     minima_per_period: int
     basin_fraction: float
     hits: int
     columns: dict
     fe_hz: float = math.nan
+    kind: str = "periodic"
+    spectrum: LyapunovSpectrum | None = None
 
     @property
     def period(self) -> int:
-        return self.orbit.k
+        """The period k [excitation periods]; 0 for a non-periodic attractor."""
+        return self.orbit.k if self.orbit is not None else 0
+
+    @property
+    def state(self) -> np.ndarray:
+        """An SI state (q, q̇) at phase 0 on the attractor."""
+        return self.orbit.z if self.orbit is not None else self.strobe[-1]
 
     @property
     def floquet_multipliers(self) -> np.ndarray:
-        return self.orbit.floquet_multipliers
+        return self.orbit.floquet_multipliers if self.orbit is not None else np.empty(0, complex)
 
     @property
     def floquet_abs_max(self) -> float:
-        return float(np.max(np.abs(self.orbit.floquet_multipliers)))
+        return float(np.max(np.abs(self.orbit.floquet_multipliers))) if self.orbit is not None else math.nan
 
     @property
     def stable(self) -> bool:
-        return self.orbit.stable
+        """Floquet stability of a periodic attractor; True for a non-periodic one (an attractor)."""
+        return self.orbit.stable if self.orbit is not None else True
 
     @property
     def attractor_type(self) -> str:
-        """Always "periodic": the search finds periodic attractors."""
-        return "periodic"
+        """"periodic", "quasi-periodic" or "chaotic"."""
+        return self.kind
 
     @property
     def lyapunov_per_s(self) -> np.ndarray:
-        """ln ``|μ_i|`` / (k T) [1/s] of the 2n Floquet multipliers, descending (T = 1/f_e)."""
+        """The 2n exponents [1/s], descending: ln ``|μ_i|`` / (k T) of the Floquet multipliers
+        (T = 1/f_e), or the Benettin run's."""
+        if self.orbit is None:
+            return self.spectrum.exponents_per_s
         with np.errstate(divide="ignore"):
             return np.sort(np.log(np.abs(self.floquet_multipliers)) * self.fe_hz / self.period)[::-1]
 
+    @property
+    def lyapunov_stderr_per_s(self) -> np.ndarray:
+        """Standard errors [1/s] of :attr:`lyapunov_per_s` (0 for Floquet exponents)."""
+        return self.spectrum.stderr_per_s if self.orbit is None else np.zeros(self.lyapunov_per_s.size)
+
     def to_dict(self) -> dict:
-        """The JSON contract of ``contactvib attractors --system ... --json`` for this attractor."""
-        return {"period": int(self.period), "minima_per_period": int(self.minima_per_period),
-                "floquet_multipliers": [[float(m.real), float(m.imag)] for m in self.floquet_multipliers],
-                "floquet_abs_max": self.floquet_abs_max, "stable": bool(self.stable),
+        """The JSON contract of ``contactvib attractors --system ... --json`` for this attractor
+        (``period``, ``floquet_*``, ``stable`` and ``closure`` null for a non-periodic one)."""
+        periodic = self.orbit is not None
+        lyap = lyapunov_fields(self.kind, self.lyapunov_per_s, self.lyapunov_stderr_per_s)
+        if self.kind != "chaotic":  # λ1 = 0 within its error bar (a torus) is not a positive λ1
+            lyap["kaplan_yorke_dimension"] = None
+        return {"period": int(self.period) if periodic else None,
+                "minima_per_period": int(self.minima_per_period) if periodic else None,
+                "floquet_multipliers": [[float(m.real), float(m.imag)] for m in self.floquet_multipliers]
+                if periodic else None,
+                "floquet_abs_max": self.floquet_abs_max if periodic else None,
+                "stable": bool(self.stable) if periodic else None,
                 "basin_fraction": float(self.basin_fraction), "hits": int(self.hits),
-                "closure": float(self.orbit.closure),
-                **lyapunov_fields("periodic", self.lyapunov_per_s, np.zeros(self.lyapunov_per_s.size)),
-                **dofs_and_contacts(**self.columns)}
+                "closure": float(self.orbit.closure) if periodic else None,
+                **lyap, **dofs_and_contacts(**self.columns)}
 
 
 @dataclass(frozen=True, eq=False)
 class SystemAttractorSet:
-    """All periodic attractors found at one operating point, largest first-coordinate range first.
+    """All attractors found at one operating point, largest first-coordinate range first.
 
     Attributes
     ----------
@@ -149,9 +184,12 @@ class SystemAttractorSet:
     pa_newton, fe_hz : float
         The excitation P_a [N], f_e [Hz].
     n_starts, n_unsettled, n_failed : int
-        Starts; those that settled on no periodic orbit; those whose integration failed.
+        Starts; those that settled on no attractor (the verdict's "unsettled"); those whose
+        integration failed.
     settings : dict
         The search's settings.
+    unsettled_reasons : dict
+        Unsettled starts counted by the verdict's reason.
     """
 
     attractors: tuple
@@ -162,6 +200,7 @@ class SystemAttractorSet:
     n_unsettled: int
     n_failed: int
     settings: dict = field(default_factory=dict)
+    unsettled_reasons: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.attractors)
@@ -175,6 +214,7 @@ class SystemAttractorSet:
                 "pa_newton": float(self.pa_newton), "fe_hz": float(self.fe_hz), "n_starts": int(self.n_starts),
                 "n_unsettled": int(self.n_unsettled), "n_failed": int(self.n_failed),
                 "unsettled_fraction": self.n_unsettled / max(self.n_starts, 1),
+                "unsettled_reasons": {str(k): int(v) for k, v in self.unsettled_reasons.items()},
                 "max_periods": int(self.settings.get("max_periods", 0)),
                 "units": {"m": "um", "rad": "urad", "force": "N", "f": "Hz"},
                 "attractors": [a.to_dict() for a in self.attractors]}
@@ -186,8 +226,10 @@ class SystemAttractorSet:
 def default_max_periods(system: System, fe_hz: float, settle_tol: float = 1e-7) -> int:
     """The transient limit [periods]: 1.5 times the periods the slowest mode of the system
     linearised at its static state (contacts engaged there with their stiffness and damping)
-    takes to decay by ``settle_tol``; at least ``MAX_PERIODS_DEFAULT``, at most
-    ``MAX_PERIODS_AUTO_MAX`` (also for an undamped mode)."""
+    takes to decay by ``settle_tol``; a growing mode (negative damping: a self-excited system,
+    whose contacts must limit the growth) counts with its growth rate, the time it takes to grow
+    by 1/``settle_tol``; at least ``MAX_PERIODS_DEFAULT``, at most ``MAX_PERIODS_AUTO_MAX`` (also
+    for an undamped mode)."""
     qs = system.static_state()
     n = system.n
     Kt = system.tangent_stiffness(qs)
@@ -195,7 +237,10 @@ def default_max_periods(system: System, fe_hz: float, settle_tol: float = 1e-7) 
                                   np.zeros((n, n)))
     Minv = np.linalg.inv(system.M)
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ Kt, -Minv @ Ct]])
-    sigma = float(np.min(-np.real(np.linalg.eigvals(A))))
+    rates = -np.real(np.linalg.eigvals(A))
+    sigma = float(np.min(rates))
+    if sigma < 0.0:  # growth at −sigma; the slowest decaying mode still counts
+        sigma = min(-sigma, float(np.min(rates[rates > 0.0], initial=math.inf)))
     if not sigma > 0.0:
         return MAX_PERIODS_AUTO_MAX
     periods = 1.5 * math.log(1.0 / settle_tol) * fe_hz / sigma
@@ -231,10 +276,6 @@ def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) ->
     xs, half = start_box(system, form, pa, fe)
     rng = np.random.default_rng(seed)
     return xs + rng.uniform(-1.0, 1.0, (n, 2 * system.n)) * half
-
-
-def _near(x, points, tol) -> bool:
-    return bool(np.any(np.max(np.abs(points - x), axis=1) <= tol * max(1.0, float(np.max(np.abs(x))))))
 
 
 def _capture(found: list) -> tuple[np.ndarray, np.ndarray]:
@@ -273,20 +314,11 @@ def _settled(sa, starts: np.ndarray, found: list, kmax, max_periods, tol, rtol):
             batch = min(2 * batch, 8 * threads) if threads > 1 else 1
 
 
-def _strobes(sa, form, x, k, rtol) -> np.ndarray:
-    """The k scaled stroboscopic points of the orbit through x."""
-    pts, out, phi = [x], np.empty(x.size), np.empty((0, 0))
-    for _ in range(k - 1):
-        if km.strobe_map(sa, np.ascontiguousarray(pts[-1]), 1, rtol, rtol, out, phi) != STATUS_OK:
-            raise ComputationError("the stroboscopic points of an orbit", stage="integration")
-        pts.append(out.copy())
-    return np.array(pts)
-
-
 def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_starts: int = STARTS_DEFAULT,
                            seed: int = 0, kmax: int = 8, max_periods: int | None = None,
-                           settle_tol: float = 1e-7, rtol: float = 1e-10, progress=None) -> SystemAttractorSet:
-    """The periodic attractors of ``system`` under P_a cos(2π f_e t) by a multi-start search.
+                           settle_tol: float = 1e-7, rtol: float = 1e-10, progress=None,
+                           nonperiodic: bool = True) -> SystemAttractorSet:
+    """The attractors of ``system`` under P_a cos(2π f_e t) by a multi-start search.
 
     Parameters
     ----------
@@ -296,15 +328,19 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
     n_starts, seed : int
         Random starts in the box (module docstring) and the generator's seed.
     kmax : int
-        Largest period [excitation periods] detected (1..64).
+        Largest period [excitation periods] detected while settling (1..64).
     max_periods : int, optional
         Transient limit per start [periods]; default :func:`default_max_periods`.
     settle_tol : float
         Relative repetition of the stroboscopic points that counts as settled.
     rtol : float
-        Integrator tolerance while settling (Newton refines at 1e-12).
+        Integrator tolerance while settling and in the verdict (Newton refines at 1e-12).
     progress : callable, optional
         ``progress(done, total)`` after each start (and once with 0 before the first).
+    nonperiodic : bool
+        Judge the starts without a period ≤ kmax (the module's verdict: long periods, chaotic and
+        quasi-periodic attractors); False: count them unsettled ("no period <= kmax") and report
+        periodic attractors only (the continuation's seeds, the sweeps).
     """
     if not isinstance(system, System):
         raise ParameterError("system", system, "must be a contactvib.model.System")
@@ -314,10 +350,13 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
         max_periods = default_max_periods(system, fe, settle_tol)
     n_starts, seed, kmax, max_periods = check_system_search(n_starts, seed, kmax, max_periods)
     rtol = check_range("rtol", rtol, 1e-14, True, upper=1e-6)
+    check_bounded(system)
     form = system.kernel_form(pa, fe)
     sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)
     found: list[dict] = []
-    n_unsettled = n_failed = 0
+    clouds: list[dict] = []
+    reasons: dict = {}
+    n_failed = 0
     if progress is not None:
         progress(0, n_starts)
     settled = _settled(sa, _start_box(system, form, pa, fe, n_starts, seed), found, kmax, max_periods, settle_tol,
@@ -329,63 +368,49 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
             if how == "captured":
                 found[k]["hits"] += 1
             elif how == "unsettled":
-                n_unsettled += 1
+                why = judge_start(system, pa, fe, sa, form, x, kmax, rtol, found, clouds) if nonperiodic \
+                    else "no period <= kmax"
+                if why:
+                    reasons[why] = reasons.get(why, 0) + 1
             else:
-                _add_orbit(system, pa, fe, sa, form, x, k, found)
+                add_orbit(system, pa, fe, sa, form, x, k, found)
         except ComputationError as e:
             if e.stage == "newton":
-                n_unsettled += 1
+                reasons["Newton failed"] = reasons.get("Newton failed", 0) + 1
             else:
                 n_failed += 1
         if progress is not None:
             progress(j + 1, n_starts)
     attractors = [measure_attractor(system, pa, fe, f, n_starts) for f in found]
+    attractors += [_measure_cloud(system, pa, fe, c, n_starts) for c in clouds]
     attractors.sort(key=lambda a: -a.columns["dof_app"][0])
     return SystemAttractorSet(attractors=tuple(attractors), natural_frequencies_hz=system.linear_modes(),
-                              pa_newton=pa, fe_hz=fe, n_starts=n_starts, n_unsettled=n_unsettled, n_failed=n_failed,
+                              pa_newton=pa, fe_hz=fe, n_starts=n_starts, n_unsettled=sum(reasons.values()),
+                              n_failed=n_failed,
                               settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
-                                        "settle_tol": settle_tol, "rtol": rtol})
+                                        "settle_tol": settle_tol, "rtol": rtol, "nonperiodic": bool(nonperiodic)},
+                              unsettled_reasons=dict(sorted(reasons.items())))
 
 
-def settled_orbit(system: System, pa: float, fe: float, sa, form, x, k: int):
-    """The orbit of minimal period through the settled scaled point x (period k, or a divisor of
-    it), refined by Newton shooting: ``(SystemOrbit, its scaled stroboscopic points)``."""
-    orbit = periodic_orbit(system, pa, fe, form.scales.to_si(x), k)
-    xo = form.scales.to_scaled(orbit.z)
-    points = _strobes(sa, form, xo, k, 1e-12)
-    d = _least_period(points)
-    if d < k:  # settled first on a multiple of its period (a transient that turns by 2π/k)
-        orbit = periodic_orbit(system, pa, fe, orbit.z, d)
-        points = _strobes(sa, form, form.scales.to_scaled(orbit.z), d, 1e-12)
-    return orbit, points
-
-
-def same_orbit_index(orbit, points: np.ndarray, found: list) -> int | None:
-    """The index in ``found`` (records with "orbit" and scaled "points") of the orbit equal to
-    ``orbit`` (same period, a common stroboscopic point within 100 ``SAME_TOL``), or None."""
-    for i, f in enumerate(found):
-        if f["orbit"].k == orbit.k and _near(points[0], f["points"], SAME_TOL * 100):
-            return i
-    return None
-
-
-def _add_orbit(system, pa, fe, sa, form, x, k, found: list) -> None:
-    """Refine the settled point x (period k); count it on an equal orbit or add it to ``found``."""
-    orbit, points = settled_orbit(system, pa, fe, sa, form, x, k)
-    i = same_orbit_index(orbit, points, found)
-    if i is None:
-        found.append({"orbit": orbit, "points": points, "hits": 1})
-    else:
-        found[i]["hits"] += 1
-
-
-def _least_period(points: np.ndarray) -> int:
-    """The least d dividing k = len(points) with points[d] = points[0] (to 100 SAME_TOL)."""
-    k = len(points)
-    for d in range(1, k):
-        if k % d == 0 and _near(points[0], points[d:d + 1], 100 * SAME_TOL):
-            return d
-    return k
+def check_bounded(system: System) -> None:
+    """Refuse a system whose motion cannot be bounded: a mode of M q̈ + C q̇ + K q = 0 that grows
+    (negative damping: a self-excited coordinate) and that no contact acts on — its left
+    eigenvector ψ has no component along any contact's force direction M⁻¹ w_i, so no contact
+    force can limit its growth (a system without contacts: every growing mode)."""
+    n = system.n
+    Minv = np.linalg.inv(np.array(system.M, float))
+    A = np.block([[np.zeros((n, n)), np.eye(n)],
+                  [-Minv @ np.array(system.K, float), -Minv @ np.array(system.C, float)]])
+    lam, left = np.linalg.eig(A.T)
+    forces = [Minv @ np.asarray(c.direction, float) for c in system.contacts]
+    for j in np.flatnonzero(lam.real > 1e-12 * max(1.0, float(np.max(np.abs(lam))))):
+        psi = left[n:, j]
+        if not any(abs(psi @ f) > 1e-9 * np.linalg.norm(psi) * np.linalg.norm(f) for f in forces):
+            raise ParameterError(
+                "system.damping", f"{np.diag(system.C).tolist()} N s/m on the diagonal",
+                f"gives a mode growing at {lam[j].real:.3g} 1/s ({abs(lam[j].imag) / (2 * math.pi):.4g} Hz) that "
+                f"{'no contact acts on' if forces else 'no contact limits (there is none)'}: it grows without bound "
+                f"and has no attractor; add a contact in its direction or make its damping positive")
 
 
 def _minima(d: np.ndarray) -> int:
@@ -423,6 +448,15 @@ def measure_attractor(system: System, pa: float, fe: float, f: dict, n_starts: i
     cols, minima = orbit_columns(system, pa, fe, orbit.z, orbit.k)
     return SystemAttractor(orbit=orbit, strobe=_points_si(f["points"], system, pa, fe), minima_per_period=minima,
                            basin_fraction=f["hits"] / n_starts, hits=f["hits"], columns=cols, fe_hz=fe)
+
+
+def _measure_cloud(system: System, pa: float, fe: float, c: dict, n_starts: int) -> SystemAttractor:
+    """A non-periodic attractor measured over NONPERIODIC_MEASURE_PERIODS periods from its last
+    strobe point."""
+    strobe = _points_si(c["points"], system, pa, fe)
+    cols, _ = orbit_columns(system, pa, fe, strobe[-1], NONPERIODIC_MEASURE_PERIODS)
+    return SystemAttractor(orbit=None, strobe=strobe, minima_per_period=0, basin_fraction=c["hits"] / n_starts,
+                           hits=c["hits"], columns=cols, fe_hz=fe, kind=c["kind"], spectrum=c["spec"])
 
 
 def _points_si(points: np.ndarray, system: System, pa: float, fe: float) -> np.ndarray:

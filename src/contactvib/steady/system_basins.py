@@ -14,8 +14,8 @@ phase 0 of the excitation. The default ranges are the attractor search's box
 Procedure
 ---------
 1. :func:`~contactvib.steady.system_attractors.find_system_attractors` runs first (same
-   ``kmax``, ``max_periods`` and tolerances); its attractors are the labels ``0 .. n−1`` in its
-   order.
+   ``kmax``, ``max_periods`` and tolerances; periodic attractors only, ``nonperiodic=False``);
+   its attractors are the labels ``0 .. n−1`` in its order.
 2. Every grid start is settled by the search's compiled kernel
    (:func:`contactvib._kernels.system_settle.settle_starts`, both cores, Ctrl-C ends it within
    one period) with the stroboscopic points of the stable attractors as capture points: a start
@@ -298,7 +298,7 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
     if max_periods is None:
         max_periods = default_max_periods(system, fe, settle_tol)
     search = find_system_attractors(system, pa, fe, n_starts=n_starts, seed=seed, kmax=kmax, max_periods=max_periods,
-                                    settle_tol=settle_tol, rtol=rtol)
+                                    settle_tol=settle_tol, rtol=rtol, nonperiodic=False)  # periodic labels
     form = system.kernel_form(pa, fe)
     sc = form.scales
     sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)

@@ -25,6 +25,7 @@ from contactvib.errors import ComputationError
 from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import KMAX_SEARCH_MAX, MEMORY_MAX, SHOOTING_RTOL_RANGE, check_memory
 from contactvib.model.system import System, check_excitation, check_state
+from contactvib.steady.transients import LONG_PERIOD_MAX
 
 __all__ = ["SystemHistory", "PeriodMap", "SystemOrbit", "simulate_system", "period_map", "periodic_orbit",
            "mean_contact_forces", "DISPLAY_UNITS"]
@@ -171,14 +172,15 @@ def period_map(system: System, pa_newton: float, fe_hz: float, z0, k: int = 1, *
 
 def periodic_orbit(system: System, pa_newton: float, fe_hz: float, z_guess, k: int = 1, *,
                    rtol: float = 1e-12, tol: float = NEWTON_TOL) -> SystemOrbit:
-    """Newton shooting for a period-``k`` orbit from ``z_guess`` (SI (q, q̇) at phase 0).
+    """Newton shooting for a period-``k`` orbit (1 ≤ k ≤ ``LONG_PERIOD_MAX`` = 512, the search's
+    long periods) from ``z_guess`` (SI (q, q̇) at phase 0).
 
     Solves P^k(z) − z = 0 in the scaled state with (Φ − I) dz = −(P^k(z) − z), steps larger than
     0.5 (relative to max(1, |z|∞)) damped to 0.5; converged when the relative closure ≤ ``tol``.
     ComputationError (stage "newton") if Newton's method fails (singular, diverging, no convergence)."""
     system = _check_system(system)
     sa, form = _arrays(system, pa_newton, fe_hz)
-    k = check_int("k", k, 1, KMAX_SEARCH_MAX)
+    k = check_int("k", k, 1, LONG_PERIOD_MAX)
     rtol = _rtol(rtol)
     tol = check_range("tol", tol, 0.0, False)
     sc = form.scales

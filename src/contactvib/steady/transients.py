@@ -61,7 +61,7 @@ from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE
 __all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "nonperiodic_verdict", "WINDOW",
            "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO",
            "SECONDS_PER_STEP", "estimated_seconds", "duration_text", "search_verdict", "Verdict", "same_cloud",
-           "VERDICT_PERIODS", "VERDICT_BATCHES", "LONG_PERIOD_MAX"]
+           "VERDICT_PERIODS", "VERDICT_BATCHES", "LONG_PERIOD_MAX", "unsettled_cloud"]
 
 #: Strobe points per window of the recurrence test (two windows are compared).
 WINDOW = 64
@@ -163,7 +163,7 @@ def _spacing(a: np.ndarray, b: np.ndarray, same: bool) -> np.ndarray:
     return d.min(axis=1)
 
 
-def _unsettled_cloud(tail: np.ndarray) -> str | None:
+def unsettled_cloud(tail: np.ndarray) -> str | None:
     """Why the strobe points ``tail`` are not a settled cloud (too few, drifting, contracting),
     or None when they are recurrent and keep their spread."""
     if tail.shape[0] < 2 * WINDOW or not np.all(np.isfinite(tail)):
@@ -198,7 +198,7 @@ def cloud_verdict(tail: np.ndarray, lyapunov: float) -> tuple[bool, str]:
 
     Returns ``(True, "chaotic" | "quasi-periodic")`` or ``(False, reason)``.
     """
-    why = _unsettled_cloud(tail)
+    why = unsettled_cloud(tail)
     return (False, why) if why else _lyapunov_verdict(lyapunov)
 
 
@@ -206,7 +206,7 @@ def nonperiodic_verdict(excitation: Excitation, tail: np.ndarray, rtol: float) -
     """Whether a start without a period reached a non-periodic attractor: ``(ok, type or reason,
     λ)`` (:func:`cloud_verdict`; λ is computed, at integrator tolerance ``rtol``, only for a
     recurrent cloud)."""
-    why = _unsettled_cloud(tail)
+    why = unsettled_cloud(tail)
     if why:
         return False, why, math.nan
     lyap = float(lyapunov_strobe(tail[-1].copy(), excitation.kernel_parameters(), rtol, NP_LYAPUNOV))
@@ -280,7 +280,7 @@ def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float, kmax: 
     cloud = after[-2 * WINDOW:]
     if typ == "chaotic":
         before = tail[np.all(np.isfinite(tail), axis=1)][-WINDOW:]
-        why = _unsettled_cloud(np.vstack([before, after[-WINDOW:]])) if before.shape[0] == WINDOW else None
+        why = unsettled_cloud(np.vstack([before, after[-WINDOW:]])) if before.shape[0] == WINDOW else None
         return Verdict("unsettled", why, spec) if why else Verdict("chaotic", "λ1 > 3 stderr", spec, cloud=cloud)
     found = long_period(excitation, after, kmax + 1)
     if found is not None:

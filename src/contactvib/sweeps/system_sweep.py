@@ -171,7 +171,8 @@ class _Walker:
             fe = float(self.level.f_hz[i])
             try:
                 found = find_system_attractors(self.system, self.pa, fe, n_starts=st.n_starts, seed=st.seed + i,
-                                               kmax=st.kmax, max_periods=st.max_periods, rtol=st.rtol)
+                                               kmax=st.kmax, max_periods=st.max_periods, rtol=st.rtol,
+                                               nonperiodic=False)
             except ComputationError:
                 continue
             sc = self.arrays(i)[1].scales
