@@ -145,10 +145,15 @@ def test_period5_newton_seeds_find_the_bouncing_orbit():
 
 #: Attractors of the full search below this basin fraction may still be missed by the sweep's
 #: 24-start multi-start, unless they are periodic of period 1–5 (:data:`NEWTON_KINDS`). At the 41
-#: points of benchmarks/bench_sweep_completeness.py one is: the "chaotic attractor" at 0.80 Q/360 Hz
-#: (basin 0.78 %), which is transient chaos — perturbed by 1e-6, 10 of 10 starts on it leave for
-#: the period-1 orbit (12.0 µm) after 224–2795 periods; the search's verdict window is shorter.
+#: points of benchmarks/bench_sweep_completeness.py two are (measured on the dataset of
+#: `contactvib paper`): the period-9 orbit with 6 minima at 0.70 Q/800 Hz (A_pp 4.889 µm, basin
+#: 0.78 %) and the period-24 orbit with 16 minima at 0.80 Q/1700 Hz (A_pp 0.886 µm, basin 0.20 %),
+#: both beyond the sweep's kmax = 8, which the search's long-period verdict reports with their
+#: true period. (The search's former "chaotic attractor" at 0.80 Q/360 Hz, transient chaos, is
+#: no longer reported: its verdict now runs 2000 periods.)
 SMALL_BASIN = 0.01
+#: Misses allowed at those points (each below SMALL_BASIN and not of period 1–5).
+MISSES_MAX = 2
 #: Periods the sweep must hold whatever their basin: the period-2 Newton seeds find the
 #: ultrasubharmonic isolas (period 2 with 3 minima at 0.60 Q/500 Hz and 0.75 Q/800 Hz, basins
 #: 0.2 and 0.4 %) and tracing on finds their doublings (period 4 with 6 minima at 0.80 Q/800 Hz,
@@ -184,4 +189,4 @@ def test_every_attractor_of_the_full_search_with_a_basin_over_1_percent_or_of_pe
         missed += len(r["missing"])
         assert [a for a in r["missing"] if a["basin"] >= SMALL_BASIN
                 or (a["kind"] == "periodic" and a["period"] in NEWTON_KINDS)] == [], (pa, fe, r["missing"])
-    assert found >= 150 and missed <= 1
+    assert found >= 150 and missed <= MISSES_MAX

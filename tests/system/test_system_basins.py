@@ -125,3 +125,15 @@ def test_cli_bad_input_one_line(args, text, capsys, tmp_path):
 def test_cli_slice_belongs_to_systems(capsys):
     rc = main(["basins", "--pa", "0.65", "--fe", "700", "--slice", "y,theta"])
     assert rc == 2 and "--slice belongs to --system" in capsys.readouterr().err
+
+
+def test_the_torus_basin_is_labelled_by_the_search_s_cloud():
+    """The self-excited stop system forced off its limit cycle (examples/self_excited_stop.toml,
+    0.05 N, 0.12 Hz) has one attractor, a 2-torus: every grid start lands on its cloud."""
+    s = load_system(Path(__file__).parents[2] / "examples" / "self_excited_stop.toml")
+    m = system_basins(s, 0.05, 0.12, grid=(3, 3), n_starts=4)
+    assert [a.attractor_type for a in m.attractors] == ["quasi-periodic"]
+    assert m.fractions()[0] == {"label": 0, "period": None, "minima_per_period": None,
+                                "attractor_type": "quasi-periodic", "fraction": 1.0, "stderr": 0.0}
+    ds = m.to_dataset()
+    assert ds["attractor_type"].values.tolist() == ["quasi-periodic"] and int(ds["period"][0]) == 0

@@ -147,7 +147,8 @@ def _table(bmap) -> None:
     for r in bmap.fractions():
         if r["label"] < 0 and r["fraction"] == 0.0:
             continue
-        per = "-" if r["period"] is None else str(r["period"])
+        per = "-" if r["label"] < 0 else (str(r["period"]) if r["period"] is not None else
+                                           {"chaotic": "chaos", "quasi-periodic": "q-per"}[r["attractor_type"]])
         mins = "-" if r["minima_per_period"] is None else str(r["minima_per_period"])
         stable = "-" if r["label"] < 0 else ("yes" if bmap.attractors[r["label"]].stable else "no")
         click.echo(f"{r['label']:>5} {per:>6} {mins:>6} {stable:>6} {r['fraction']:>9.2%} {r['stderr']:>8.2%}")

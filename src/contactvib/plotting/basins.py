@@ -13,6 +13,8 @@ from contactvib.steady.basins import BasinMap
 __all__ = ["plot_basins", "basins_figure", "label_text", "draw_label_map", "system_basins_figure",
            "system_label_text"]
 
+#: Above this many strobe points an attractor's markers are drawn small (a cloud, not an orbit).
+CLOUD_POINTS = 32
 #: Markers of the strobe points, by label (cycled).
 _MARKERS = ("o", "s", "D", "^", "v", "P", "X", "*", "h", "<", ">")
 
@@ -61,8 +63,9 @@ def draw_label_map(x, y, labels, points, texts, none_text: str, xlabel: str, yla
     handles, legend_texts = [], []
     for i, (px, py) in enumerate(points):
         inside = (px >= x0) & (px <= x1) & (py >= v0) & (py <= v1)
-        style = {"marker": _MARKERS[i % len(_MARKERS)], "ms": 9, "mfc": "w", "mec": "k", "mew": 1.5,
-                 "ls": "none"}
+        many = np.size(px) > CLOUD_POINTS  # a non-periodic attractor's cloud: small dots
+        style = {"marker": _MARKERS[i % len(_MARKERS)], "ms": 3 if many else 9, "mfc": "w", "mec": "k",
+                 "mew": 0.6 if many else 1.5, "ls": "none"}
         ax.plot(px, py, clip_on=True, zorder=3, **style)
         handles.append((Patch(facecolor=colors[i], edgecolor="k"), Line2D([], [], **style)))
         legend_texts.append(texts[i] + ("" if inside.any() else "; strobe points off the map"))
@@ -96,14 +99,16 @@ def basins_figure(bmap: BasinMap, title: str | None = None):
 
 def system_label_text(bmap, label: int) -> str:
     """``"1: period 6, 6 minima, 15.39 ± 0.60 %"`` for a :class:`~contactvib.steady.system_basins.SystemBasinMap`
-    (label −1: no stable orbit reached)."""
+    (label −1: no attractor reached)."""
     p, se = bmap.fraction(label)
     share = f"{100 * p:.2f} ± {100 * se:.2f} %"
     if label < 0:
-        return f"−1: no stable orbit within {bmap.search.settings['max_periods']} periods, {share}"
+        return f"−1: no attractor reached within {bmap.search.settings['max_periods']} periods, {share}"
     a = bmap.attractors[label]
-    mins = f", {a.minima_per_period} {'minimum' if a.minima_per_period == 1 else 'minima'}"
     new = "" if label < bmap.n_known else " (grid only)"
+    if not a.period:
+        return f"{label}: {a.attractor_type}, λ1 {a.lyapunov_per_s[0]:.3g} /s, {share}{new}"
+    mins = f", {a.minima_per_period} {'minimum' if a.minima_per_period == 1 else 'minima'}"
     return f"{label}: period {a.period}{mins}, {share}{new}"
 
 

@@ -14,8 +14,9 @@ phase 0 of the excitation. The default ranges are the attractor search's box
 Procedure
 ---------
 1. :func:`~contactvib.steady.system_attractors.find_system_attractors` runs first (same
-   ``kmax``, ``max_periods`` and tolerances; periodic attractors only, ``nonperiodic=False``);
-   its attractors are the labels ``0 .. n−1`` in its order.
+   ``kmax``, ``max_periods`` and tolerances, with its verdict on the starts without a period:
+   chaotic and quasi-periodic attractors, long periods); its attractors are the labels
+   ``0 .. n−1`` in its order.
 2. Every grid start is settled by the search's compiled kernel
    (:func:`contactvib._kernels.system_settle.settle_starts`, both cores, Ctrl-C ends it within
    one period) with the stroboscopic points of the stable attractors as capture points: a start
@@ -24,8 +25,12 @@ Procedure
    shooting to its orbit of minimal period
    (:func:`~contactvib.steady.system_attractors.settled_orbit`) and matched to the known orbits;
    a stable orbit the search did not find becomes a new label ``n, n+1, …`` (basin fraction on
-   the grid). Starts that settle on nothing within ``max_periods``, or on an unstable orbit, or
-   whose integration failed get label −1.
+   the grid).
+4. A start that settles on nothing within ``max_periods`` takes the label of the search's
+   non-periodic attractor whose strobe cloud its next ``WINDOW`` strobe points lie on
+   (:func:`~contactvib.steady.system_verdict.match_cloud`, the search's own test). Starts that
+   reach none of them, or an unstable orbit, or whose integration failed get label −1 (the grid
+   gives no verdict of its own: a non-periodic attractor the search missed stays −1).
 """
 
 from __future__ import annotations
@@ -56,6 +61,8 @@ from contactvib.steady.system_attractors import (
     start_box,
 )
 from contactvib.steady.system_orbits import DISPLAY_UNITS
+from contactvib.steady.system_verdict import match_cloud, strobe_projection
+from contactvib.steady.transients import WINDOW
 
 __all__ = ["system_basins", "SystemBasinMap", "state_component", "default_slice", "check_system_basins",
            "default_slice_box",
@@ -171,7 +178,7 @@ class SystemBasinMap:
     factors : (float, float)
         Their factors from SI to the display units.
     n_failed, n_unsettled : int
-        Grid starts whose integration failed, or that reached no stable orbit (label −1).
+        Grid starts whose integration failed, or that reached no known attractor (label −1).
     """
 
     axes: tuple
@@ -200,13 +207,14 @@ class SystemBasinMap:
 
     def fractions(self) -> list[dict]:
         """One entry per label, then label −1: ``{"label", "period", "minima_per_period",
-        "fraction", "stderr"}``."""
+        "attractor_type", "fraction", "stderr"}`` (period and minima null for a non-periodic
+        attractor)."""
         rows = []
         for label, a in [*enumerate(self.attractors), (-1, None)]:
             p, se = self.fraction(label)
-            rows.append({"label": label, "period": None if a is None else int(a.period),
-                         "minima_per_period": None if a is None else int(a.minima_per_period),
-                         "fraction": p, "stderr": se})
+            rows.append({"label": label, "period": None if a is None or not a.period else int(a.period),
+                         "minima_per_period": None if a is None or not a.period else int(a.minima_per_period),
+                         "attractor_type": None if a is None else a.attractor_type, "fraction": p, "stderr": se})
         return rows
 
     def to_dict(self) -> dict:
@@ -247,7 +255,10 @@ class SystemBasinMap:
         s = self.search
         return xr.Dataset(
             {"label": (("b", "a"), self.labels, {"units": "1", "long_name": "attractor reached (-1: none)"}),
-             "period": ("attractor", np.array([a.period for a in atts], np.int64), {"units": "excitation periods"}),
+             "period": ("attractor", np.array([a.period for a in atts], np.int64),
+                        {"units": "excitation periods", "long_name": "period (0: non-periodic)"}),
+             "attractor_type": ("attractor", np.array([a.attractor_type for a in atts], dtype=object),
+                                {"units": "1", "long_name": "periodic, quasi-periodic or chaotic"}),
              "minima_per_period": ("attractor", np.array([a.minima_per_period for a in atts], np.int64),
                                    {"units": "1"}),
              "fraction": ("label_all", fr[:, 0], {"units": "1"}),
@@ -298,7 +309,7 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
     if max_periods is None:
         max_periods = default_max_periods(system, fe, settle_tol)
     search = find_system_attractors(system, pa, fe, n_starts=n_starts, seed=seed, kmax=kmax, max_periods=max_periods,
-                                    settle_tol=settle_tol, rtol=rtol, nonperiodic=False)  # periodic labels
+                                    settle_tol=settle_tol, rtol=rtol)
     form = system.kernel_form(pa, fe)
     sc = form.scales
     sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)
@@ -317,6 +328,8 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
 
     found = [{"orbit": att.orbit, "points": np.array([sc.to_scaled(p) for p in att.strobe]), "hits": 0}
              for att in search.attractors]
+    clouds = {i: {"cloud": strobe_projection(sa, f["points"][-2 * WINDOW:])} for i, f in enumerate(found)
+              if f["orbit"] is None}
     n_known = len(found)
     labels = np.full(X.shape[0], -1, np.int64)
     n_failed = 0
@@ -325,7 +338,7 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
         progress(0, X.shape[0])
     j = 0
     while j < X.shape[0]:
-        caps = [(i, f["points"]) for i, f in enumerate(found) if f["orbit"].stable]
+        caps = [(i, f["points"]) for i, f in enumerate(found) if f["orbit"] is not None and f["orbit"].stable]
         pts = np.concatenate([p for _, p in caps]) if caps else np.empty((0, X.shape[1]))
         ids = np.concatenate([np.full(len(p), i, np.int64) for i, p in caps]) if caps else np.empty(0, np.int64)
         chunk = X[j:j + CHUNK]
@@ -342,6 +355,8 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
                 n_failed += 1
             elif h == SETTLE_PERIODIC:
                 labels[j + q] = _orbit_label(system, pa, fe, sa, form, xs[q], int(kk[q]), found)
+            elif clouds:
+                labels[j + q] = _cloud_label(sa, xs[q], rtol, clouds)
         j += len(how)
         if progress is not None:
             progress(j, X.shape[0])
@@ -365,8 +380,20 @@ def _orbit_label(system, pa, fe, sa, form, x, k, found: list) -> int:
         return -1
     if not orbit.stable:
         return -1
-    i = same_orbit_index(orbit, points, found)
+    periodic = [i for i, f in enumerate(found) if f["orbit"] is not None]
+    i = same_orbit_index(orbit, points, [found[i] for i in periodic])
     if i is None:
         found.append({"orbit": orbit, "points": points, "hits": 0})
-        i = len(found) - 1
-    return i
+        return len(found) - 1
+    return periodic[i]
+
+
+def _cloud_label(sa, x, rtol, clouds: dict) -> int:
+    """The label of the non-periodic attractor (``clouds``: label → record with its projected
+    "cloud") whose cloud the strobe points after the unsettled scaled point x lie on, or −1."""
+    labels = list(clouds)
+    try:
+        i, _pts, _proj = match_cloud(sa, x, rtol, [clouds[k] for k in labels])
+    except ComputationError:
+        return -1
+    return -1 if i is None else labels[i]

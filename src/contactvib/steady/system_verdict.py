@@ -48,7 +48,8 @@ from contactvib.steady.transients import (
     unsettled_cloud,
 )
 
-__all__ = ["judge_start", "add_orbit", "settled_orbit", "same_orbit_index", "strobe_projection", "SAME_TOL"]
+__all__ = ["judge_start", "match_cloud", "add_orbit", "settled_orbit", "same_orbit_index", "strobe_projection",
+           "SAME_TOL"]
 
 #: Two orbits are the same when a stroboscopic point of one is within this of one of the other's
 #: (relative to max(1, |x|∞) in the scaled state).
@@ -91,19 +92,30 @@ def _window(sa, x, rtol) -> np.ndarray:
     return pts
 
 
+def match_cloud(sa, x, rtol, clouds: list) -> tuple:
+    """The WINDOW strobe points after the scaled point x and their projection
+    (:func:`strobe_projection`), and the index in ``clouds`` (records with a projected "cloud") of
+    the non-periodic attractor whose cloud they lie on (:func:`~.transients.same_cloud`), or None:
+    ``(index, points, projection)``."""
+    before = _window(sa, x, rtol)
+    proj = strobe_projection(sa, before)
+    for i, c in enumerate(clouds):
+        if same_cloud(c["cloud"], proj):
+            return i, before, proj
+    return None, before, proj
+
+
 def judge_start(system, pa, fe, sa, form, x, kmax, rtol, found: list, clouds: list) -> str | None:
     """The verdict on a start without a period ≤ kmax at the scaled point x (module docstring):
     counts it on an attractor in ``found`` (periodic) or ``clouds`` (non-periodic; a new one is
     appended) and returns None, or returns the reason it is unsettled."""
     try:
-        before = _window(sa, x, rtol)
+        i, before, proj = match_cloud(sa, x, rtol, clouds)
     except ComputationError:
         return "integration failed"
-    proj = strobe_projection(sa, before)
-    for c in clouds:
-        if same_cloud(c["cloud"], proj):
-            c["hits"] += 1
-            return None
+    if i is not None:
+        clouds[i]["hits"] += 1
+        return None
     after = np.empty((2 * LONG_PERIOD_MAX + 1, x.size))
     try:
         spec = system_benettin(sa, before[-1], fe, VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=True,
