@@ -279,12 +279,13 @@ def scipy_search(smap, X, kmax, max_periods, rtol):
 
 def search(name, system, pa, fe, form, smap, a, sp_rtol):
     """Part 2: the compiled search with --starts starts and with the first --scipy-starts, and scipy's."""
-    find_system_attractors(system, pa, fe, n_starts=2, nonperiodic=False)  # compile / load
+    find_system_attractors(system, pa, fe, n_starts=2, nonperiodic=False, seeds=False)  # compile / load
     mp = default_max_periods(system, fe, SETTLE_TOL)
     # the settling alone (scipy's side settles, it does not judge the unsettled starts)
-    wall, cpu, r = timed(find_system_attractors, system, pa, fe, n_starts=a.starts, repeat=2, nonperiodic=False)
+    wall, cpu, r = timed(find_system_attractors, system, pa, fe, n_starts=a.starts, repeat=2, nonperiodic=False,
+                         seeds=False)
     wall_few, cpu_few, r_few = timed(find_system_attractors, system, pa, fe, n_starts=a.scipy_starts, repeat=2,
-                                     nonperiodic=False)
+                                     nonperiodic=False, seeds=False)
     X = _start_box(system, form, pa, fe, a.scipy_starts, 0)
     smap.periods = 0
     t0, c0 = time.perf_counter(), time.process_time()

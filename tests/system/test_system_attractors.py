@@ -126,7 +126,7 @@ def test_the_rocking_orbits_come_in_mirror_pairs():
     m = ContactModel()
     s = rocking_system(m)
     r = find_system_attractors(s, 0.65 * m.Q, 360.0, n_starts=16)
-    rocking = [a for a in r if a.to_dict()["dofs"][1]["app"] > 1.0]
+    rocking = [a for a in r if a.to_dict()["dofs"][1]["app"] > 1.0 and a.attractor_type == "periodic"]
     assert rocking and all(a.period == 1 and a.stable for a in rocking)
     a = rocking[0]
     mirror = a.orbit.z * np.array([1.0, -1.0, 1.0, -1.0])

@@ -125,7 +125,9 @@ def test_the_search_is_the_same_on_one_thread():
     finally:
         numba.set_num_threads(n)
     assert one == _search("rocking_e0_360").to_dict()
-    assert _search("rocking_e0_360", nonperiodic=True).attractors[0].to_dict() == one["attractors"][0]
+    # the verdict keeps the periodic attractors as they are (the seeds add a chaotic one here)
+    judged = [a.to_dict() for a in _search("rocking_e0_360", nonperiodic=True) if a.attractor_type == "periodic"]
+    assert judged == one["attractors"]
 
 
 @pytest.mark.parametrize("kw, words", [({"n_starts": 0}, "n_starts"), ({"kmax": 0}, "kmax"),

@@ -224,7 +224,7 @@ def _system_ops(label: str, has_q: bool):
     def find(system, p, fe):
         from contactvib.steady.system_attractors import find_system_attractors
 
-        return find_system_attractors(system, p, fe, nonperiodic=False)
+        return find_system_attractors(system, p, fe, nonperiodic=False, seeds=False)
 
     def history(system, p, fe, a):
         from contactvib.steady.system_orbits import simulate_system

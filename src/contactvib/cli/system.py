@@ -39,7 +39,7 @@ _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", de
 _MODEL_ONLY = {"law": "--law", "law_file": "--law-file", "damping": "--damping", "preload": "--preload",
                "model_file": "--model"}
 _NOT_SYSTEM = {"base_um": "--base-um", "base_g": "--base-g", "harmonic": "--harmonic", "random_psd": "--random-psd",
-               "band": "--band", "duration": "--duration", "no_seeds": "--no-seeds"}
+               "band": "--band", "duration": "--duration"}
 _SEARCH = {"n_starts": "--starts", "seed": "--seed", "kmax": "--kmax", "max_periods": "--max-periods"}
 
 
@@ -148,7 +148,8 @@ def _search(system, p, f_e, starts, seed, kmax, max_periods):
     kw = {"n_starts": STARTS_DEFAULT if not _given("starts") else parse_int("--starts", starts, 1, symbol="n_starts"),
           "seed": parse_int("--seed", seed, 0), "kmax": parse_int("--kmax", kmax, 1),
           "max_periods": None if max_periods.strip().lower() == "auto"
-          else parse_int("--max-periods", max_periods, 1, symbol="max_periods")}
+          else parse_int("--max-periods", max_periods, 1, symbol="max_periods"),
+          "seeds": not _given("no_seeds")}
     bar = []
 
     def progress(done, total):  # a bar on a terminal's stderr, gone when the search ends

@@ -151,7 +151,7 @@ def _system_branches(system, p, f_e, s, parameter, n_pick, Q, j, log) -> list:
         except ComputationError as e:
             log(f"no period-1 orbit from the linear response at {f_e:g} Hz ({e}); seeds from the attractor search")
     if not seeds:
-        found = find_system_attractors(system, p, f_e, nonperiodic=False)
+        found = find_system_attractors(system, p, f_e, nonperiodic=False, seeds=False)
         if n_pick is not None and n_pick >= len(found):
             raise InputError(f"--attractor (attractor) = {n_pick}: must be an index 0..{len(found) - 1} of the "
                              f"{len(found)} attractors found at {f_e:g} Hz")
@@ -261,7 +261,7 @@ def system_bifurcations(pa_levels, pa_newton, seed_fe, coordinate, out, as_json,
         for p, level in levels:
             branches = []
             for fe in seeds:
-                for a in find_system_attractors(system, p, fe, nonperiodic=False):
+                for a in find_system_attractors(system, p, fe, nonperiodic=False, seeds=False):
                     if _on_branch(branches, a.orbit.z, a.orbit.k, fe):
                         continue
                     try:

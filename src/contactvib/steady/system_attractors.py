@@ -1,15 +1,18 @@
 """The attractors of a :class:`~contactvib.model.system.System` at one operating point: a
 multi-start search.
 
-Starts are drawn in a box about the static state (q_s, 0) in the scaled state of the compiled
-form (``contactvib.model.system_kernel``: each coordinate in its length L_j, set by the contacts'
-static deflections, each rate in L_j ω): half-widths of 2, or 1.5 times the linear response to
-the force where that is larger. Each start is settled by integrating period by period until its
-stroboscopic points repeat with a period k ≤ kmax (every one of the last k points within
-``settle_tol`` of the point k periods before it, relative to max(1, |x|∞)) or it comes within
-``capture_tol`` of a stable orbit already found; a detected orbit is refined by Newton shooting
-(:func:`~contactvib.steady.system_orbits.periodic_orbit`), which gives its Floquet multipliers.
-Equal orbits (the same period and a common stroboscopic point within ``SAME_TOL``) are grouped.
+Starts are drawn in a box about the static state (q_s, 0) in the scaled state of the compiled form
+(``contactvib.model.system_kernel``: each coordinate in its length L_j, set by the contacts' static
+deflections, each rate in L_j ω): half-widths of 2, or 1.5 times the linear response to the force
+where that is larger; before them, the ballistic seeds (free flights of one and two periods under
+the static load, :mod:`.system_starts`) reach the large orbits that lose contact, which such a box
+cannot. Basin fractions count the box starts only. Each start is settled by integrating period by
+period until its stroboscopic points repeat with a period k ≤ kmax (every one of the last k points
+within ``settle_tol`` of the point k periods before it, relative to max(1, |x|∞)) or it comes
+within ``capture_tol`` of a stable orbit already found; a detected orbit is refined by Newton
+shooting (:func:`~contactvib.steady.system_orbits.periodic_orbit`), which gives its Floquet
+multipliers. Equal orbits (the same period and a common stroboscopic point within ``SAME_TOL``) are
+grouped.
 
 A start that settles on no period ≤ kmax within ``max_periods`` periods is judged as the 1-DOF
 search judges one (:mod:`.system_verdict`): periodic with a long period, chaotic, quasi-periodic,
@@ -48,6 +51,7 @@ from contactvib.steady.system_orbits import (
     mean_contact_forces,
     simulate_system,
 )
+from contactvib.steady.system_starts import box_starts, seed_states, start_box
 from contactvib.steady.system_verdict import SAME_TOL, add_orbit, judge_start, same_orbit_index, settled_orbit
 
 __all__ = ["SystemAttractor", "SystemAttractorSet", "find_system_attractors", "check_system_search",
@@ -214,6 +218,7 @@ class SystemAttractorSet:
                 "pa_newton": float(self.pa_newton), "fe_hz": float(self.fe_hz), "n_starts": int(self.n_starts),
                 "n_unsettled": int(self.n_unsettled), "n_failed": int(self.n_failed),
                 "unsettled_fraction": self.n_unsettled / max(self.n_starts, 1),
+                "n_seeds": int(self.settings.get("n_seeds", 0)),
                 "unsettled_reasons": {str(k): int(v) for k, v in self.unsettled_reasons.items()},
                 "max_periods": int(self.settings.get("max_periods", 0)),
                 "units": {"m": "um", "rad": "urad", "force": "N", "f": "Hz"},
@@ -253,29 +258,7 @@ def check_system_search(n_starts=STARTS_DEFAULT, seed=0, kmax=8, max_periods=MAX
             check_int("kmax", kmax, 1, KMAX_SEARCH_MAX), check_int("max_periods", max_periods, 1, MAX_PERIODS_MAX))
 
 
-def start_box(system: System, form, pa: float, fe: float) -> tuple[np.ndarray, np.ndarray]:
-    """The search's box of starts in the scaled state (rows of 2n): its centre, the static state
-    (q_s, 0), and its half-widths: per coordinate 2, or 1.5 times the linear response to the force
-    where that is larger; per rate the same times max(1, ω_e / ω)."""
-    sc, nq = form.scales, system.n
-    xs = sc.to_scaled(np.concatenate([system.static_state(), np.zeros(nq)]))
-    w = 2.0 * math.pi * fe
-    Kt = system.tangent_stiffness(system.static_state())
-    Ct = np.array(system.C) + sum(c.damping_rate(c.deflection(system.static_state())) * np.outer(c.w, c.w)
-                                  for c in system.contacts)
-    try:
-        amp = np.abs(np.linalg.solve(Kt - w * w * system.M + 1j * w * Ct, system.b * pa)) / sc.length
-    except np.linalg.LinAlgError:
-        amp = np.zeros(nq)
-    half = np.maximum(2.0, 1.5 * np.where(np.isfinite(amp), amp, 0.0))
-    return xs, np.concatenate([half, half * max(1.0, w / sc.omega)])
-
-
-def _start_box(system: System, form, pa: float, fe: float, n: int, seed: int) -> np.ndarray:
-    """``n`` scaled starts (rows of 2n) drawn uniformly in :func:`start_box`."""
-    xs, half = start_box(system, form, pa, fe)
-    rng = np.random.default_rng(seed)
-    return xs + rng.uniform(-1.0, 1.0, (n, 2 * system.n)) * half
+_start_box = box_starts  # the search's random starts (tests call it by this name)
 
 
 def _capture(found: list) -> tuple[np.ndarray, np.ndarray]:
@@ -317,7 +300,7 @@ def _settled(sa, starts: np.ndarray, found: list, kmax, max_periods, tol, rtol):
 def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_starts: int = STARTS_DEFAULT,
                            seed: int = 0, kmax: int = 8, max_periods: int | None = None,
                            settle_tol: float = 1e-7, rtol: float = 1e-10, progress=None,
-                           nonperiodic: bool = True) -> SystemAttractorSet:
+                           nonperiodic: bool = True, seeds: bool = True) -> SystemAttractorSet:
     """The attractors of ``system`` under P_a cos(2π f_e t) by a multi-start search.
 
     Parameters
@@ -341,6 +324,10 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
         Judge the starts without a period ≤ kmax (the module's verdict: long periods, chaotic and
         quasi-periodic attractors); False: count them unsettled ("no period <= kmax") and report
         periodic attractors only (the continuation's seeds, the sweeps).
+    seeds : bool
+        Also start from the ballistic seeds (:func:`~contactvib.steady.system_starts.seed_states`:
+        free flights of one and two periods under the static load), first; an attractor only a
+        seed reaches has basin fraction 0 (the basins count the box starts).
     """
     if not isinstance(system, System):
         raise ParameterError("system", system, "must be a contactvib.model.System")
@@ -356,20 +343,48 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
     found: list[dict] = []
     clouds: list[dict] = []
     reasons: dict = {}
-    n_failed = 0
+    seed_x = seed_states(system, form, fe) if seeds else np.empty((0, 2 * system.n))
+    n_seeds, total = len(seed_x), n_starts + len(seed_x)
     if progress is not None:
-        progress(0, n_starts)
-    settled = _settled(sa, _start_box(system, form, pa, fe, n_starts, seed), found, kmax, max_periods, settle_tol,
-                       rtol)
-    for j, (how, k, x) in enumerate(settled):
+        progress(0, total)
+
+    def tick(j):
+        if progress is not None:
+            progress(j, total)
+
+    judge = (lambda x: judge_start(system, pa, fe, sa, form, x, kmax, rtol, found, clouds)) if nonperiodic else None
+    _run_starts(system, pa, fe, sa, form, seed_x, found, {}, judge, (kmax, max_periods, settle_tol, rtol), tick)
+    for rec in (*found, *clouds):  # the basins count the box starts only
+        rec["hits"] = 0
+    n_failed = _run_starts(system, pa, fe, sa, form, box_starts(system, form, pa, fe, n_starts, seed), found, reasons,
+                           judge, (kmax, max_periods, settle_tol, rtol), lambda j: tick(n_seeds + j))
+    attractors = [measure_attractor(system, pa, fe, f, n_starts) for f in found]
+    attractors += [_measure_cloud(system, pa, fe, c, n_starts) for c in clouds]
+    attractors.sort(key=lambda a: -a.columns["dof_app"][0])
+    return SystemAttractorSet(attractors=tuple(attractors), natural_frequencies_hz=system.linear_modes(),
+                              pa_newton=pa, fe_hz=fe, n_starts=n_starts, n_unsettled=sum(reasons.values()),
+                              n_failed=n_failed,
+                              settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
+                                        "settle_tol": settle_tol, "rtol": rtol, "nonperiodic": bool(nonperiodic),
+                                        "n_seeds": n_seeds},
+                              unsettled_reasons=dict(sorted(reasons.items())))
+
+
+def _run_starts(system, pa, fe, sa, form, starts, found: list, reasons: dict, judge, knobs, tick) -> int:
+    """Settle ``starts`` (scaled rows) and count each on an orbit of ``found`` (a new one added),
+    or by ``judge(x)`` (None: on an attractor; else the reason it is unsettled, counted in
+    ``reasons``; ``judge`` None: "no period <= kmax"); ``knobs`` = (kmax, max_periods, settle_tol,
+    rtol); ``tick(j)`` after start j. Returns the starts whose integration failed."""
+    kmax, max_periods, settle_tol, rtol = knobs
+    n_failed = 0
+    for j, (how, k, x) in enumerate(_settled(sa, starts, found, kmax, max_periods, settle_tol, rtol)):
         try:
             if how == "failed":
                 raise ComputationError("the settling of a start failed", stage="integration")
             if how == "captured":
                 found[k]["hits"] += 1
             elif how == "unsettled":
-                why = judge_start(system, pa, fe, sa, form, x, kmax, rtol, found, clouds) if nonperiodic \
-                    else "no period <= kmax"
+                why = judge(x) if judge is not None else "no period <= kmax"
                 if why:
                     reasons[why] = reasons.get(why, 0) + 1
             else:
@@ -379,17 +394,8 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
                 reasons["Newton failed"] = reasons.get("Newton failed", 0) + 1
             else:
                 n_failed += 1
-        if progress is not None:
-            progress(j + 1, n_starts)
-    attractors = [measure_attractor(system, pa, fe, f, n_starts) for f in found]
-    attractors += [_measure_cloud(system, pa, fe, c, n_starts) for c in clouds]
-    attractors.sort(key=lambda a: -a.columns["dof_app"][0])
-    return SystemAttractorSet(attractors=tuple(attractors), natural_frequencies_hz=system.linear_modes(),
-                              pa_newton=pa, fe_hz=fe, n_starts=n_starts, n_unsettled=sum(reasons.values()),
-                              n_failed=n_failed,
-                              settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
-                                        "settle_tol": settle_tol, "rtol": rtol, "nonperiodic": bool(nonperiodic)},
-                              unsettled_reasons=dict(sorted(reasons.items())))
+        tick(j + 1)
+    return n_failed
 
 
 def check_bounded(system: System) -> None:

@@ -172,7 +172,7 @@ class _Walker:
             try:
                 found = find_system_attractors(self.system, self.pa, fe, n_starts=st.n_starts, seed=st.seed + i,
                                                kmax=st.kmax, max_periods=st.max_periods, rtol=st.rtol,
-                                               nonperiodic=False)
+                                               nonperiodic=False, seeds=False)
             except ComputationError:
                 continue
             sc = self.arrays(i)[1].scales
