@@ -113,6 +113,8 @@ def test_cli_json_and_files(tmp_path, capsys):
     (["--grid", "1x4"], "--grid (n_a) = 1"),
     (["--y-range", "0", "1"], "--system and --y-range"),
     (["--pa", "0.5"], "defines no Q"),
+    (["--through", "1,2", "0"], "--through 0: expected 2 rates"),
+    (["--through", "1,x", "0,0"], "--through"),
 ])
 def test_cli_bad_input_one_line(args, text, capsys, tmp_path):
     level = ["--pa-newton", "0.1"] if "--pa" not in args else []
@@ -137,3 +139,19 @@ def test_the_torus_basin_is_labelled_by_the_search_s_cloud():
                                 "attractor_type": "quasi-periodic", "fraction": 1.0, "stderr": 0.0}
     ds = m.to_dataset()
     assert ds["attractor_type"].values.tolist() == ["quasi-periodic"] and int(ds["period"][0]) == 0
+
+
+def test_a_slice_through_a_state_of_the_attractor(capsys, tmp_path):
+    """At 0.0982 Hz the file system has one attractor (period 4); a slice in (q2, q2_dot) through
+    one of its stroboscopic points holds that point's q1, q1_dot, and every start reaches it."""
+    s = load_system(EXAMPLE)
+    first = system_basins(s, PA, 0.0982, grid=(2, 2), n_starts=4)
+    z = first.attractors[0].strobe[0]
+    m = system_basins(s, PA, 0.0982, axes=("q2", "q2_dot"), grid=(3, 2), n_starts=4, base_state=z)
+    assert m.base_given and not first.base_given and np.array_equal(m.base_state, z)
+    assert (m.labels == 0).all() and m.attractors[0].period == 4
+    through = [f"{float(z[0]) * 1e6!r},{float(z[1]) * 1e6!r}", f"{float(z[2]) * 1e3!r},{float(z[3]) * 1e3!r}"]
+    rc = main(["basins", "--system", str(EXAMPLE), "--pa-newton", "0.1", "--fe", "0.0982", "--slice", "q2,q2_dot",
+               "--grid", "3x2", "--starts", "4", "--through", *through, "--out", str(tmp_path / "t"), "--json"])
+    d = json.loads(capsys.readouterr().out)
+    assert rc == 0 and np.allclose(d["base_state_si"][:1], z[:1], rtol=1e-12)

@@ -30,7 +30,7 @@ from contactvib.model import ParameterError
 
 __all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "load_system_option",
            "system_operating_point", "option_given", "modes_text", "system_label", "system_lyapunov",
-           "load_given_system"]
+           "load_given_system", "parse_system_state"]
 
 #: The --system option of the command being run.
 _SYSTEM: contextvars.ContextVar = contextvars.ContextVar("contactvib_system", default=None)
@@ -236,17 +236,17 @@ def _table(result) -> None:
                    f"{result.n_starts} starts ({why})")
 
 
-def _from_state(system, from_state) -> tuple:
-    """(q0, qdot0) [SI] of --from-state Q1,Q2,.. QDOT1,QDOT2,.. in display units."""
+def _from_state(system, from_state, option: str = "--from-state") -> tuple:
+    """(q0, qdot0) [SI] of ``option`` Q1,Q2,.. QDOT1,QDOT2,.. in display units."""
     from contactvib.steady.system_orbits import DISPLAY_UNITS
 
     out = []
     for text, col, what in zip(from_state, (1, 3), ("positions", "rates")):
         parts = [s for s in text.split(",") if s.strip()]
         if len(parts) != system.n:
-            raise InputError(f"--from-state {text}: expected {system.n} {what} separated by commas "
+            raise InputError(f"{option} {text}: expected {system.n} {what} separated by commas "
                              f"({', '.join(system.coordinates)})")
-        out.append([parse_number("--from-state", f"{c}", s) / DISPLAY_UNITS[u][col]
+        out.append([parse_number(option, f"{c}", s) / DISPLAY_UNITS[u][col]
                     for s, c, u in zip(parts, system.coordinates, system.units)])
     return tuple(out)
 
@@ -301,6 +301,7 @@ def system_simulate(pa, pa_newton, fe, settings, starts, seed, kmax, max_periods
 #: (:mod:`contactvib.cli.system_branches`): the option's system, its operating point, whether an
 #: option was given, the linear modes' line.
 load_system_option = _load
+parse_system_state = _from_state
 system_operating_point = _excitation
 option_given = _given
 modes_text = _modes_text

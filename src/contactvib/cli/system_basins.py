@@ -10,6 +10,7 @@ import contextvars
 import sys
 
 import click
+import numpy as np
 
 from contactvib.cli.common import (
     InputError,
@@ -21,7 +22,13 @@ from contactvib.cli.common import (
     parse_number,
     scoped_options,
 )
-from contactvib.cli.system import load_system_option, modes_text, option_given, system_operating_point
+from contactvib.cli.system import (
+    load_system_option,
+    modes_text,
+    option_given,
+    parse_system_state,
+    system_operating_point,
+)
 
 __all__ = ["system_basins_command", "GRID_DEFAULT_TEXT", "slice_options", "slice_values"]
 
@@ -33,12 +40,17 @@ GRID_DEFAULT_TEXT = "100x100"
 #: Options of system_basins(), by the library's symbols.
 _OPTIONS = {"slice": "--slice", "n_a": "--grid", "n_b": "--grid", "grid": "--grid", "a_min": "--a-range",
             "a_max": "--a-range", "b_min": "--b-range", "b_max": "--b-range", "kmax": "--kmax",
-            "max_periods": "--max-periods", "n_starts": "--starts", "P_a": "--pa-newton", "f_e": "--fe"}
+            "max_periods": "--max-periods", "n_starts": "--starts", "P_a": "--pa-newton", "f_e": "--fe",
+            "base_state": "--through"}
 
 
 def slice_options(f):
     """--slice, --a-range, --b-range (kept out of the command's signature: :func:`slice_values`)."""
-    f = scoped_options(_SLICE, ("slice_", "a_range", "b_range"), f)
+    f = scoped_options(_SLICE, ("slice_", "a_range", "b_range", "through"), f)
+    f = click.option("--through", "through", nargs=2, default=None, metavar="Q1,Q2,.. QDOT1,QDOT2,..",
+                     help="With --system: the state the slice passes through (positions in um or urad, rates in "
+                          "mm/s or mrad/s): the components the grid does not vary keep its values (default: the "
+                          "static state, at rest).")(f)
     f = click.option("--b-range", "b_range", nargs=2, default=None, metavar="MIN MAX",
                      help="With --system: the range of the second --slice component [its display unit].")(f)
     f = click.option("--a-range", "a_range", nargs=2, default=None, metavar="MIN MAX",
@@ -52,9 +64,11 @@ def slice_options(f):
 
 
 def slice_values() -> dict:
-    """{"--slice": ..., "--a-range": ..., "--b-range": ...} of the command being run (None: not given)."""
+    """{"--slice": ..., "--a-range": ..., "--b-range": ..., "--through": ...} of the command being run
+    (None: not given)."""
     v = _SLICE.get() or {}
-    return {"--slice": v.get("slice_"), "--a-range": v.get("a_range"), "--b-range": v.get("b_range")}
+    return {"--slice": v.get("slice_"), "--a-range": v.get("a_range"), "--b-range": v.get("b_range"),
+            "--through": v.get("through")}
 
 
 def _range(option: str, lo_sym: str, hi_sym: str, values):
@@ -78,6 +92,8 @@ def system_basins_command(pa, pa_newton, fe, settings, grid, kmax, max_periods, 
     given = slice_values()
     slice_, a_range, b_range = given["--slice"], given["--a-range"], given["--b-range"]
     system, model, label = load_system_option(settings)
+    base = None if given["--through"] is None else np.concatenate(parse_system_state(system, given["--through"],
+                                                                                     "--through"))
     p, f_e, level = system_operating_point(model, label, pa, pa_newton, fe)
     axes = None if slice_ is None else tuple(s.strip() for s in slice_.split(","))
     n = parse_grid(grid if option_given("grid") else GRID_DEFAULT_TEXT)
@@ -87,15 +103,15 @@ def system_basins_command(pa, pa_newton, fe, settings, grid, kmax, max_periods, 
           "kmax": parse_int("--kmax", kmax, 1),
           "max_periods": None if str(max_periods).strip().lower() == "auto"
           else parse_int("--max-periods", max_periods, 1, symbol="max_periods")}
-    checked = mapped_options(_OPTIONS, check_system_basins, system, axes, n, None, None, kw["kmax"],
+    checked = mapped_options(_OPTIONS, check_system_basins, system, axes, n, None, base, kw["kmax"],
                              kw["max_periods"], kw["n_starts"], 0)
     axes, grid_ = checked[0], checked[2]
     if a is not None or b is not None:
         from contactvib.steady.system_basins import default_slice_box
 
-        default = default_slice_box(system, p, f_e, axes)
+        default = default_slice_box(system, p, f_e, axes, base)
         box = (a or default[0], b or default[1])
-        mapped_options(_OPTIONS, check_system_basins, system, axes, grid_, box, None, kw["kmax"], kw["max_periods"],
+        mapped_options(_OPTIONS, check_system_basins, system, axes, grid_, box, base, kw["kmax"], kw["max_periods"],
                        kw["n_starts"], 0)
     folder = None if (out is None and as_json) else checked_output_folder(out or "basins")
     if not as_json:
@@ -113,7 +129,7 @@ def system_basins_command(pa, pa_newton, fe, settings, grid, kmax, max_periods, 
     try:
         with ctrl_c():
             bmap = mapped_options(_OPTIONS, system_basins, system, p, f_e, axes=axes, grid=grid_, box=box,
-                                  progress=progress, **kw)
+                                  base_state=base, progress=progress, **kw)
     finally:
         while bar:
             bar.pop().close()
@@ -142,7 +158,8 @@ def _write(bmap, folder) -> list:
 def _table(bmap) -> None:
     (na, nb), (ua, ub) = bmap.axes, bmap.units
     click.echo(f"{bmap.a.size}x{bmap.b.size} starts at phase 0: {na} in [{bmap.a[0]:.4g}, {bmap.a[-1]:.4g}] {ua}, "
-               f"{nb} in [{bmap.b[0]:.4g}, {bmap.b[-1]:.4g}] {ub}; the other components at the static state, at rest")
+               f"{nb} in [{bmap.b[0]:.4g}, {bmap.b[-1]:.4g}] {ub}; the other components "
+               + ("at the --through state" if bmap.base_given else "at the static state, at rest"))
     click.echo(f"{'label':>5} {'period':>6} {'minima':>6} {'stable':>6} {'fraction':>9} {'stderr':>8}")
     for r in bmap.fractions():
         if r["label"] < 0 and r["fraction"] == 0.0:

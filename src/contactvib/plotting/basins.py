@@ -127,7 +127,8 @@ def system_basins_figure(bmap, title: str | None = None):
                    ax=axes[0, 0])
     s = bmap.search
     fig.suptitle(title or (f"Basins of attraction at $P_a$ = {s.pa_newton:.4g} N, $f_e$ = {s.fe_hz:g} Hz: "
-                           f"{bmap.a.size} × {bmap.b.size} initial states ({na}, {nb}) at phase 0, "
-                           "the other components at the static state"), fontsize=11)
+                           f"{bmap.a.size} × {bmap.b.size} initial states ({na}, {nb}) at phase 0, the other "
+                           + ("components at a given state" if bmap.base_given else "components at the static state")),
+                 fontsize=11)
     fig.tight_layout()
     return fig

@@ -179,6 +179,8 @@ class SystemBasinMap:
         Their factors from SI to the display units.
     n_failed, n_unsettled : int
         Grid starts whose integration failed, or that reached no known attractor (label −1).
+    base_given : bool
+        Whether ``base_state`` was given (else the static state at rest).
     """
 
     axes: tuple
@@ -194,6 +196,7 @@ class SystemBasinMap:
     factors: tuple
     n_failed: int = 0
     n_unsettled: int = 0
+    base_given: bool = False
 
     @property
     def n_points(self) -> int:
@@ -367,7 +370,7 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
     return SystemBasinMap(axes=axes, units=units, a=a, b=b, labels=labels, attractors=[*search.attractors, *new],
                           n_known=n_known, search=search, base_state=base, indices=idx, factors=factors,
                           n_failed=n_failed,
-                          n_unsettled=int(np.count_nonzero(labels < 0)) - n_failed)
+                          n_unsettled=int(np.count_nonzero(labels < 0)) - n_failed, base_given=base_state is not None)
 
 
 def _orbit_label(system, pa, fe, sa, form, x, k, found: list) -> int:
