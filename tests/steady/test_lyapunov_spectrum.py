@@ -162,6 +162,23 @@ def test_closed_curve_circle_torus_and_cloud():
     assert closed_curve(circle[:10]) == 0
 
 
+def test_nearest_distances_equal_the_full_matrix_bit_for_bit():
+    """The closed-curve test's nearest-neighbour distances (candidates by squared distance, hypot
+    on those only) are exactly the minima of the full n × n matrix of np.hypot: random clouds,
+    grids with exact ties and duplicate points, circles, points 1e-160 apart (squares underflow)."""
+    from contactvib.steady.lyapunov import nearest_distances
+
+    rng = np.random.default_rng(3)
+    for trial in range(120):
+        n = int(rng.integers(2, 700))
+        p = [rng.random((n, 2)), rng.integers(0, 12, (n, 2)) / 11.0,
+             np.column_stack([np.cos(t := 2.0 * math.pi * rng.random(n)), np.sin(t)]),
+             rng.random((n, 2)) * 1e-160][trial % 4]
+        d = np.hypot(p[:, None, 0] - p[None, :, 0], p[:, None, 1] - p[None, :, 1])
+        np.fill_diagonal(d, np.inf)
+        assert np.array_equal(nearest_distances(p).view(np.int64), d.min(axis=1).view(np.int64)), trial
+
+
 def test_kaplan_yorke_of_the_flow():
     """D = j + Σλ/|λ_{j+1}| with the flow's zero exponent added; None unless λ1 > 0."""
     assert kaplan_yorke([-1.0, -2.0]) is None

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import get_num_threads, njit, parallel_chunksize, prange
 
 from .dop853 import record_value
 from .flow import REC_F, REC_H, REC_MODE, REC_WIDTH, REC_X, advance, initial_mode, jacobian_row
@@ -201,6 +201,76 @@ def system_trace_integral(sa, rec, n_rows, out_contact):
                 s += _GL_W[q] * fv
             acc -= h * au * s
     return acc
+
+
+@njit(cache=True, inline="always")
+def _spectrum_row(q, Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status, stop):
+    """Row ``q`` of :func:`spectrum_map_rows`: :func:`spectrum_map` from ``Z[q]`` with ``PAR[q]``."""
+    status[q] = spectrum_map(Z[q], PAR[q], rtol, 0, n_batches, per_batch, False, out_log[q], out_trace[q],
+                             out_z[q], out_strobe[q], stop)
+
+
+@njit(cache=True, parallel=True, nogil=True)
+def _spectrum_rows_threads(Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status,
+                           stop):
+    for q in prange(Z.shape[0]):
+        _spectrum_row(q, Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status, stop)
+
+
+@njit(cache=True, nogil=True)
+def _spectrum_rows_serial(Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status,
+                          stop):
+    for q in range(Z.shape[0]):
+        _spectrum_row(q, Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status, stop)
+
+
+def spectrum_map_rows(Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status, stop):
+    """:func:`spectrum_map` (no transient, no trace quadrature) from every row of ``Z`` (N, 2) with
+    the parameter vector ``PAR[q]`` (N, P), independently, in one compiled call: with more than one
+    numba thread on the threads (a ``parallel=True`` kernel, rows handed out one at a time), else in
+    a plain loop. Row q fills ``out_log[q]`` (N, n_batches, 2), ``out_trace[q]`` (NaN),
+    ``out_z[q]`` (N, 3), ``out_strobe[q]`` (N, m, 2) and ``status[q]`` (int64[N]), exactly as one
+    :func:`spectrum_map` call would (the same compiled arithmetic, whatever the thread)."""
+    args = (Z, PAR, rtol, n_batches, per_batch, out_log, out_trace, out_z, out_strobe, status, stop)
+    if get_num_threads() > 1 and Z.shape[0] > 1:
+        with parallel_chunksize(1):  # rows differ in cost: handed out one at a time (this thread's setting)
+            _spectrum_rows_threads(*args)
+    else:
+        _spectrum_rows_serial(*args)
+
+
+@njit(cache=True)
+def nearest_candidates(p, counts, js):
+    """For each point i of ``p`` (n, 2), the points j ≠ i whose squared distance
+    dx² + dy² is within a relative 1e-12 (plus 1e-300) of the smallest: its nearest neighbour
+    under any rounding of the distance (a correctly rounded √ or hypot moves a distance by less
+    than 1e-15 relative) is among them. ``counts[i]`` gets their number; ``js`` their indices,
+    point after point, as far as it holds them. Returns the total (larger than ``js``: call again
+    with room for it)."""
+    n = p.shape[0]
+    m = 0
+    for i in range(n):
+        best = np.inf
+        for j in range(n):
+            if j != i:
+                dx = p[i, 0] - p[j, 0]
+                dy = p[i, 1] - p[j, 1]
+                s = dx * dx + dy * dy
+                if s < best:
+                    best = s
+        lim = best * (1.0 + 1e-12) + 1e-300
+        c = 0
+        for j in range(n):
+            if j != i:
+                dx = p[i, 0] - p[j, 0]
+                dy = p[i, 1] - p[j, 1]
+                if dx * dx + dy * dy <= lim:
+                    if m < js.shape[0]:
+                        js[m] = j
+                    m += 1
+                    c += 1
+        counts[i] = c
+    return m
 
 
 @njit(cache=True, nogil=True)

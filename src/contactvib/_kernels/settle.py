@@ -21,14 +21,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .flow import initial_mode
+from .flow import REC_WIDTH, advance, initial_mode
 from .shooting import (
     MAX_STEPS_PER_PERIOD,
     MINIMAL_PERIOD_TOL,
     newton_orbit,
     stable_monodromy,
     state_scale,
-    strobe_map,
 )
 from .status import (
     SETTLE_CAPTURED,
@@ -52,14 +51,27 @@ def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
         return False, k, res
     if not stable_monodromy(out_M):
         return False, k, res
-    pz = np.empty(2)
-    dummy = np.empty((0, 0))
     sc = state_scale(out_z[0], out_z[1])
+    # P^d(out_z) for the proper divisors d of k, smallest first, from one run period by period:
+    # the same steps as strobe_map(out_z, d) for each d (its mode and step proposal carried on)
+    d_last = 0
     for d in range(1, k):
+        if k % d == 0:
+            d_last = d
+    T = 2.0 * math.pi / par[4]
+    pz = np.zeros(2)
+    pz[0] = out_z[0]
+    pz[1] = out_z[1]
+    contact = initial_mode(pz[0], pz[1])
+    h = 0.01
+    for d in range(1, d_last + 1):
+        contact, h, _i, _ns, _tf, _ne, st = advance(pz, 0.0, T, contact, h, par, rtol, rtol,
+                                                    np.empty((0, REC_WIDTH)), np.int64(0),
+                                                    np.int64(MAX_STEPS_PER_PERIOD))
+        if st != STATUS_OK:
+            return False, k, res
         if k % d != 0:
             continue
-        if strobe_map(out_z, d, par, rtol, rtol, pz, dummy) != STATUS_OK:
-            return False, k, res
         if max(abs(pz[0] - out_z[0]), abs(pz[1] - out_z[1])) / sc < MINIMAL_PERIOD_TOL:
             z2 = out_z.copy()
             st, res = newton_orbit(z2, d, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)

@@ -46,9 +46,9 @@ from contactvib.interrupts import new_stop_flag, run_interruptible
 from contactvib.model import Excitation, ParameterError, check_excitation, check_int, check_range
 from contactvib.steady.results import kaplan_yorke_dimension
 
-__all__ = ["LyapunovSpectrum", "lyapunov_spectrum", "system_lyapunov_spectrum", "floquet_spectrum",
-           "kaplan_yorke", "closed_curve", "system_benettin", "attractor_type", "check_periods", "SIGMA_FACTOR",
-           "BATCHES", "MIN_PERIODS_PER_BATCH", "MIN_BATCHES", "PERIODS_DEFAULT"]
+__all__ = ["LyapunovSpectrum", "lyapunov_spectrum", "benettin_rows", "nearest_distances", "system_lyapunov_spectrum",
+           "floquet_spectrum", "kaplan_yorke", "closed_curve", "system_benettin", "attractor_type", "check_periods",
+           "SIGMA_FACTOR", "BATCHES", "MIN_PERIODS_PER_BATCH", "MIN_BATCHES", "PERIODS_DEFAULT"]
 
 #: λ1 counts as non-zero beyond this many standard errors of its batch means.
 SIGMA_FACTOR = 3.0
@@ -221,7 +221,13 @@ def benettin(excitation: Excitation, z, periods: int, batches: int, transient: i
     if st != STATUS_OK:
         raise ComputationError(f"the Lyapunov spectrum's integration failed ({status_message(st)})",
                                stage="integration")
-    fe = excitation.f_e
+    return _benettin_result(excitation.f_e, per_batch, batches, transient, logs, trace, out)
+
+
+def _benettin_result(fe: float, per_batch: int, batches: int, transient: int, logs: np.ndarray,
+                     trace: np.ndarray, out: np.ndarray) -> LyapunovSpectrum:
+    """The spectrum of one :func:`~contactvib._kernels.lyapunov.spectrum_map` run at f_e = ``fe``
+    [Hz] from its outputs ``logs`` (batches, 2), ``trace`` (batches) and ``out`` (3)."""
     seconds = per_batch / fe
     mean, se, _ = _batch_stats(logs, seconds)
     tr = trace / seconds
@@ -230,6 +236,37 @@ def benettin(excitation: Excitation, z, periods: int, batches: int, transient: i
                             damping_average_per_s=float(tr.mean()),
                             damping_stderr_per_s=float(tr.std(ddof=1) / math.sqrt(batches)),
                             contact_fraction=float(out[2]), state=out[:2].copy())
+
+
+def benettin_rows(excitations, Z, periods: int, batches: int, rtol: float = RTOL_DEFAULT,
+                  strobe: int = 0) -> tuple[list, np.ndarray]:
+    """:func:`benettin` (no transient, no trace quadrature) from each nondimensional row of ``Z``
+    (N, 2; phase 0) at the operating point ``excitations[q]``, all rows in one compiled call
+    (:func:`~contactvib._kernels.lyapunov.spectrum_map_rows`, on this process's numba threads).
+    Returns the spectra (None where the integration failed: :func:`benettin` would raise) and the
+    runs' last ``strobe`` strobe points (N, strobe, 2); each row exactly as :func:`benettin`'s."""
+    from contactvib._kernels.lyapunov import spectrum_map_rows
+
+    n = len(excitations)
+    per_batch = periods // batches
+    Z = np.ascontiguousarray(np.asarray(Z, float).reshape(n, 2))
+    logs = np.zeros((n, batches, 2))
+    trace = np.zeros((n, batches))
+    out = np.zeros((n, 3))
+    after = np.empty((n, strobe, 2))
+    status = np.zeros(n, np.int64)
+    pars = [e.kernel_parameters() for e in excitations]
+    stop = new_stop_flag()
+    for size in sorted({p.shape[0] for p in pars}):  # one call per parameter-vector length (law family)
+        rows = np.array([q for q in range(n) if pars[q].shape[0] == size], np.int64)
+        sub = [np.ascontiguousarray(a[rows]) for a in (logs, trace, out, after, status)]
+        run_interruptible(spectrum_map_rows, np.ascontiguousarray(Z[rows]), np.stack([pars[q] for q in rows]),
+                          float(rtol), np.int64(batches), np.int64(per_batch), *sub, stop, stop=stop)
+        for a, b in zip((logs, trace, out, after, status), sub):
+            a[rows] = b
+    specs = [_benettin_result(excitations[q].f_e, per_batch, batches, 0, logs[q], trace[q], out[q])
+             if status[q] == STATUS_OK else None for q in range(n)]
+    return specs, after
 
 
 def lyapunov_spectrum(excitation: Excitation, state=None, *, periods: int = PERIODS_DEFAULT,
@@ -346,6 +383,26 @@ def system_benettin(sa, x, fe_hz: float, periods: int, batches: int, transient: 
                             else math.nan, contact_fraction=frac)
 
 
+def nearest_distances(p: np.ndarray) -> np.ndarray:
+    """The distance np.hypot(dx, dy) of each point of ``p`` (n ≥ 2, 2) to its nearest other point:
+    exactly ``min_j≠i hypot(p_i − p_j)`` of the full n × n matrix, the hypot evaluated only for the
+    candidates of :func:`~contactvib._kernels.lyapunov.nearest_candidates`."""
+    from contactvib._kernels.lyapunov import nearest_candidates
+
+    p = np.ascontiguousarray(p, dtype=float)
+    n = p.shape[0]
+    counts = np.zeros(n, np.int64)
+    js = np.empty(4 * n, np.int64)
+    m = nearest_candidates(p, counts, js)
+    if m > js.shape[0]:
+        js = np.empty(m, np.int64)
+        nearest_candidates(p, counts, js)
+    js = js[:m]
+    ii = np.repeat(np.arange(n), counts)
+    d = np.hypot(p[ii, 0] - p[js, 0], p[ii, 1] - p[js, 1])
+    return np.minimum.reduceat(d, np.concatenate([[0], np.cumsum(counts)[:-1]]))
+
+
 def _one_curve(p: np.ndarray) -> bool:
     """Whether the points ``p`` (m, 2), scaled to unit extent, lie on one closed curve about their
     centroid: ordered by angle, successive points are near neighbours."""
@@ -353,9 +410,7 @@ def _one_curve(p: np.ndarray) -> bool:
     order = np.argsort(np.arctan2(c[:, 1], c[:, 0]))
     q = p[order]
     gaps = np.hypot(*(np.roll(q, -1, axis=0) - q).T)
-    d = np.hypot(p[:, None, 0] - p[None, :, 0], p[:, None, 1] - p[None, :, 1])
-    np.fill_diagonal(d, np.inf)
-    nn = float(np.median(d.min(axis=1)))
+    nn = float(np.median(nearest_distances(p)))
     if not nn > 0.0:
         return False
     return bool(np.median(gaps) <= CURVE_MEDIAN_GAP * nn and gaps.max() <= CURVE_MAX_GAP * nn)

@@ -55,13 +55,13 @@ from contactvib._kernels.describe import NP_LYAPUNOV, lyapunov_strobe
 from contactvib._kernels.settle import refine_stable_orbit
 from contactvib.errors import ComputationError
 from contactvib.model import ContactModel, Excitation, ParameterError
-from contactvib.steady.lyapunov import LyapunovSpectrum, attractor_type, benettin, closed_curve
+from contactvib.steady.lyapunov import LyapunovSpectrum, attractor_type, benettin, benettin_rows, closed_curve
 from contactvib.steady.orbits import CLOSE_TOL, RTOL_REFINE
 
 __all__ = ["transient_periods", "check_work", "check_damped", "cloud_verdict", "nonperiodic_verdict", "WINDOW",
            "MIN_TRANSIENT_PERIODS", "WORK_MAX_STEPS", "STEPS_PER_NATURAL_PERIOD", "LYAPUNOV_ZERO",
-           "SECONDS_PER_STEP", "estimated_seconds", "duration_text", "search_verdict", "Verdict", "same_cloud",
-           "VERDICT_PERIODS", "VERDICT_BATCHES", "LONG_PERIOD_MAX", "unsettled_cloud"]
+           "SECONDS_PER_STEP", "estimated_seconds", "duration_text", "search_verdict", "search_verdicts", "Verdict",
+           "same_cloud", "VERDICT_PERIODS", "VERDICT_BATCHES", "LONG_PERIOD_MAX", "unsettled_cloud"]
 
 #: Strobe points per window of the recurrence test (two windows are compared).
 WINDOW = 64
@@ -273,6 +273,26 @@ def search_verdict(excitation: Excitation, tail: np.ndarray, rtol: float, kmax: 
         spec = benettin(excitation, tail[-1], VERDICT_PERIODS, VERDICT_BATCHES, 0, rtol, with_trace=False,
                         strobe=after)
     except ComputationError:
+        spec = None
+    return _verdict_of_run(excitation, tail, kmax, spec, after)
+
+
+def search_verdicts(excitations, tails, rtol: float, kmax: int = 0) -> list[Verdict]:
+    """:func:`search_verdict` of many starts (``tails[q]`` at ``excitations[q]``), their Benettin
+    runs in one compiled call (:func:`contactvib.steady.lyapunov.benettin_rows`, on this process's
+    numba threads); the same verdicts, in order."""
+    if len(excitations) == 0:
+        return []
+    specs, after = benettin_rows(excitations, np.array([t[-1] for t in tails], float), VERDICT_PERIODS,
+                                 VERDICT_BATCHES, rtol, strobe=2 * LONG_PERIOD_MAX + 1)
+    return [_verdict_of_run(e, t, kmax, s, a) for e, t, s, a in zip(excitations, tails, specs, after)]
+
+
+def _verdict_of_run(excitation: Excitation, tail: np.ndarray, kmax: int, spec: LyapunovSpectrum | None,
+                    after: np.ndarray) -> Verdict:
+    """The module's rule on the Benettin run ``spec`` (None: its integration failed) from ``tail[-1]``
+    whose last strobe points are ``after``."""
+    if spec is None:
         return Verdict("unsettled", "integration failed")
     if not spec.contact_fraction > CONTACT_FRACTION_MIN:
         return Verdict("unsettled", "free flight: no contact", spec)

@@ -80,26 +80,30 @@ def judge_rows(lt, model: ContactModel, rtol: float, kmax: int, excitation: str 
     of Benettin's method: "chaotic" when λ1 > 3 stderr, a stable orbit of period kmax < k ≤ 512 in
     that run "periodic" with its ``true_period``, "quasi-periodic" when ``|λ1|`` ≤ 3 stderr on a
     closed curve), and an "unsettled" row (a free flight, a transient still converging, a cloud
-    that is neither) is removed. Returns ``lt`` with its ``verdicts``."""
+    that is neither) is removed. The Benettin runs of all non-periodic rows are one compiled call
+    (:func:`~contactvib.steady.transients.search_verdicts`, on this process's numba threads); the
+    verdicts are those of one ``search_verdict`` per row, bit for bit. Returns ``lt`` with its
+    ``verdicts``."""
     from contactvib._kernels.table import KIND_NONPERIODIC
-    from contactvib.steady.transients import search_verdict
+    from contactvib.steady.transients import search_verdicts
 
     rows, n = lt.rows, lt.n_rows
     types = np.array(["periodic"] * n, dtype=object)
-    true_period = np.where(rows.kind == KIND_NONPERIODIC, 0, rows.k).astype(np.int64)
+    nonperiodic = rows.kind == KIND_NONPERIODIC
+    true_period = np.where(nonperiodic, 0, rows.k).astype(np.int64)
     lam = np.full((n, 2), np.nan)
     se = np.zeros((n, 2))
     keep = np.ones(n, bool)
     fe = lt.f_hz[rows.i]
+    periodic = np.flatnonzero(~nonperiodic)
     with np.errstate(divide="ignore"):
-        mu = np.log(np.hypot(rows.mu_re, rows.mu_im))
-    for j in range(n):
-        if rows.kind[j] != KIND_NONPERIODIC:
-            lam[j] = np.sort(mu[j] * fe[j] / rows.k[j])[::-1]
-            continue
-        exc = excitation_at(model, lt.pa_over_q, float(fe[j]), excitation)
-        tail = rows.strobe[j, :rows.n_strobe[j]]
-        v = search_verdict(exc, tail, rtol, kmax)
+        mu = np.log(np.hypot(rows.mu_re[periodic], rows.mu_im[periodic]))
+    # ln|μ_i| f_e / k, each row sorted descending (row by row: np.sort of one row, reversed)
+    lam[periodic] = np.sort(mu * fe[periodic, None] / rows.k[periodic, None], axis=1)[:, ::-1]
+    judged = np.flatnonzero(nonperiodic)
+    verdicts = search_verdicts([excitation_at(model, lt.pa_over_q, float(fe[j]), excitation) for j in judged],
+                               [rows.strobe[j, :rows.n_strobe[j]] for j in judged], rtol, kmax)
+    for j, v in zip(judged, verdicts):
         types[j] = v.kind
         keep[j] = v.kind != "unsettled"
         if v.kind == "periodic":
