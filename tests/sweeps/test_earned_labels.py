@@ -191,3 +191,20 @@ def test_minimal_period_from_one_run_equals_one_run_per_divisor(level, row, k):
     assert np.array_equal(oz, oz0) and np.array_equal(oM, oM0)
     if row == 1 and k % 10 == 0:
         assert ok and kk == 10
+
+
+def test_a_set_stop_flag_ends_the_batched_runs_as_one_run_per_row(level):
+    """Under a stop flag already set (``contactvib explore``'s time limit) every row's run returns
+    within one period, and the batched verdicts are what one search_verdict per row gives:
+    unsettled, the integration not finished."""
+    from contactvib.interrupts import stop_scope
+    from contactvib.steady.transients import search_verdict, search_verdicts
+
+    model, _exc, _p1, lt, _judged = level
+    excs = [model.excitation(PA, float(GRID[i])) for i in lt.rows.i]
+    tails = [lt.rows.strobe[j, :32] for j in range(lt.n_rows)]
+    with stop_scope(np.ones(1, np.int64)):
+        got = search_verdicts(excs, tails, 1e-8, 8)
+        want = [search_verdict(e, t, 1e-8, 8) for e, t in zip(excs, tails)]
+    assert [(v.kind, v.reason) for v in got] == [(v.kind, v.reason) for v in want]
+    assert all(v.kind == "unsettled" and v.reason == "integration failed" for v in got)
