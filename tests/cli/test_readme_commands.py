@@ -267,7 +267,9 @@ REDUCED: dict[str, list[str]] = {
 }
 
 #: The README lines whose reduced run is too long for the default suite (opt-in: pytest -m slow).
-SLOW: set[str] = set()
+#: The two Dask lines: tests/sweeps/test_atlas.py runs the same atlas command with --dask-workers 2
+#: and with --scheduler (a running LocalCluster) in the default suite and checks identical files.
+SLOW: set[str] = {"contactvib atlas ... --dask-workers 2", "contactvib atlas ... --scheduler tcp://HOST:8786"}
 
 #: README lines that start a server (they never return, so they have no reduced run here): each
 #: is driven in headless Chromium by tests/explore/test_explore_browser.py (the dataset ones by

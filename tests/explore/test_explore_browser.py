@@ -4,6 +4,7 @@ the first, copied by hand)."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import queue
@@ -81,11 +82,17 @@ def browser():
         b.close()
 
 
-def _cli_json(*args) -> dict:
+@functools.cache
+def _cli_stdout(*args) -> str:
+    """The standard output of ``contactvib attractors --json ARGS`` in a fresh process (run once per
+    ``args`` in a session: the search is deterministic)."""
     env = {**os.environ, "PYTHONPATH": PACKAGE_PARENT}
-    out = subprocess.run([sys.executable, "-m", "contactvib", "attractors", "--json", *args], env=env,
-                         capture_output=True, text=True, check=True).stdout
-    return json.loads(out)
+    return subprocess.run([sys.executable, "-m", "contactvib", "attractors", "--json", *args], env=env,
+                          capture_output=True, text=True, check=True).stdout
+
+
+def _cli_json(*args) -> dict:
+    return json.loads(_cli_stdout(*args))
 
 
 def _wait_done(page, fe: str | None = None, timeout=120_000):

@@ -32,15 +32,16 @@ def _run(fields=None, grid=SMALL) -> LevelRun:
 
 
 def test_background_level_equals_the_resonance_command(tmp_path):
-    run = _run({"pa": "0.65", "h_n": "0.7"})
-    assert run.command == "contactvib resonance --pa 0.65 --fmin 340 --fmax 380 --df 2 --set h_n=0.7"
+    """One level on 350–370 Hz at 2 Hz (11 frequencies): the background run and the command agree."""
+    run = _run({"pa": "0.65", "h_n": "0.7"}, grid=("350", "370", "2"))
+    assert run.command == "contactvib resonance --pa 0.65 --fmin 350 --fmax 370 --df 2 --set h_n=0.7"
     kind, (got, seconds) = sweep_level(run)
     assert kind == "ok" and seconds > 0
-    assert 0 < run.points <= run.total == 21  # the sweep's own reports (4/5 of the grid)
+    assert 0 < run.points <= run.total == 11  # the sweep's own reports
     args = run.command.split()[1:] + ["--workers", "1", "--no-progress", "--out", str(tmp_path)]
     assert main(args) == 0
     stored = DatasetLevels(open_resonance(tmp_path)).level(0.65)
-    assert got.pa_over_q == stored.pa_over_q and got.fe_hz.size > 21
+    assert got.pa_over_q == stored.pa_over_q and got.fe_hz.size > 11
     for name in ("fe_hz", "app_um", "branch", "kind", "resonance", "isolated"):
         assert np.array_equal(getattr(got, name), getattr(stored, name)), name
 

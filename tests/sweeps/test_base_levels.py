@@ -8,15 +8,17 @@ events, the base motion's inertial force written in the helper) — closure afte
 1e-7 of the state scale, the sweep's own tolerance is 1e-10 on the shooting) and A_pp (rel 1e-6).
 """
 
+import contextlib
+import io
 import json
 import math
-import subprocess
-import sys
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from contactvib import ContactModel, Excitation
+from contactvib.cli import main
 from contactvib.model import ParameterError, level_text
 from contactvib.sweeps.resonance import ResumeMismatch, resonance_dataset
 from contactvib.sweeps.sweep import SweepSettings
@@ -95,7 +97,11 @@ def test_level_text():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "contactvib", *args], capture_output=True, text=True)
+    """``contactvib ARGS`` in this process: its exit code, standard output and standard error."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        rc = main(list(args))
+    return SimpleNamespace(returncode=rc, stdout=out.getvalue(), stderr=err.getvalue())
 
 
 @pytest.mark.parametrize("args, needle", [

@@ -70,10 +70,13 @@ def test_orbit_and_multipliers_against_shooting(stop):
     """On the 2-DOF stop's resonance (the stop closing for a small part of the period) the HB orbit
     point is the shooting orbit to 2e-4 of its size at H = 32 (its rates to 2e-2), and its stability verdict is the
     shooting orbit's: all |μ| < 1 at 0.085 Hz, a complex pair outside the unit circle at 0.095 Hz
-    (past the Neimark–Sacker point near 0.0926 Hz)."""
+    (past the Neimark–Sacker point near 0.0926 Hz). Each start is the last point of one HB branch
+    from 0.03 Hz before it first passes f_e."""
+    branch = system_hb_continuation(stop, 0.1, fmin_hz=0.03, fmax_hz=0.095, harmonics=32, stability=False,
+                                    energy_tol=1e-2).solutions
     for fe, unstable in ((0.085, False), (0.095, True)):
-        sol = system_hb_solve(stop, 0.1, fe, harmonics=32, start=system_hb_continuation(
-            stop, 0.1, fmin_hz=0.03, fmax_hz=fe, harmonics=32, stability=False, energy_tol=1e-2).solutions[-1])
+        first_past = next((i for i, b in enumerate(branch) if b.fe_hz > fe), len(branch))
+        sol = system_hb_solve(stop, 0.1, fe, harmonics=32, start=branch[first_past - 1])
         c = sol.coefficients
         k = np.arange(1, 33)
         z = np.concatenate([c[:, 0] + c[:, 1::2].sum(axis=1), 2 * np.pi * fe * (k * c[:, 2::2]).sum(axis=1)])
