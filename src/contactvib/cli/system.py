@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextvars
 import math
-import sys
 
 import click
 
@@ -26,6 +25,7 @@ from contactvib.cli.common import (
     scoped_options,
     show_value,
 )
+from contactvib.cli.progress import start_progress_bar
 from contactvib.model import ParameterError
 
 __all__ = ["system_option", "system_given", "system_attractors", "system_simulate", "load_system_option",
@@ -150,22 +150,8 @@ def _search(system, p, f_e, starts, seed, kmax, max_periods):
           "max_periods": None if max_periods.strip().lower() == "auto"
           else parse_int("--max-periods", max_periods, 1, symbol="max_periods"),
           "seeds": not _given("no_seeds")}
-    bar = []
-
-    def progress(done, total):  # a bar on a terminal's stderr, gone when the search ends
-        if not done and sys.stderr.isatty():
-            from tqdm import tqdm
-
-            bar.append(tqdm(total=total, unit="start", file=sys.stderr, leave=False, desc="attractor search"))
-        elif bar:
-            bar[0].update(done - bar[0].n)
-
-    try:
-        with ctrl_c():
-            return mapped_options(_SEARCH, find_system_attractors, system, p, f_e, progress=progress, **kw)
-    finally:
-        while bar:
-            bar.pop().close()
+    with ctrl_c(), start_progress_bar("attractor search") as progress:
+        return mapped_options(_SEARCH, find_system_attractors, system, p, f_e, progress=progress, **kw)
 
 
 def _check_bounded(system) -> None:

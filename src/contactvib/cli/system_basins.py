@@ -7,7 +7,6 @@ Thin: the options are checked here (one line, exit 2) before anything is compute
 from __future__ import annotations
 
 import contextvars
-import sys
 
 import click
 import numpy as np
@@ -22,6 +21,7 @@ from contactvib.cli.common import (
     parse_number,
     scoped_options,
 )
+from contactvib.cli.progress import start_progress_bar
 from contactvib.cli.system import (
     load_system_option,
     modes_text,
@@ -116,23 +116,9 @@ def system_basins_command(pa, pa_newton, fe, settings, grid, kmax, max_periods, 
     folder = None if (out is None and as_json) else checked_output_folder(out or "basins")
     if not as_json:
         click.echo(f"system {label}: {level}, f_e = {f_e:g} Hz; {modes_text(system, model)}")
-    bar = []
-
-    def progress(done, total):
-        if not done and sys.stderr.isatty():
-            from tqdm import tqdm
-
-            bar.append(tqdm(total=total, unit="start", file=sys.stderr, leave=False, desc="basin grid"))
-        elif bar:
-            bar[0].update(done - bar[0].n)
-
-    try:
-        with ctrl_c():
-            bmap = mapped_options(_OPTIONS, system_basins, system, p, f_e, axes=axes, grid=grid_, box=box,
-                                  base_state=base, progress=progress, **kw)
-    finally:
-        while bar:
-            bar.pop().close()
+    with ctrl_c(), start_progress_bar("basin grid") as progress:
+        bmap = mapped_options(_OPTIONS, system_basins, system, p, f_e, axes=axes, grid=grid_, box=box,
+                              base_state=base, progress=progress, **kw)
     paths = [] if folder is None else _write(bmap, folder)
     if as_json:
         echo_json(bmap.to_json())
