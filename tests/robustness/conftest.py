@@ -12,6 +12,7 @@ COMPUTATIONS = [
     "contactvib.steady.lyapunov.lyapunov_spectrum",
     "contactvib.steady.lyapunov.system_lyapunov_spectrum",
     "contactvib.steady.basins.basins",
+    "contactvib.steady.system_basins.system_basins",
     "contactvib.steady.orbit_diagram.orbit_diagram",
     "contactvib.sweeps.resonance.resonance_dataset",
     "contactvib.sweeps.system_resonance.system_resonance_dataset",

@@ -74,7 +74,8 @@ OPTIONS = {
             "--plot": "value", "--measure": "value"},
     "basins": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                "--grid": "value", "--y-range": "pair", "--ydot-range": "pair", "--kmax": "value",
-               "--max-periods": "value", "--starts": "value"},
+               "--max-periods": "value", "--starts": "value", "--system": "value", "--slice": "value",
+               "--a-range": "pair", "--b-range": "pair", "--through": "pair"},
     "section": {"--pa": "value", "--pa-newton": "value", "--fe": "value", "--set": "set",
                 "--starts": "value", "--seed": "value", "--kmax": "value", "--max-periods": "value",
                 "--periods": "value", "--csv": "value", "--attractor": "value"},
@@ -139,7 +140,8 @@ NEEDS = {("simulate", "--periods"): ["--from-state", "0.1", "0"],
          ("friction", "--df"): ["--fe-range", "300", "400"], ("friction", "--nvd"): ["--vd-range", "0.01", "1"],
          ("friction", "--ft"): ["--drive", "force"],
          ("lyapunov", "--y0-um"): ["--v0-mm-s", "0"], ("lyapunov", "--v0-mm-s"): ["--y0-um", "0.1"],
-         ("lyapunov", "--from-state"): ["--system", "rocking"]}
+         ("lyapunov", "--from-state"): ["--system", "rocking"],
+         **{("basins", o): ["--system", "rocking"] for o in ("--slice", "--a-range", "--b-range", "--through")}}
 
 CASES = [pytest.param(c, o, k, id=f"{c}{o}") for c, opts in OPTIONS.items() for o, k in opts.items()]
 
