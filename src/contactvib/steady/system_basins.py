@@ -316,8 +316,7 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
     form = system.kernel_form(pa, fe)
     sc = form.scales
     sa = system_arrays(form.Kx, form.Cx, form.g0, form.gb, form.r, form.U, form.gam, form.Aw, form.rows)
-    factors = tuple(state_component(system, a)[2] for a in axes)
-    units = tuple(state_component(system, a)[1] for a in axes)
+    _idx, units, factors = zip(*(state_component(system, a) for a in axes))
     if base is None:
         base = np.concatenate([system.static_state(), np.zeros(system.n)])
     if box is None:
@@ -327,9 +326,9 @@ def system_basins(system: System, pa_newton: float, fe_hz: float, *, axes=None, 
     A, B = np.meshgrid(a / factors[0], b / factors[1])
     Z = np.tile(base, (A.size, 1))
     Z[:, idx[0]], Z[:, idx[1]] = A.ravel(), B.ravel()
-    X = np.ascontiguousarray(np.array([sc.to_scaled(z) for z in Z]))
+    X = np.ascontiguousarray(sc.to_scaled(Z))
 
-    found = [{"orbit": att.orbit, "points": np.array([sc.to_scaled(p) for p in att.strobe]), "hits": 0}
+    found = [{"orbit": att.orbit, "points": sc.to_scaled(att.strobe), "hits": 0}
              for att in search.attractors]
     clouds = {i: {"cloud": strobe_projection(sa, f["points"][-2 * WINDOW:])} for i, f in enumerate(found)
               if f["orbit"] is None}
