@@ -269,6 +269,28 @@ def forcing(t, par):
 
 
 @njit(cache=True)
+def forcing_dr(t, par):
+    """∂/∂r of :func:`forcing` at fixed τ [units of W]: −p τ sin rτ (force), p (2r cos rτ −
+    r² τ sin rτ) (base), −p τ sin rτ − Σ a_j k_j τ sin(k_j r τ + φ_j) (harmonics), 0 (spectrum:
+    its frequencies do not follow r)."""
+    r = par[4]
+    if par.shape[0] <= P_EXCITATION or par[P_EXCITATION] == EXCITATION_FORCE:
+        return -par[3] * t * math.sin(r * t)
+    code = par[P_EXCITATION]
+    if code == EXCITATION_BASE:
+        return par[3] * (2.0 * r * math.cos(r * t) - r * r * t * math.sin(r * t))
+    if code == EXCITATION_HARMONICS:
+        n = int(par[P_NEXC])
+        o = int(par[P_OEXC])
+        s = -par[3] * t * math.sin(r * t)
+        for j in range(n):
+            kj = par[o + 3 * j]
+            s -= par[o + 3 * j + 1] * kj * t * math.sin(kj * r * t + par[o + 3 * j + 2])
+        return s
+    return 0.0
+
+
+@njit(cache=True)
 def power_table_update(n, X, W, qmax):
     """Cauchy products: W[q, n] = (x^q)_n = Σ_j W[q−1, j] X[n−j] for q = 2..qmax (W[1] = X).
 

@@ -9,8 +9,9 @@ amplitude ``p = P_a/Q``). Equations::
 (the pseudo-arclength equation, predictor, corrector and step control are those of the one
 engine, :mod:`contactvib.continuation.engine`). The Jacobian of ``G`` is ``[M − I | ∂P^k/∂q]``:
 the monodromy ``M`` from the variational equations (:func:`.shooting.strobe_map`, saltation at
-the contact events) and the parameter column by central differences of the map. The excitation
-period ``T = 2π/r`` depends on ``r``; the finite difference of the whole map ``P(z; r) = φ(2π/r; z, r)`` includes that.
+the contact events) and the parameter column: for r from the sensitivity equation integrated
+with them, the period ``T = 2π/r`` moving with r included (:func:`.shooting.strobe_map_dr`); for
+the amplitude by central differences of the map.
 
 The null vector of the 2×3 Jacobian (the branch tangent) has the ``q``-component
 ``det(M − I)`` (up to a factor): it changes sign at a fold.
@@ -34,9 +35,11 @@ from numba import njit
 
 from .linalg import solve_dense
 from .orbit import RECORD_CAP_MAX, measure_orbit, record_steps
-from .shooting import map_residual, strobe_map
+from .shooting import map_residual, strobe_map, strobe_map_dr
 from .status import STATUS_OK
 
+#: Index of the frequency ratio r in ``par``: its column of the Jacobian is exact (sensitivity).
+IP_RATIO = 4
 #: relative step of the central difference in the parameter (floor 1e-3 absolute)
 FD_REL = 1e-5
 
@@ -49,8 +52,10 @@ def fd_step(q):
 
 @njit(cache=True)
 def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
-    """G(u) and its 2×3 Jacobian ``[M − I | ∂P^k/∂q]`` at ``u = (x, x', q)`` (G and M from
-    :func:`.shooting.map_residual`, the one residual of the period map).
+    """G(u) and its 2×3 Jacobian ``[M − I | ∂P^k/∂q]`` at ``u = (x, x', q)``. For the frequency
+    ratio (``ip`` = :data:`IP_RATIO`) G, M and ∂P^k/∂r come from one run of the flow with its
+    sensitivity equation (:func:`.shooting.strobe_map_dr`); for the amplitude, G and M from
+    :func:`.shooting.map_residual` and the column by central differences of the map.
 
     ``par`` is used as scratch (``par[ip]`` is set to ``u[2]``). Returns a :mod:`.flow` status.
     """
@@ -59,6 +64,20 @@ def residual_jacobian(u, k, par, ip, rtol, out_G, out_J, out_M):
     z[1] = u[1]
     pz = np.empty(2)
     par[ip] = u[2]
+    if ip == IP_RATIO:  # the parameter column from the sensitivity equation, in the same run
+        dr = np.empty(2)
+        st = strobe_map_dr(z, k, par, rtol, rtol, pz, out_M, dr)
+        if st != STATUS_OK:
+            return st
+        out_G[0] = pz[0] - z[0]
+        out_G[1] = pz[1] - z[1]
+        out_J[0, 0] = out_M[0, 0] - 1.0
+        out_J[0, 1] = out_M[0, 1]
+        out_J[1, 0] = out_M[1, 0]
+        out_J[1, 1] = out_M[1, 1] - 1.0
+        out_J[0, 2] = dr[0]
+        out_J[1, 2] = dr[1]
+        return STATUS_OK
     st, g0, g1, _sc, _res = map_residual(z, k, par, rtol, rtol, pz, out_M)
     if st != STATUS_OK:
         return st

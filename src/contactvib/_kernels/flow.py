@@ -6,7 +6,8 @@ Equation (``x = y/y0``, ``τ = ω_n0 t``, ``par = [m2, l, c, p, r]``)::
     x'' = [1 + p cos(r τ)] / m2                      flight mode  (x ≤ 0)
 
 State vectors are ``[x, v]`` (n = 2) or ``[x, v, Φ11, Φ12, Φ21, Φ22]`` (n = 6) with the
-variational equation ``Φ' = J Φ``. Each mode is integrated with its own smooth right-hand side;
+variational equation ``Φ' = J Φ``, or that and ``[s_x, s_v]`` (n = 8), the sensitivity to the
+frequency ratio r: ``s' = J s + (0, ∂x''/∂r)`` (the continuation's parameter column). Each mode is integrated with its own smooth right-hand side;
 crossings of ``x = 0`` are located on the 7th-order dense output (a sign change at the step ends,
 or a dip through zero at an interior extremum of ``x``), the step is re-taken to end exactly on
 the switching instant, and the monodromy is multiplied by the saltation matrix
@@ -33,7 +34,15 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact import contact_force, contact_partials, force, force_partials, forcing, is_paper_vector
+from .contact import (
+    contact_force,
+    contact_partials,
+    force,
+    force_partials,
+    forcing,
+    forcing_dr,
+    is_paper_vector,
+)
 from .dop853 import (  # noqa: F401  (dense_value, interpolant: also the flow's names for its callers)
     A,
     C,
@@ -108,17 +117,21 @@ def jacobian_row(contact, x, v, par):
 
 @njit(cache=True)
 def rhs(contact, t, y, par, out):
-    """Right-hand side of the state (n = 2) or state + variational equation (n = 6)."""
+    """Right-hand side of the state (n = 2), state + variational equation (n = 6), or those and
+    the sensitivity ``s = ∂(x, x')/∂r`` (n = 8): ``s' = J s + (0, ∂x''/∂r)``."""
     x = y[0]
     v = y[1]
     out[0] = v
     out[1] = acceleration(contact, t, x, v, par)
-    if y.shape[0] == 6:
+    if y.shape[0] >= 6:
         j21, j22 = jacobian_row(contact, x, v, par)
         out[2] = y[4]
         out[3] = y[5]
         out[4] = j21 * y[2] + j22 * y[4]
         out[5] = j21 * y[3] + j22 * y[5]
+        if y.shape[0] == 8:
+            out[6] = y[7]
+            out[7] = j21 * y[6] + j22 * y[7] + forcing_dr(t, par) / par[0]
 
 
 @njit(cache=True)
@@ -126,7 +139,8 @@ def _stages(contact, t, y, h, par, K, s_first, s_last, n):
     """K[s] = f(t + C[s] h, y + h Σ_{j<s} A[s, j] K[j]) for s = s_first..s_last − 1.
 
     Works on scalars (a call per stage with array views costs more than the stage itself);
-    ``n`` = 2 integrates the state, 6 the state and the variational equation. The law is chosen
+    ``n`` = 2 integrates the state, 6 the state and the variational equation, 8 also the
+    sensitivity to r (:func:`rhs`). The law is chosen
     once per call, outside the stage loop (:func:`law_acceleration`)."""
     if is_paper_vector(par):
         _stage_loop(True, contact, t, y, h, par, K, s_first, s_last, n)
@@ -149,7 +163,7 @@ def _stage_loop(paper, contact, t, y, h, par, K, s_first, s_last, n):
         ts = t + C[s] * h
         K[s, 0] = v
         K[s, 1] = law_acceleration(paper, contact, ts, x, v, par)
-        if n == 6:
+        if n >= 6:
             p0 = 0.0
             p1 = 0.0
             p2 = 0.0
@@ -169,6 +183,17 @@ def _stage_loop(paper, contact, t, y, h, par, K, s_first, s_last, n):
             K[s, 3] = f22
             K[s, 4] = j21 * f11 + j22 * f21
             K[s, 5] = j21 * f12 + j22 * f22
+            if n == 8:
+                q0 = 0.0
+                q1 = 0.0
+                for j in range(s):
+                    a = A[s, j]
+                    q0 += a * K[j, 6]
+                    q1 += a * K[j, 7]
+                sx = y[6] + h * q0
+                sv = y[7] + h * q1
+                K[s, 6] = sv
+                K[s, 7] = j21 * sx + j22 * sv + forcing_dr(ts, par) / par[0]
 
 
 @njit(cache=True)
@@ -264,18 +289,21 @@ def _event_fraction(contact, t, y, ynew, h, par, K, F, record):
 
 @njit(cache=True)
 def _switch_mode(contact, t, y, ynew, par):
-    """Land on the switching surface: ``y`` ← ``ynew`` with x = 0, the monodromy (n = 6)
-    multiplied by the saltation matrix S = I + (f⁺ − f⁻) eₓᵀ / v; returns the new mode."""
+    """Land on the switching surface: ``y`` ← ``ynew`` with x = 0, the monodromy (n = 6) and the
+    sensitivity to r (n = 8: the switching surface x = 0 does not depend on r) multiplied by the
+    saltation matrix S = I + (f⁺ − f⁻) eₓᵀ / v; returns the new mode."""
     n = y.shape[0]
     for i in range(n):
         y[i] = ynew[i]
     y[0] = 0.0
     v = y[1]
     new_contact = not contact
-    if n == 6 and v != 0.0:
+    if n >= 6 and v != 0.0:
         jump = (acceleration(new_contact, t, 0.0, v, par) - acceleration(contact, t, 0.0, v, par)) / v
         y[4] += jump * y[2]
         y[5] += jump * y[3]
+        if n == 8:
+            y[7] += jump * y[6]
     return new_contact
 
 
@@ -291,8 +319,9 @@ def advance(y, t, t_end, contact, h, par, rtol, atol, rec, irec, max_steps):
 
     Parameters
     ----------
-    y : float64[2] or float64[6]
-        State (and flattened monodromy Φ, row-major) at ``t``; overwritten with the state at ``t_end``.
+    y : float64[2], float64[6] or float64[8]
+        State (and flattened monodromy Φ, row-major; and the sensitivity to r) at ``t``;
+        overwritten with the state at ``t_end``.
     t, t_end : float
         Start and end [τ].
     contact : bool

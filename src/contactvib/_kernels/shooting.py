@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .flow import REC_WIDTH, advance, initial_mode
+from .flow import REC_WIDTH, advance, initial_mode, rhs
 from .linalg import solve2
 from .status import (
     STATUS_NEWTON_DIVERGED,
@@ -87,6 +87,47 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
         out_M[1, 1] = y[5]
     return STATUS_OK
 
+
+
+@njit(cache=True)
+def strobe_map_dr(z, k, par, rtol, atol, out_z, out_M, out_dr):
+    """:func:`strobe_map` with the monodromy (``out_M``) and the derivative ``∂P^k/∂r`` of the
+    map with respect to the frequency ratio r (``out_dr``).
+
+    Per period ``P(z; r) = φ(T(r); z, r)`` with ``T = 2π/r``, so ``∂P/∂r = s(T) + f(T) dT/dr``:
+    the sensitivity ``s`` of the flow (:mod:`.flow`, n = 8) plus the vector field at the period's
+    end times ``dT/dr = −2π/r²``; over k periods the chain rule carries ``s`` from one period to
+    the next (``∂P^k/∂r = M ∂P^{k−1}/∂r + ∂P/∂r``). Returns a :mod:`.flow` status code.
+    """
+    T = 2.0 * math.pi / par[4]
+    dT = -T / par[4]
+    y = np.zeros(8)
+    y[0] = z[0]
+    y[1] = z[1]
+    y[2] = 1.0
+    y[5] = 1.0
+    f = np.empty(8)
+    contact = initial_mode(y[0], y[1])
+    h = 0.01
+    for _ in range(k):
+        contact, h, _i, _ns, _tf, _ne, st = advance(
+            y, 0.0, T, contact, h, par, rtol, atol, np.empty((0, REC_WIDTH)), np.int64(0),
+            np.int64(MAX_STEPS_PER_PERIOD)
+        )
+        if st != STATUS_OK:
+            return st
+        rhs(contact, T, y, par, f)
+        y[6] += f[0] * dT
+        y[7] += f[1] * dT
+    out_z[0] = y[0]
+    out_z[1] = y[1]
+    out_M[0, 0] = y[2]
+    out_M[0, 1] = y[3]
+    out_M[1, 0] = y[4]
+    out_M[1, 1] = y[5]
+    out_dr[0] = y[6]
+    out_dr[1] = y[7]
+    return STATUS_OK
 
 @njit(cache=True, inline='always')
 def map_residual(z, k, par, rtol, atol, pz, M):
