@@ -7,10 +7,11 @@ Equation (``x = y/y0``, ``τ = ω_n0 t``, ``par = [m2, l, c, p, r]``)::
 
 State vectors are ``[x, v]`` (n = 2) or ``[x, v, Φ11, Φ12, Φ21, Φ22]`` (n = 6) with the
 variational equation ``Φ' = J Φ``, or that and ``[s_x, s_v]`` (n = 8), the sensitivity to the
-frequency ratio r: ``s' = J s + (0, ∂x''/∂r)`` (the continuation's parameter column). Each mode is integrated with its own smooth right-hand side;
-crossings of ``x = 0`` are located on the 7th-order dense output (a sign change at the step ends,
-or a dip through zero at an interior extremum of ``x``), the step is re-taken to end exactly on
-the switching instant, and the monodromy is multiplied by the saltation matrix
+frequency ratio r: ``s' = J s + (0, ∂x''/∂r)`` (the continuation's parameter column). Each
+mode is integrated with its own smooth right-hand side; crossings of ``x = 0`` are located
+on the 7th-order dense output (a sign change at the step ends, or a dip through zero at an
+interior extremum of ``x``), the step is re-taken to end exactly on the switching instant, and
+the monodromy is multiplied by the saltation matrix
 ``S = I + (f⁺ − f⁻) eₓᵀ / v`` (the identity for contact laws whose force is continuous at
 ``x = 0``, i.e. every law with ``l > 0`` or ``h_n = 0``).
 
