@@ -434,7 +434,7 @@ def main(argv=None):
         return out, res
     t_newton, (zn, resn) = timed(newton4, repeat=3)
     err_n = np.max(np.abs(zn - orbits), axis=1) / np.maximum(1, np.max(np.abs(orbits), axis=1))
-    R["newton_4_orbits"] = {"rtol": 1e-10, "close_tol": 1e-8, "wall_s": t_newton,
+    R["newton_4_orbits"] = {"rtol": 1e-10, "tol": 1e-8, "wall_s": t_newton,
                             "status_residual": resn, "err_vs_reference_max": float(err_n.max())}
     Zsm = starts_around(orbits, a.starts, rng)
     phs = np.zeros(len(Zsm))
@@ -446,7 +446,7 @@ def main(argv=None):
     err_sm = np.max(np.abs(zstar - near), axis=1) / np.maximum(1, np.max(np.abs(near), axis=1))
     R["settle_many"] = {"starts": len(Zsm), "wall_s": t_sm, "threads": n_threads,
                         "params": {"kmax": 8, "min_periods": 4, "max_periods": 400, "detect_tol": 1e-4,
-                                   "rtol_transient": 1e-8, "rtol_refine": 1e-12, "close_tol": 1e-8},
+                                   "rtol_transient": 1e-8, "rtol_refine": 1e-12, "tol": 1e-8},
                         "period1_found": int(okp.sum()), "mean_transient_periods": float(nper.mean()),
                         "err_vs_reference_max": float(err_sm[okp].max()) if okp.any() else None}
 

@@ -124,7 +124,7 @@ def replay_transient(z, phase0, par, n, tol):
 
 def _starts(model, pa, f, i, st):
     exc = model.excitation(float(pa), float(f[i]))
-    Zb, phb = start_box(exc, st.multistart_starts, st.seed + int(i))
+    Zb, phb = start_box(exc, st.n_starts, st.seed + int(i))
     Zs, phs = ballistic_seeds(exc)
     return np.vstack([Zb, Zs]), np.concatenate([phb, phs])
 
@@ -140,7 +140,7 @@ def _settle_one(z, phase, par, st, hist, oz, oM):
     """``sweep._settle_from``'s kernel call; returns (status, k, n, cpu seconds)."""
     t0 = time.process_time()
     s, k, n, _res = settle(np.asarray(z, float), float(phase), par, st.kmax, 4, st.max_periods,
-                           st.detect_tol, st.rtol_transient, st.rtol, st.close_tol, hist, oz, oM)
+                           st.detect_tol, st.rtol_transient, st.rtol, st.tol, hist, oz, oM)
     return int(s), int(k), int(n), time.process_time() - t0
 
 

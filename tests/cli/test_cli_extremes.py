@@ -169,9 +169,9 @@ def test_extreme_ranges_of_sweeps_and_continuation(capsys, args, message):
     (["simulate", "--from-state", "0", "0", "--periods", "100000", "--out", "/proc/contactvib_x"],
      "--periods (n_periods) = 100000: must be <= "),
     (["resonance", "--starts", "1e9", "--out", "/proc/contactvib_x"],
-     "--starts (multistart_starts) = 1e+9: must be <= 524288"),
+     "--starts (n_starts) = 1e+9: must be <= 524288"),
     (["paper", "--starts", "1e9", "--out", "/proc/contactvib_x"],
-     "--starts (multistart_starts) = 1e+9: must be <= 524288"),
+     "--starts (n_starts) = 1e+9: must be <= 524288"),
 ])
 def test_memory_refused_before_allocating(capsys, args, message):
     t0 = time.perf_counter()

@@ -35,7 +35,7 @@ def test_settings_record_friction_only_when_given():
     assert "friction" not in _settings(None).to_dict()
     d = _settings().to_dict()
     assert d["friction"] == FM.parameters()
-    assert SweepSettings(**d) == _settings()  # a dict is the FrictionModel's parameters
+    assert SweepSettings.from_dict(d) == _settings()  # a dict is the FrictionModel's parameters
     with pytest.raises(ParameterError, match="friction"):
         _settings("mu=0.3")
     with pytest.raises(ParameterError, match="mu"):

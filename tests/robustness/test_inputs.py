@@ -361,7 +361,7 @@ SETTING = st.one_of(ANY_OBJECT, st.integers(-5, 10**7), st.floats(min_value=1e-2
 
 @API
 @given(kw=st.dictionaries(st.sampled_from(["fmin_hz", "fmax_hz", "df_hz", "kmax", "max_periods",
-                                           "multistart_per_octave", "multistart_starts", "seed"]),
+                                           "multistart_per_octave", "n_starts", "seed", "tol"]),
                           SETTING, max_size=4))
 def test_sweep_settings_accept_or_name_the_parameter(kw):
     from contactvib.sweeps.sweep import SweepSettings
@@ -418,16 +418,16 @@ def test_settings_store_their_checked_values():
     from contactvib.frequency.harmonic_balance import HBSettings
     from contactvib.sweeps.sweep import SweepSettings
 
-    s = SweepSettings(fmin_hz="30", fmax_hz=Decimal("400"), df_hz="5", kmax=3.0, multistart_starts="8")
-    assert (s.fmin_hz, s.fmax_hz, s.df_hz, s.kmax, s.multistart_starts) == (30.0, 400.0, 5.0, 3, 8)
-    assert type(s.fmax_hz) is float and type(s.kmax) is int and type(s.multistart_starts) is int
+    s = SweepSettings(fmin_hz="30", fmax_hz=Decimal("400"), df_hz="5", kmax=3.0, n_starts="8")
+    assert (s.fmin_hz, s.fmax_hz, s.df_hz, s.kmax, s.n_starts) == (30.0, 400.0, 5.0, 3, 8)
+    assert type(s.fmax_hz) is float and type(s.kmax) is int and type(s.n_starts) is int
     c = ContinuationSettings(fmin_hz="30", pa_min="0.1", ds_min="1e-7", max_points=16.0)
     assert (c.fmin_hz, c.pa_min, c.ds_min, c.max_points) == (30.0, 0.1, 1e-7, 16) and type(c.max_points) is int
     h = HBSettings(ds_min="1e-6", max_points="10")
     assert (h.ds_min, h.max_points) == (1e-6, 10)
     for make, symbol in ((lambda: ContinuationSettings(max_points=16.7), "max_points"),
                          (lambda: ContinuationSettings(fmin_hz=100, fmax_hz=50), "fmax_hz"),
-                         (lambda: HBSettings(ds_min=1.0, ds_max=0.5), "ds_max")):
+                         (lambda: HBSettings(ds=1.0, ds_min=1.0, ds_max=0.5), "ds_max")):
         with pytest.raises(ParameterError) as e:
             make()
         assert e.value.symbol == symbol

@@ -233,7 +233,7 @@ def test_sigint_inside_the_parallel_kernel_is_no_systemerror(monkeypatch):
 
     monkeypatch.setattr(table, "settle_known_many", interrupted_kernel)
     st = SweepSettings(fmin_hz=300.0, fmax_hz=340.0, df_hz=20.0, multistart_per_octave=40.0,
-                       multistart_starts=600)
+                       n_starts=600)
     with pytest.raises(Interrupted) as e:
         resonance_dataset(ContactModel(), levels=[0.9], settings=st, workers=1, progress=False)
     t_end = time.monotonic()

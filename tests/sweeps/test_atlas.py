@@ -189,7 +189,7 @@ def test_progress_counts_points_and_announces_a_cold_cache(tmp_path, monkeypatch
     from contactvib.sweeps.sweep import SweepSettings
 
     monkeypatch.setattr("contactvib.sweeps.backends.kernel_cache_cold", lambda: True)
-    st = SweepSettings(fmin_hz=490.0, fmax_hz=510.0, df_hz=10.0, multistart_per_octave=1, multistart_starts=2)
+    st = SweepSettings(fmin_hz=490.0, fmax_hz=510.0, df_hz=10.0, multistart_per_octave=1, n_starts=2)
     resonance_dataset(ContactModel(), levels=[0.5], settings=st, out=tmp_path, name="atlas", backend=LocalPool(1),
                       progress=True)
     err = capsys.readouterr().err

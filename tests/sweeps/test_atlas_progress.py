@@ -8,7 +8,7 @@ from contactvib.sweeps.backends import DaskBackend, LocalPool, run_levels
 from contactvib.sweeps.resonance import _run_level, resonance_dataset
 from contactvib.sweeps.sweep import SweepSettings, frequency_grid
 
-ST = SweepSettings(fmin_hz=480.0, fmax_hz=520.0, df_hz=10.0, multistart_per_octave=1, multistart_starts=2)
+ST = SweepSettings(fmin_hz=480.0, fmax_hz=520.0, df_hz=10.0, multistart_per_octave=1, n_starts=2)
 LEVELS = (0.5, 0.6)
 
 

@@ -26,7 +26,7 @@ from contactvib.testing import integrate_contact, model_ode
 
 PAPER = ContactModel()
 U_UM = 0.05
-GRID = dict(fmin_hz=600.0, fmax_hz=2000.0, df_hz=20.0, multistart_per_octave=2.0, multistart_starts=8)
+GRID = dict(fmin_hz=600.0, fmax_hz=2000.0, df_hz=20.0, multistart_per_octave=2.0, n_starts=8)
 
 
 @pytest.fixture(scope="module")

@@ -23,7 +23,7 @@ def level_file(tmp_path_factory):
     from contactvib.sweeps.sweep import SweepSettings
 
     out = tmp_path_factory.mktemp("dofs")
-    st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=4.0, multistart_per_octave=2, multistart_starts=4)
+    st = SweepSettings(fmin_hz=340.0, fmax_hz=380.0, df_hz=4.0, multistart_per_octave=2, n_starts=4)
     resonance_dataset(ContactModel(), levels=[0.65], settings=st, out=out, workers=1, progress=False)
     return out / "resonance.nc"
 

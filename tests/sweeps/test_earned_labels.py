@@ -151,12 +151,12 @@ def test_spectrum_rows_on_threads_and_serial_equal_one_call_per_row(level):
             assert np.array_equal(g, w, equal_nan=True)
 
 
-def _refine_reference(z, k, par, rtol, close_tol):
+def _refine_reference(z, k, par, rtol, tol):
     """refine_stable_orbit with one strobe_map run per proper divisor (its former form)."""
     from contactvib._kernels.shooting import MINIMAL_PERIOD_TOL, newton_orbit, stable_monodromy, strobe_map
 
     oz, oM = np.empty(2), np.zeros((2, 2))
-    st, res = newton_orbit(z.copy(), k, par, rtol, rtol, close_tol, np.int64(12), oz, oM)
+    st, res = newton_orbit(z.copy(), k, par, rtol, rtol, tol, np.int64(12), oz, oM)
     if st != 0 or not stable_monodromy(oM):
         return False, k, res, oz, oM
     pz, sc = np.empty(2), max(1.0, abs(oz[0]), abs(oz[1]))
@@ -166,7 +166,7 @@ def _refine_reference(z, k, par, rtol, close_tol):
         if strobe_map(oz, d, par, rtol, rtol, pz, np.empty((0, 0))) != 0:
             return False, k, res, oz, oM
         if max(abs(pz[0] - oz[0]), abs(pz[1] - oz[1])) / sc < MINIMAL_PERIOD_TOL:
-            st, res = newton_orbit(oz.copy(), d, par, rtol, rtol, close_tol, np.int64(12), oz, oM)
+            st, res = newton_orbit(oz.copy(), d, par, rtol, rtol, tol, np.int64(12), oz, oM)
             if st != 0 or not stable_monodromy(oM):
                 return False, k, res, oz, oM
             return True, d, res, oz, oM

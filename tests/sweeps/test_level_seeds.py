@@ -96,7 +96,7 @@ def test_the_walk_needs_its_steps():
     assert got is not None and got[1] == 4
     oz, oM = np.empty(2), np.empty((2, 2))
     s, _res = newton_orbit(np.array(a.state, float), 4, m.excitation(0.8, 1385.0).kernel_parameters(),
-                           st.rtol, st.rtol, st.close_tol, 20, oz, oM)
+                           st.rtol, st.rtol, st.tol, 20, oz, oM)
     assert s != STATUS_OK or np.max(np.abs(oz - got[0])) > 1e-6
     assert LEVEL_STEP == 0.0025
 

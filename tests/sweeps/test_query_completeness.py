@@ -24,7 +24,7 @@ from contactvib.sweeps.stored import open_resonance
 
 #: Two levels × 3 grid points (350, 360, 370 Hz) in the 1/1 – 1/2 coexistence region of the paper's
 #: model: up to 5 (0.65 Q) and 6 (0.7 Q) coexisting attractors per point.
-SETTINGS = dict(fmin_hz=350.0, fmax_hz=370.0, df_hz=10.0, multistart_per_octave=8, multistart_starts=64)
+SETTINGS = dict(fmin_hz=350.0, fmax_hz=370.0, df_hz=10.0, multistart_per_octave=8, n_starts=64)
 LEVELS = [0.65, 0.7]
 N_GRID = 6
 

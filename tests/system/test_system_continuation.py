@@ -121,8 +121,8 @@ def test_single_dof_in_pa_has_the_fold_and_period_doubling_of_the_one_dof_contin
     b1.special = [sp for sp in b1.special if sp.type != "grazing"]
     Q = MODEL.Q
     bs = continue_system_orbit(System.single_dof(MODEL), exc.P_a, 360.0, _si(a2.state), 1, parameter="P_a",
-                               settings=SystemContinuationSettings(pa_min=0.3 * Q, pa_max=0.9 * Q, rtol=1e-12,
-                                                                   tol=1e-10), Q=Q)
+                               settings=SystemContinuationSettings(pa_min_newton=0.3 * Q, pa_max_newton=0.9 * Q,
+                                                                   rtol=1e-12, tol=1e-10), Q=Q)
     assert [sp.type for sp in bs.special] == ["fold", "period-doubling"]
     _compare(b1, bs, lambda sp: sp.pa_over_q, lambda sp: sp.pa_over_q)
     assert bs.special[1].pa_newton == pytest.approx(bs.special[1].pa_over_q * Q, rel=1e-14)
@@ -315,7 +315,7 @@ def test_two_dof_neimark_sacker_in_pa_is_one_in_fe():
     system = load_system(TOML)
     z = periodic_orbit(system, 0.05, 0.095, linear_seed(system, 0.05, 0.095)).z
     bp = continue_system_orbit(system, 0.05, 0.095, z, 1, parameter="P_a", direction="up",
-                               settings=SystemContinuationSettings(pa_min=0.01, pa_max=0.1))
+                               settings=SystemContinuationSettings(pa_min_newton=0.01, pa_max_newton=0.1))
     ns = [sp for sp in bp.special if sp.type == "neimark-sacker"]
     assert len(ns) == 1 and 0.05 < ns[0].pa_newton < 0.1 and np.all(bp.fe_hz == 0.095)
     p_star = ns[0].pa_newton

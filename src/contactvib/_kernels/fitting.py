@@ -31,7 +31,7 @@ N_NONPERIODIC = 8
 
 
 @njit(cache=True)
-def stepped_sweep(par, r, p, z_start, warm, kmax, max_periods, detect_tol, rtol_transient, rtol, close_tol):
+def stepped_sweep(par, r, p, z_start, warm, kmax, max_periods, detect_tol, rtol_transient, rtol, tol):
     """One stepped-sine sweep: A_pp [y0] at each step, following the attractor reached.
 
     With ``warm`` each step starts instead from ``z_start[i]`` (the phase-0 orbit point that a
@@ -72,7 +72,7 @@ def stepped_sweep(par, r, p, z_start, warm, kmax, max_periods, detect_tol, rtol_
             z[0] = z_start[i, 0]
             z[1] = z_start[i, 1]
         s, k, m, _res = settle(z, 0.0, q, kmax, 4, max_periods, detect_tol, rtol_transient, rtol,
-                               close_tol, hist, oz, oM)
+                               tol, hist, oz, oM)
         if s == SETTLE_PERIODIC:
             z[0] = oz[0]
             z[1] = oz[1]
@@ -104,7 +104,7 @@ def stepped_sweep(par, r, p, z_start, warm, kmax, max_periods, detect_tol, rtol_
 
 @njit(cache=True, parallel=True)
 def sweeps_many(pars, r, p, z_start, warm, seg_start, seg_len, kmax, max_periods, detect_tol, rtol_transient,
-                rtol, close_tol):
+                rtol, tol):
     """:func:`stepped_sweep` for every parameter vector ``pars[j]`` (float64[K, 5]) and every sweep
     (steps ``seg_start[s] .. seg_start[s] + seg_len[s]`` of ``r[j]``, ``p``), in parallel.
 
@@ -124,7 +124,7 @@ def sweeps_many(pars, r, p, z_start, warm, seg_start, seg_len, kmax, max_periods
         a = seg_start[s]
         b = a + seg_len[s]
         aj, kj, zj = stepped_sweep(pars[j], r[j, a:b], p[a:b], z_start[a:b], warm, kmax, max_periods[j],
-                                   detect_tol, rtol_transient, rtol, close_tol)
+                                   detect_tol, rtol_transient, rtol, tol)
         app[j, a:b] = aj
         period[j, a:b] = kj
         z_out[j, a:b] = zj

@@ -5,7 +5,7 @@ One trajectory is integrated period by period at a loose tolerance (the Taylor-s
 stroboscopic points are searched for the smallest ``k ≤ kmax`` with
 ``|P_n − P_{n−k}| < detect_tol · scale``; the candidate is then refined by Newton shooting
 (:func:`.shooting.newton_orbit`) at a tight tolerance and accepted only if it closes
-(``≤ close_tol``), is stable (:func:`.shooting.stable_monodromy`), and no
+(``≤ tol``), is stable (:func:`.shooting.stable_monodromy`), and no
 proper divisor of ``k`` closes too (the period reported is minimal). A refused candidate makes the detection ten times
 stricter and the integration goes on. No candidate by ``max_periods`` means a non-periodic
 attractor (or a period above ``kmax``).
@@ -41,12 +41,12 @@ from .taylor import advance_state
 
 
 @njit(cache=True)
-def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
+def refine_stable_orbit(z, k, par, rtol, tol, out_z, out_M):
     """Newton at period k (:func:`.shooting.newton_orbit`, 12 steps), then reduce k to the minimal
     period: a proper divisor d of k whose map returns within ``MINIMAL_PERIOD_TOL`` is refined
     at period d. Accepted only if stable (:func:`.shooting.stable_monodromy`).
     Returns (ok, k, residual)."""
-    st, res = newton_orbit(z, k, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
+    st, res = newton_orbit(z, k, par, rtol, rtol, tol, np.int64(12), out_z, out_M)
     if st != STATUS_OK:
         return False, k, res
     if not stable_monodromy(out_M):
@@ -74,7 +74,7 @@ def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
             continue
         if max(abs(pz[0] - out_z[0]), abs(pz[1] - out_z[1])) / sc < MINIMAL_PERIOD_TOL:
             z2 = out_z.copy()
-            st, res = newton_orbit(z2, d, par, rtol, rtol, close_tol, np.int64(12), out_z, out_M)
+            st, res = newton_orbit(z2, d, par, rtol, rtol, tol, np.int64(12), out_z, out_M)
             if st != STATUS_OK or not stable_monodromy(out_M):
                 return False, k, res
             return True, d, res
@@ -83,7 +83,7 @@ def refine_stable_orbit(z, k, par, rtol, close_tol, out_z, out_M):
 
 @njit(cache=True, nogil=True)
 def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-                rtol_refine, close_tol, cap_pts, cap_id, capture_tol, hist, out_z, out_M, stop):
+                rtol_refine, tol, cap_pts, cap_id, capture_tol, hist, out_z, out_M, stop):
     """Integrate from ``z_init`` at phase ``phase0`` (fraction of a period) to an attractor.
 
     ``stop`` (int64[1]) is read after every period: nonzero ends the run with
@@ -118,7 +118,7 @@ def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
         return SETTLE_FAILED, 0, 0, math.inf
     hist[0, 0] = y[0]
     hist[0, 1] = y[1]
-    tol = detect_tol
+    repeat_tol = detect_tol
     for n in range(1, max_periods + 1):
         contact, h, _ns, _tf, _ne, st = advance_state(
             y, 0.0, T, contact, h, par, rtol_transient, MAX_STEPS_PER_PERIOD)
@@ -138,18 +138,18 @@ def settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
             if n - 2 * k < 0:
                 break
             d1 = max(abs(hist[n, 0] - hist[n - k, 0]), abs(hist[n, 1] - hist[n - k, 1])) / sc
-            if d1 < tol:
-                ok, kk, res = refine_stable_orbit(y, k, par, rtol_refine, close_tol, out_z, out_M)
+            if d1 < repeat_tol:
+                ok, kk, res = refine_stable_orbit(y, k, par, rtol_refine, tol, out_z, out_M)
                 if ok:
                     return SETTLE_PERIODIC, kk, n, res
-                tol *= 0.1
+                repeat_tol *= 0.1
                 break
     return SETTLE_NONPERIODIC, 0, max_periods, math.inf
 
 
 @njit(cache=True)
 def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-           rtol_refine, close_tol, hist, out_z, out_M):
+           rtol_refine, tol, hist, out_z, out_M):
     """Integrate from ``z_init`` at phase ``phase0`` (fraction of a period) to an attractor.
 
     Parameters
@@ -163,23 +163,23 @@ def settle(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol, rtol
         As :func:`settle_core` (never ``SETTLE_CAPTURED``).
     """
     return settle_core(z_init, phase0, par, kmax, min_periods, max_periods, detect_tol,
-                       rtol_transient, rtol_refine, close_tol, np.empty((0, 2)),
+                       rtol_transient, rtol_refine, tol, np.empty((0, 2)),
                        np.empty(0, np.int64), 0.0, hist, out_z, out_M, np.zeros(1, np.int64))
 
 
 @njit(cache=True)
 def settle_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-                rtol_refine, close_tol, n_tail):
+                rtol_refine, tol, n_tail):
     """:func:`settle` for many starts at once (numba threads): :func:`settle_capture_many`
     with nothing to capture; the same outputs."""
     return settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol,
-                               rtol_transient, rtol_refine, close_tol, n_tail, np.empty((0, 2)),
+                               rtol_transient, rtol_refine, tol, n_tail, np.empty((0, 2)),
                                np.empty(0, np.int64), 0.0, np.zeros(1, np.int64))
 
 
 @njit(cache=True, parallel=True, nogil=True)
 def settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_tol, rtol_transient,
-                        rtol_refine, close_tol, n_tail, cap_pts, cap_id, capture_tol, stop):
+                        rtol_refine, tol, n_tail, cap_pts, cap_id, capture_tol, stop):
     """:func:`settle_core` for many starts at once, in parallel over the starts (numba threads).
 
     Releases the GIL, so that it can run in a helper thread while the main thread waits for
@@ -211,7 +211,7 @@ def settle_capture_many(Z, phases, par, kmax, min_periods, max_periods, detect_t
         oz = np.empty(2)
         oM = np.zeros((2, 2))
         s, k, n, res = settle_core(Z[i], phases[i], par, kmax, min_periods, max_periods,
-                                   detect_tol, rtol_transient, rtol_refine, close_tol, cap_pts,
+                                   detect_tol, rtol_transient, rtol_refine, tol, cap_pts,
                                    cap_id, capture_tol, hist, oz, oM, stop)
         status[i] = s
         period[i] = k

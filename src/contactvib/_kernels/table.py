@@ -127,7 +127,7 @@ def _settle_known_start(q, Z, phases, par, cfg, cap_pts, cap_id, capture_tol, st
     oz = np.empty(2)
     oM = np.zeros((2, 2))
     st, k, n, _res = settle_core(Z[q], phases[q], par, cfg.kmax, np.int64(4), cfg.max_periods,
-                                 cfg.detect_tol, cfg.rtol_transient, cfg.rtol, cfg.close_tol,
+                                 cfg.detect_tol, cfg.rtol_transient, cfg.rtol, cfg.tol,
                                  cap_pts, cap_id, capture_tol, hist, oz, oM, np.zeros(1, np.int64))
     status[q] = st
     kk[q] = k
@@ -169,7 +169,7 @@ def settle_known_many(Z, phases, i, par, cfg, capture_tol, table):
     (``SETTLE_CAPTURED``; the table slot is returned as ``k``).
 
     ``cfg`` is a :class:`.trace.TraceSettings` (kmax, max_periods, detect_tol, rtol_transient,
-    rtol, close_tol are used). Returns status, k (period, or the captured slot), z (refined point
+    rtol, tol are used). Returns status, k (period, or the captured slot), z (refined point
     or last strobe point).
 
     The starts are independent: with more than one numba thread they run on the threads (a

@@ -71,11 +71,11 @@ from .table import KIND_NONPERIODIC, KIND_PERIODIC, add_known, find_known
 NP_FOLLOW = 100
 
 #: Settings of a trace: ``rtol`` integrator tolerance of the shooting and the descriptions;
-#: ``close_tol`` relative closure for accepting an orbit; ``kmax`` largest period detected;
+#: ``tol`` relative closure for accepting an orbit; ``kmax`` largest period detected;
 #: ``max_periods`` transient limit after a jump [excitation periods]; ``detect_tol`` period
 #: detection tolerance of the transient; ``rtol_transient`` its integrator tolerance;
 #: ``same_tol`` relative distance under which two orbit points are the same attractor.
-TraceSettings = namedtuple("TraceSettings", ["rtol", "close_tol", "kmax", "max_periods",
+TraceSettings = namedtuple("TraceSettings", ["rtol", "tol", "kmax", "max_periods",
                                              "detect_tol", "rtol_transient", "same_tol"])
 
 #: Links between output rows (global ids): ``a`` → ``b``, ``jump`` 0 (continued by Newton) or 1
@@ -83,10 +83,10 @@ TraceSettings = namedtuple("TraceSettings", ["rtol", "close_tol", "kmax", "max_p
 TraceLinks = namedtuple("TraceLinks", ["a", "b", "jump"])
 
 
-def trace_settings(rtol, close_tol, kmax, max_periods, detect_tol, rtol_transient,
+def trace_settings(rtol, tol, kmax, max_periods, detect_tol, rtol_transient,
                    same_tol) -> TraceSettings:
     """A :class:`TraceSettings` with the field types the compiled trace expects."""
-    return TraceSettings(float(rtol), float(close_tol), int(kmax), int(max_periods),
+    return TraceSettings(float(rtol), float(tol), int(kmax), int(max_periods),
                          float(detect_tol), float(rtol_transient), float(same_tol))
 
 
@@ -101,7 +101,7 @@ QUICK_STEP = 3e-5
 
 
 @njit(cache=True)
-def continue_orbit(zg, k, par, rtol, close_tol, rows, row, out_z, out_M):
+def continue_orbit(zg, k, par, rtol, tol, rows, row, out_z, out_M):
     """Newton-correct the predicted period-k orbit point ``zg`` and describe it (row ``row`` of
     the :class:`.describe.TraceRows` ``rows``).
 
@@ -111,7 +111,7 @@ def continue_orbit(zg, k, par, rtol, close_tol, rows, row, out_z, out_M):
     variational equations) and that run's end state decides closure, which saves the
     confirming variational integration; ``out_M`` is then the monodromy at the previous iterate
     (relative state difference ≤ QUICK_STEP); if it does not close, Newton goes on. Accepted
-    only if the orbit closes to ``close_tol``, is stable (:func:`.shooting.stable_monodromy`)
+    only if the orbit closes to ``tol``, is stable (:func:`.shooting.stable_monodromy`)
     and no proper divisor of k closes (minimal period, checked on the described strobe points).
     Returns (accepted, closure).
     """
@@ -123,7 +123,7 @@ def continue_orbit(zg, k, par, rtol, close_tol, rows, row, out_z, out_M):
     M = np.empty((2, 2))
     n_evals = 0
     while n_evals < 10:
-        st, res, n = newton_map(z, k, par, rtol, rtol, close_tol, 10 - n_evals, QUICK_STEP, zn, M)
+        st, res, n = newton_map(z, k, par, rtol, rtol, tol, 10 - n_evals, QUICK_STEP, zn, M)
         n_evals += n
         if st == STATUS_NEWTON_SINGULAR or st == STATUS_NEWTON_DIVERGED:
             return False, res
@@ -139,7 +139,7 @@ def continue_orbit(zg, k, par, rtol, close_tol, rows, row, out_z, out_M):
         sc = state_scale(z[0], z[1])
         if quick:
             res = max(abs(zend[0] - z[0]), abs(zend[1] - z[1])) / sc
-            if res > close_tol:
+            if res > tol:
                 continue
         for dd in range(1, k):
             if k % dd == 0:
@@ -175,7 +175,7 @@ def stays_on_branch(z_new, z_pred, z_cur):
 
 
 @njit(cache=True)
-def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol, out_zg,
+def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, tol, out_zg,
                  out_from):
     """Predictor at ``r_to`` for a period-k orbit known at ``r_from`` (and at ``r_prev`` if
     ``have_prev``), from Newton-corrected sub-steps in r (halved on failure, down to
@@ -213,7 +213,7 @@ def bridge_orbit(z, r_from, zp, r_prev, have_prev, r_to, k, par, rtol, close_tol
             out_from[1] = zc[1]
             return 2 if have else 1
         par_s[4] = r_new
-        st, _res = newton_orbit(zg, k, par_s, rtol, rtol, close_tol, np.int64(8), oz, oM)
+        st, _res = newton_orbit(zg, k, par_s, rtol, rtol, tol, np.int64(8), oz, oM)
         if (st == STATUS_OK and stable_monodromy(oM)
                 and (not have or stays_on_branch(oz, zg, zc))):
             zq[0] = zc[0]
@@ -250,7 +250,7 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
     else:
         zg[0] = z[0]
         zg[1] = z[1]
-    ok, res = continue_orbit(zg, k, par, cfg.rtol, cfg.close_tol, rows, row, out_z, out_M)
+    ok, res = continue_orbit(zg, k, par, cfg.rtol, cfg.tol, rows, row, out_z, out_M)
     if ok and have_prev and not stays_on_branch(out_z, zg, z):
         ok = False  # Newton went over to a coexisting orbit: this branch ended
     out_from[0] = z[0]
@@ -263,10 +263,10 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
             if zs[0] == z[0] and zs[1] == z[1]:
                 continue
             zq, hv, rq = zs, np.bool_(False), 0.0
-        how = bridge_orbit(zs, r_here, zq, rq, hv, r_next, k, par, cfg.rtol, cfg.close_tol, zg,
+        how = bridge_orbit(zs, r_here, zq, rq, hv, r_next, k, par, cfg.rtol, cfg.tol, zg,
                            zb)
         if how:
-            ok, res = continue_orbit(zg, k, par, cfg.rtol, cfg.close_tol, rows, row, out_z, out_M)
+            ok, res = continue_orbit(zg, k, par, cfg.rtol, cfg.tol, rows, row, out_z, out_M)
             ok = ok and (how == 1 or stays_on_branch(out_z, zg, zb))
             if ok:
                 out_from[0] = zs[0]
@@ -294,7 +294,7 @@ def _jump(z, kind, k, closure, par, cfg, hist, M):
     oM = np.empty((2, 2))
     n_max = cfg.max_periods if kind == KIND_PERIODIC else min(cfg.max_periods, NP_FOLLOW)
     st, kk, n_done, res = settle(z, 0.0, par, cfg.kmax, np.int64(4), n_max, cfg.detect_tol,
-                                 cfg.rtol_transient, cfg.rtol, cfg.close_tol, hist, oz, oM)
+                                 cfg.rtol_transient, cfg.rtol, cfg.tol, hist, oz, oM)
     if st == SETTLE_PERIODIC:
         z[0] = oz[0]
         z[1] = oz[1]
@@ -349,7 +349,7 @@ def _refine_start(z, k, par, cfg, M):
     monodromy. Returns (ok, k, closure)."""
     oz = np.empty(2)
     oM = np.empty((2, 2))
-    ok, kk, res = refine_stable_orbit(z, k, par, cfg.rtol, cfg.close_tol, oz, oM)
+    ok, kk, res = refine_stable_orbit(z, k, par, cfg.rtol, cfg.tol, oz, oM)
     if not ok:
         return False, k, res
     z[0] = oz[0]

@@ -47,7 +47,8 @@ _CONTINUATION_OPTIONS = {"fmin_hz": "--fmin", "fmax_hz": "--fmax", "f_min": "--f
 def continuation_settings(cont: dict, pa_range=(0.0, 2.0)):
     """ContinuationSettings of the continuation options ``cont`` (the library checks them; we
     name the options)."""
-    from contactvib.continuation.shooting import BRANCH_POINTS_MIN, ContinuationSettings
+    from contactvib.continuation.settings import BRANCH_POINTS_MIN
+    from contactvib.continuation.shooting import ContinuationSettings
 
     lo, hi = parse_frequency_range(cont["fmin"], cont["fmax"])
     n = parse_int("--max-points", cont["max_points"], BRANCH_POINTS_MIN, symbol="max_points")

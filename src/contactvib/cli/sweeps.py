@@ -126,7 +126,7 @@ keep_chunks_option = click.option(
 #: Options of the sweeps, by SweepSettings' symbols.
 _SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "--kmax",
                   "multistart_per_octave": "--multistart-per-octave",
-                  "multistart_starts": "--starts", "seed": "--seed"}
+                  "n_starts": "--starts", "seed": "--seed"}
 
 
 def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, **_other):
@@ -143,7 +143,7 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
     kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=parse_positive("--df", "df", df, "Hz"),
               multistart_per_octave=parse_number("--multistart-per-octave", "multistart_per_octave",
                                             per_octave),
-              multistart_starts=parse_int("--starts", starts, 0), seed=parse_int("--seed", seed, 0),
+              n_starts=parse_int("--starts", starts, 0, symbol="n_starts"), seed=parse_int("--seed", seed, 0),
               kmax=parse_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind,
               friction=friction_spec(_other.get("friction")))
     return mapped_options(_SWEEP_OPTIONS, SweepSettings, **kw)

@@ -68,11 +68,11 @@ def _settings(cont, fmin, fmax, lo=0.0, hi=1e9):
 
     n_pts = parse_int("--max-points", cont["max_points"], 2, symbol="max_points")
     rtol = parse_number("--rtol", "rtol", cont["rtol"])
-    app_max = parse_number("--app-max", "app_max", cont["app_max"]) if _given("app_max") else 1e15
+    app_max = parse_number("--app-max", "app_max_um", cont["app_max"]) if _given("app_max") else 1e15
     return mapped_options({"fmin_hz": "--fmin", "fmax_hz": "--fmax", "max_points": "--max-points", "rtol": "--rtol",
-                           "app_max": "--app-max", "pa_min": "--pa-min", "pa_max": "--pa-max"},
-                          SystemContinuationSettings, fmin_hz=fmin, fmax_hz=fmax, pa_min=lo, pa_max=hi,
-                          max_points=n_pts, rtol=rtol, tol=max(100 * rtol, 1e-10), app_max=app_max)
+                           "app_max_um": "--app-max", "pa_min_newton": "--pa-min", "pa_max_newton": "--pa-max"},
+                          SystemContinuationSettings, fmin_hz=fmin, fmax_hz=fmax, pa_min_newton=lo, pa_max_newton=hi,
+                          max_points=n_pts, rtol=rtol, tol=max(100 * rtol, 1e-10), app_max_um=app_max)
 
 
 def system_continue(pa, pa_newton, from_fe, attractor, parameter, pa_min, pa_max, coordinate, out, as_json,

@@ -40,22 +40,19 @@ from contactvib.continuation.bifurcations import fold_test, ns_test, pd_test
 from contactvib.continuation.branch import Branch, SpecialPoint, Stop
 from contactvib.continuation.engine import (
     Bound,
-    CorrectorSettings,
     EngineStop,
     Point,
-    StepControl,
     continue_branch,
     correct,
 )
+from contactvib.continuation.settings import BranchSettings
 from contactvib.errors import ComputationError
 from contactvib.model import (
-    SHOOTING_RTOL_RANGE,
     ContactModel,
     Excitation,
     ParameterError,
     check_choice,
     check_excitation,
-    check_int,
     check_level_kind,
     check_range,
     excitation_at,
@@ -67,13 +64,11 @@ __all__ = ["ContinuationSettings", "continue_orbit", "switch_period_doubling",
 _IP = {"f_e": 4, "P_a": 3}
 
 
-#: Smallest ``max_points``: a direction of a branch is its start and at least one step.
-BRANCH_POINTS_MIN = 2
-
-
 @dataclass(frozen=True)
-class ContinuationSettings:
-    """Knobs of a continuation run.
+class ContinuationSettings(BranchSettings):
+    """Knobs of a continuation run (the fields it shares with
+    :class:`~contactvib.continuation.system_shooting.SystemContinuationSettings` are checked by
+    :class:`~contactvib.continuation.settings.BranchSettings`).
 
     Parameters
     ----------
@@ -133,23 +128,9 @@ class ContinuationSettings:
         return excitation_at(model, level, f_e, self.excitation)
 
     def __post_init__(self):
-        # each value checked against the checked values before it, and stored as checked (a
-        # number given as text is a float, a count an int)
-        v = {"fmin_hz": check_range("fmin_hz", self.fmin_hz, 0.0, False, "Hz")}
-        v["fmax_hz"] = check_range("fmax_hz", self.fmax_hz, v["fmin_hz"], False, "Hz", lower_name="fmin_hz")
-        v["pa_min"] = check_range("pa_min", self.pa_min, 0.0, True)
-        v["pa_max"] = check_range("pa_max", self.pa_max, v["pa_min"], False, lower_name="pa_min")
-        v["ds_min"] = check_range("ds_min", self.ds_min, 0.0, False)
-        v["ds"] = check_range("ds", self.ds, v["ds_min"], True, lower_name="ds_min")
-        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds"], True, lower_name="ds")
-        v["max_points"] = check_int("max_points", self.max_points, BRANCH_POINTS_MIN)
-        v["app_max_um"] = check_range("app_max_um", self.app_max_um, 0.0, False, "µm")
-        v["rtol"] = check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
-        v["tol"] = check_range("tol", self.tol, 0.0, False)
-        v["max_iter"] = check_int("max_iter", self.max_iter, 1)
-        v["max_turn"] = check_range("max_turn", self.max_turn, 0.0, False, "rad")
-        v["locate_tol"] = check_range("locate_tol", self.locate_tol, 0.0, False)
-        v["max_failures"] = check_int("max_failures", self.max_failures, 1)
+        # the shared fields checked by BranchSettings, each against the checked values before it,
+        # and stored as checked (a number given as text is a float, a count an int)
+        v = self.checked()
         v["locate"] = bool(check_choice("locate", self.locate, (True, False)))
         v["excitation"] = check_level_kind(self.excitation)
         for name, value in v.items():
@@ -228,13 +209,8 @@ class OrbitProblem:
         self.merge_check = merge_check
         self.prev_d = None
         self.merge_state = None
-        self.corrector = CorrectorSettings(tol=settings.tol, max_iter=settings.max_iter,
-                                           cons_tol=1e-9, max_step=1.0)
-        self.steps = StepControl(ds=settings.ds, ds_min=settings.ds_min, ds_max=settings.ds_max,
-                                 max_turn=settings.max_turn, max_failures=settings.max_failures,
-                                 max_points=settings.max_points, locate_tol=settings.locate_tol,
-                                 locate=settings.locate,
-                                 detect_loop=True, bound_action="fix")
+        self.corrector = settings.corrector()
+        self.steps = settings.step_control()
 
     # ------------------------------------------------------------------ engine protocol
     def residual_jacobian(self, u):

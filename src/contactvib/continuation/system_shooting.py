@@ -45,20 +45,20 @@ from contactvib._kernels import system_map as km
 from contactvib._kernels.shooting import is_stable
 from contactvib._kernels.status import STATUS_OK, status_message
 from contactvib._kernels.system_flow import system_arrays
+from contactvib.call_forms import renamed_fields
 from contactvib.continuation.branch import Stop
 from contactvib.continuation.engine import (
     Bound,
-    CorrectorSettings,
     EngineStop,
     Point,
-    StepControl,
     continue_branch,
     correct,
 )
+from contactvib.continuation.settings import BranchSettings
 from contactvib.continuation.system_branch import SystemBranch, SystemOrbitRecord, SystemSpecialPoint
 from contactvib.errors import ComputationError
-from contactvib.model import ParameterError, check_int, check_range
-from contactvib.model.checks import KMAX_SEARCH_MAX, SHOOTING_RTOL_RANGE
+from contactvib.model import ParameterError, check_int
+from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation, check_state
 
 __all__ = ["SystemContinuationSettings", "SystemOrbitProblem", "continue_system_orbit", "linear_seed",
@@ -78,16 +78,20 @@ MERGE_TOL = 1e-7
 MEASURE_SAMPLES = 512
 
 
+@renamed_fields(app_max="app_max_um", pa_min="pa_min_newton", pa_max="pa_max_newton")
 @dataclass(frozen=True)
-class SystemContinuationSettings:
-    """Knobs of a system continuation.
+class SystemContinuationSettings(BranchSettings):
+    """Knobs of a system continuation (the fields it shares with
+    :class:`~contactvib.continuation.shooting.ContinuationSettings`, same names, meaning and
+    units, are checked by :class:`~contactvib.continuation.settings.BranchSettings`).
 
     Parameters
     ----------
     fmin_hz, fmax_hz : float
-        Range of f_e [Hz] (stop when reached).
-    pa_min, pa_max : float
-        Range of P_a [N] (for continuation in P_a).
+        Range of f_e [Hz] (stop when reached; 0 ≤ fmin_hz < fmax_hz).
+    pa_min_newton, pa_max_newton : float
+        Range of P_a [N] (for continuation in P_a; ``pa_min``, ``pa_max`` before 0.2.0, still
+        accepted with a DeprecationWarning).
     ds, ds_min, ds_max : float
         Initial, smallest and largest pseudo-arclength step [relative units].
     max_points : int
@@ -104,15 +108,18 @@ class SystemContinuationSettings:
         Pseudo-arclength tolerance of the location of special points.
     max_failures : int
         Rejected steps per direction before the branch stops.
-    app_max : float
-        Amplitude bound: a branch stops where the plotted coordinate's A_pp exceeds it [µm or
-        µrad].
+    app_max_um : float
+        Amplitude bound [µm; µrad for a rotation]: a branch stops where the plotted coordinate's
+        A_pp exceeds it (``app_max`` before 0.2.0, still accepted with a DeprecationWarning).
     """
+
+    LEVEL_RANGE = ("pa_min_newton", "pa_max_newton", "N")
+    FMIN_ZERO = True
 
     fmin_hz: float = 0.0
     fmax_hz: float = 1e6
-    pa_min: float = 0.0
-    pa_max: float = 1e9
+    pa_min_newton: float = 0.0
+    pa_max_newton: float = 1e9
     ds: float = 0.02
     ds_min: float = 1e-7
     ds_max: float = 0.1
@@ -123,25 +130,10 @@ class SystemContinuationSettings:
     max_turn: float = 0.35
     locate_tol: float = 1e-9
     max_failures: int = 100
-    app_max: float = 1e15
+    app_max_um: float = 1e15
 
     def __post_init__(self):
-        v = {"fmin_hz": check_range("fmin_hz", self.fmin_hz, 0.0, True, "Hz")}
-        v["fmax_hz"] = check_range("fmax_hz", self.fmax_hz, v["fmin_hz"], False, "Hz", lower_name="fmin_hz")
-        v["pa_min"] = check_range("pa_min", self.pa_min, 0.0, True, "N")
-        v["pa_max"] = check_range("pa_max", self.pa_max, v["pa_min"], False, "N", lower_name="pa_min")
-        v["ds_min"] = check_range("ds_min", self.ds_min, 0.0, False)
-        v["ds"] = check_range("ds", self.ds, v["ds_min"], True, lower_name="ds_min")
-        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds"], True, lower_name="ds")
-        v["max_points"] = check_int("max_points", self.max_points, 2)
-        v["rtol"] = check_range("rtol", self.rtol, SHOOTING_RTOL_RANGE[0], True, upper=SHOOTING_RTOL_RANGE[1])
-        v["tol"] = check_range("tol", self.tol, 0.0, False)
-        v["max_iter"] = check_int("max_iter", self.max_iter, 1)
-        v["max_turn"] = check_range("max_turn", self.max_turn, 0.0, False, "rad")
-        v["locate_tol"] = check_range("locate_tol", self.locate_tol, 0.0, False)
-        v["max_failures"] = check_int("max_failures", self.max_failures, 1)
-        v["app_max"] = check_range("app_max", self.app_max, 0.0, False, "um")
-        for name, value in v.items():
+        for name, value in self.checked().items():
             object.__setattr__(self, name, value)
 
     def to_dict(self) -> dict:
@@ -211,14 +203,10 @@ class SystemOrbitProblem:
         if parameter == "f_e":
             self.bounds = (Bound(2 * system.n, settings.fmin_hz, settings.fmax_hz, "f_e"),)
         else:
-            self.bounds = (Bound(2 * system.n, settings.pa_min, settings.pa_max, "P_a"),)
+            self.bounds = (Bound(2 * system.n, settings.pa_min_newton, settings.pa_max_newton, "P_a"),)
         self.prev_d = None  # P^(k/2)(x) − x at the last accepted point (even k)
-        self.corrector = CorrectorSettings(tol=settings.tol, max_iter=settings.max_iter, cons_tol=1e-9,
-                                           max_step=1.0)
-        self.steps = StepControl(ds=settings.ds, ds_min=settings.ds_min, ds_max=settings.ds_max,
-                                 max_turn=settings.max_turn, max_failures=settings.max_failures,
-                                 max_points=settings.max_points, locate_tol=settings.locate_tol,
-                                 detect_loop=True, bound_action="fix")
+        self.corrector = settings.corrector()
+        self.steps = settings.step_control()
 
     # ------------------------------------------------------------------ helpers
     def excitation(self, q: float) -> tuple[float, float]:
@@ -289,8 +277,8 @@ class SystemOrbitProblem:
 
     def check(self, pt: Point):
         app = float(pt.record.app[self.coordinate])
-        if app > self.s.app_max:
-            return f"amplitude bound reached (A_pp = {app:.4g} > {self.s.app_max:g})"
+        if app > self.s.app_max_um:
+            return f"amplitude bound reached (A_pp = {app:.4g} > {self.s.app_max_um:g})"
         d = self.sub_period(pt.u)
         if d is not None:
             return (f"merges with the period-{d} branch (its orbit run {self.k // d} times) at "

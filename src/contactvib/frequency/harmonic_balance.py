@@ -45,6 +45,7 @@ import numpy as np
 from contactvib._kernels.shooting import is_stable
 from contactvib.call_forms import old_form, renamed_fields
 from contactvib.continuation.engine import Bound, CorrectorSettings, Point, StepControl, continue_branch
+from contactvib.continuation.settings import check_newton, check_steps
 from contactvib.errors import ComputationError
 from contactvib.frequency.aft import AFT as _AFT
 from contactvib.frequency.hb_results import HBBranch, HBSolution, series_extrema, series_value, top_fraction
@@ -266,7 +267,7 @@ class HBSettings:
         AFT samples per period (default: the power of two ≥ 8H, at least 64).
     ds, ds_min, ds_max : float
         Initial, smallest and largest arclength step (in the scaled unknowns: coefficients in
-        y0, r = f_e/f_n0).
+        y0, r = f_e/f_n0); ``0 < ds_min ≤ ds ≤ ds_max``.
     df_max_hz : float
         Largest frequency step [Hz] (resolves narrow superharmonic peaks; ``df_max`` before
         0.2.0, still accepted with a DeprecationWarning).
@@ -297,14 +298,12 @@ class HBSettings:
 
     def __post_init__(self):
         # stored as checked (a number given as text is a float, a count an int)
-        v = {"ds": check_range("ds", self.ds, 0.0, False),
-             "ds_min": check_range("ds_min", self.ds_min, 0.0, False)}
-        v["ds_max"] = check_range("ds_max", self.ds_max, v["ds_min"], True, lower_name="ds_min")
+        # the steps and the Newton corrector by the rules of every continuation's settings
+        v = check_steps(self.ds, self.ds_min, self.ds_max)
         v["energy_tol"] = check_range("energy_tol", self.energy_tol, 0.0, False)
         v["max_points"] = check_int("max_points", self.max_points, 2)
         v["df_max_hz"] = check_range("df_max_hz", self.df_max_hz, 0.0, False, "Hz")
-        v["tol"] = check_range("tol", self.tol, 0.0, False)
-        v["max_iter"] = check_int("max_iter", self.max_iter, 1)
+        v.update(check_newton(self.tol, self.max_iter))
         for name, value in v.items():
             object.__setattr__(self, name, value)
 

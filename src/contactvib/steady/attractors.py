@@ -355,5 +355,5 @@ def find_attractors(excitation: Excitation, *, n_starts: int = 512, seed: int = 
         settings={"n_starts": n_starts, "seed": seed, "kmax": kmax, "max_periods": max_periods,
                   "seeds": seeds, "detect_tol": detect_tol, "rtol_transient": rtol_transient,
                   "capture_tol": capture_tol, "first_wave": n_first,
-                  "rtol_refine": RTOL_REFINE, "close_tol": CLOSE_TOL},
+                  "rtol_refine": RTOL_REFINE, "tol": CLOSE_TOL},
     )

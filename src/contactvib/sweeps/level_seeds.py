@@ -54,11 +54,11 @@ def walk_orbit(model, settings, z, k: int, f_e: float, level_from: float, level_
     for level in np.linspace(level_from, level_to, n + 1)[1:]:
         check_interrupt()
         par = st.excitation_at(model, float(level), f_e).kernel_parameters()
-        s, _res = newton_orbit(z, int(k), par, st.rtol, st.rtol, st.close_tol, WALK_ITERATIONS, oz, oM)
+        s, _res = newton_orbit(z, int(k), par, st.rtol, st.rtol, st.tol, WALK_ITERATIONS, oz, oM)
         if s != STATUS_OK:
             return None
         z = oz.copy()
-    ok, kk, _res = refine_stable_orbit(z, int(k), par, st.rtol, st.close_tol, oz, oM)
+    ok, kk, _res = refine_stable_orbit(z, int(k), par, st.rtol, st.tol, oz, oM)
     return (oz.copy(), int(kk)) if ok else None
 
 

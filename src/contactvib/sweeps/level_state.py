@@ -108,7 +108,7 @@ class LevelState:
         self.f = f
         self.r = f / model.f_n0
         self.par = st.excitation_at(model, pa_over_q, f[0]).kernel_parameters()
-        self.cfg = tk.trace_settings(st.rtol, st.close_tol, st.kmax, st.max_periods, st.detect_tol,
+        self.cfg = tk.trace_settings(st.rtol, st.tol, st.kmax, st.max_periods, st.detect_tol,
                                      st.rtol_transient, st.same_tol)
         self.table = new_table(f.size, _MAXA, 16)
         self.chunks: list = []  # TraceRows of each trace

@@ -71,7 +71,7 @@ def newton_seeds(lv: LevelState, i: int, Zb: np.ndarray, par: np.ndarray, stage:
                 if s != STATUS_OK:
                     continue
                 z0 = oz.copy()
-            ok, k, _res = refine_stable_orbit(z0, period, par, st.rtol, st.close_tol, oz, oM)
+            ok, k, _res = refine_stable_orbit(z0, period, par, st.rtol, st.tol, oz, oM)
             if ok and lv.known_slot(i, oz, k, 0) < 0:
                 lv.trace_both_ways(oz.copy(), k, 0, i, "multi-start")
 
@@ -85,7 +85,7 @@ def late_newton_seeds(lv: LevelState, model: ContactModel, pa_over_q: float, sta
         i = int(i)
         if lv.r[i] < NEWTON_MIN_RATIO:
             continue
-        Zb, _ph = start_box(st.excitation_at(model, pa_over_q, lv.f[i]), st.multistart_starts, st.seed + i)
+        Zb, _ph = start_box(st.excitation_at(model, pa_over_q, lv.f[i]), st.n_starts, st.seed + i)
         par = lv.par.copy()
         par[4] = lv.r[i]
         newton_seeds(lv, i, Zb, par, 1)

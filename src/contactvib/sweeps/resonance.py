@@ -214,7 +214,7 @@ def _run_level(model_params: dict, pa: float, settings: dict, chunk: str | None,
     from contactvib.sweeps.sweep import trace_level
 
     model = ContactModel(**model_params)
-    st = SweepSettings(**settings)
+    st = SweepSettings.from_dict(settings)
     with for_level(pa):
         level = trace_level(model, pa_over_q=pa, settings=st, **({"seeds": seeds} if len(seeds) else {}))
         with stage("level dataset"):
@@ -233,7 +233,7 @@ def _compile_late_first(model_params: dict, settings: dict) -> None:
     """A pool worker's first task on a first run (:func:`.sweep.compile_late_kernels_first`)."""
     from contactvib.sweeps.sweep import compile_late_kernels_first
 
-    compile_late_kernels_first(ContactModel(**model_params), SweepSettings(**settings))
+    compile_late_kernels_first(ContactModel(**model_params), SweepSettings.from_dict(settings))
 
 
 def _chunk_matches(path: Path, model: ContactModel, settings: dict, pa: float) -> bool:
@@ -398,7 +398,7 @@ def _sweep_seeded_levels(model, sd, out, on_level, level_results, done, compress
     has none left (a resumed run)."""
     from contactvib.sweeps.level_seeds import level_seeds
 
-    st = SweepSettings(**sd)
+    st = SweepSettings.from_dict(sd)
     seeds: dict = {}
     for _pass in range(len(done)):
         new = level_seeds(model, done, st)
@@ -436,7 +436,7 @@ def _sweep_levels(model, todo, sd, out, backend, progress, on_level, level_resul
     from contactvib.sweeps.backends import kernel_cache_cold, run_levels
 
     name, compress = store
-    n_points = frequency_grid(SweepSettings(**sd)).size
+    n_points = frequency_grid(SweepSettings.from_dict(sd)).size
     points = {pa: 0 for pa in todo}  # frequency points done in each level still to finish
     n_done = n_levels - len(todo)
     cold = bool(todo) and kernel_cache_cold()

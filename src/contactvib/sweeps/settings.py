@@ -1,5 +1,7 @@
 """Settings of a resonance sweep: the frequency grid, the multi-start frequencies, the tolerances
-and what a level holds (:class:`SweepSettings`), used by :mod:`contactvib.sweeps.sweep`."""
+and what a level holds (:class:`SweepSettings`), used by :mod:`contactvib.sweeps.sweep`; the grid
+check and grid both sweeps share (:func:`check_grid`, :func:`grid_frequencies`: also
+:class:`~contactvib.sweeps.system_sweep.SystemSweepSettings`)."""
 
 from __future__ import annotations
 
@@ -8,6 +10,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from contactvib.call_forms import renamed_fields
 from contactvib.model import (
     KMAX_SWEEP_MAX,
     MULTISTART_PER_OCTAVE_MAX,
@@ -21,9 +24,37 @@ from contactvib.model import (
 )
 from contactvib.model.checks import MEMORY_MAX, check_memory, format_number
 
-__all__ = ["SweepSettings", "frequency_grid", "multistart_indices"]
+__all__ = ["SweepSettings", "frequency_grid", "multistart_indices", "check_grid", "grid_frequencies",
+           "RECORD_NAMES"]
+
+#: Fields of :class:`SweepSettings` stored under another name in a dataset's ``settings`` record
+#: (the record's layout, which :meth:`SweepSettings.to_dict` writes and ``from_dict`` reads).
+RECORD_NAMES = {"n_starts": "multistart_starts", "tol": "close_tol"}
 
 
+def check_grid(fmin_hz, fmax_hz, df_hz) -> tuple[float, float, float]:
+    """The frequency grid of a sweep checked, (f_min, f_max, Δf) [Hz] as floats:
+    0 < f_min < f_max, 0 < Δf ≤ f_max − f_min (two frequencies at least), at most 1e6 frequencies."""
+    fmin, fmax = check_frequency_range(fmin_hz, fmax_hz)
+    df = check_range("df", df_hz, 0.0, False, "Hz")
+    span = fmax - fmin
+    if df > span * (1.0 + 1e-9):
+        raise ParameterError("df", df_hz, f"must be <= f_max - f_min = {format_number(span)} Hz "
+                             "(the grid needs at least two frequencies)", ("f_min", "f_max"))
+    if span / df > 1e6:
+        raise ParameterError("df", df_hz, f"gives more than 1e6 frequencies over f_max - f_min = "
+                             f"{format_number(span)} Hz; use a larger step or a narrower range",
+                             ("f_min", "f_max"))
+    return fmin, fmax, df
+
+
+def grid_frequencies(fmin_hz: float, fmax_hz: float, df_hz: float) -> np.ndarray:
+    """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
+    n = int(math.floor((fmax_hz - fmin_hz) / df_hz + 1e-9)) + 1
+    return fmin_hz + df_hz * np.arange(n)
+
+
+@renamed_fields(multistart_starts="n_starts", close_tol="tol")
 @dataclass(frozen=True)
 class SweepSettings:
     """Settings of a resonance sweep.
@@ -39,14 +70,16 @@ class SweepSettings:
     multistart_per_octave : float
         Multi-start frequencies per octave of f_e, geometrically spaced from f_min and snapped to
         the grid (0: no multi-start).
-    multistart_starts : int
-        Random box starts per multi-start frequency (ballistic seeds are added).
+    n_starts : int
+        Random box starts per multi-start frequency (ballistic seeds are added;
+        ``multistart_starts`` before 0.2.0, still accepted with a DeprecationWarning).
     seed : int
         Random seed of the box samples.
     rtol : float
         Integrator tolerance of the shooting and the orbit descriptions.
-    close_tol : float
-        Relative closure for accepting an orbit.
+    tol : float
+        Newton closure ``|P^k(z) − z|∞ / max(1, |z|∞)`` for accepting an orbit (``close_tol``
+        before 0.2.0, still accepted with a DeprecationWarning).
     excitation : str
         What the level holds (:data:`contactvib.model.LEVEL_KINDS`): "force" (P_a/Q, the
         paper's), "base-um" (base displacement U [µm]: the inertial force grows with f_e²) or
@@ -70,10 +103,10 @@ class SweepSettings:
     kmax: int = 8
     max_periods: int = 300
     multistart_per_octave: float = 8.0
-    multistart_starts: int = 24
+    n_starts: int = 24
     seed: int = 0
     rtol: float = 1e-10
-    close_tol: float = 1e-9
+    tol: float = 1e-9
     detect_tol: float = 1e-4
     rtol_transient: float = 1e-8
     same_tol: float = 1e-6
@@ -84,26 +117,17 @@ class SweepSettings:
 
     def __post_init__(self):
         # stored as checked (a number given as text is a float, a count an int)
-        fmin, fmax = check_frequency_range(self.fmin_hz, self.fmax_hz)
-        df = check_range("df", self.df_hz, 0.0, False, "Hz")
-        span = fmax - fmin
-        if df > span * (1.0 + 1e-9):
-            raise ParameterError("df", self.df_hz, f"must be <= f_max - f_min = {format_number(span)} Hz "
-                                 "(the grid needs at least two frequencies)", ("f_min", "f_max"))
-        if span / df > 1e6:
-            raise ParameterError("df", self.df_hz, f"gives more than 1e6 frequencies over f_max - f_min = "
-                                 f"{format_number(span)} Hz; use a larger step or a narrower range",
-                                 ("f_min", "f_max"))
+        fmin, fmax, df = check_grid(self.fmin_hz, self.fmax_hz, self.df_hz)
         kmax = check_int("kmax", self.kmax, 1, KMAX_SWEEP_MAX)
         v = dict(fmin_hz=fmin, fmax_hz=fmax, df_hz=df, kmax=kmax,
                  max_periods=check_int("max_periods", self.max_periods, 4 * kmax),
                  multistart_per_octave=check_range("multistart_per_octave", self.multistart_per_octave,
                                                    0.0, True, upper=MULTISTART_PER_OCTAVE_MAX),
-                 multistart_starts=check_int("multistart_starts", self.multistart_starts, 0))
+                 n_starts=check_int("n_starts", self.n_starts, 0))
         # the arrays of one multi-start search, as the attractor search's (2 KiB per start, x2)
-        check_memory("multistart_starts", self.multistart_starts, 4096.0 * v["multistart_starts"],
-                     MEMORY_MAX // 4096)
+        check_memory("n_starts", self.n_starts, 4096.0 * v["n_starts"], MEMORY_MAX // 4096)
         v["seed"] = check_int("seed", self.seed, 0)
+        v["tol"] = check_range("tol", self.tol, 0.0, False)
         v["excitation"] = check_level_kind(self.excitation)
         v["friction"] = _friction_model(self.friction)
         if not isinstance(self.level_seeds, (bool, np.bool_)):
@@ -113,10 +137,11 @@ class SweepSettings:
             object.__setattr__(self, name, value)
 
     def to_dict(self) -> dict:
-        """The settings as keyword arguments (``excitation`` only when it is not the force and
-        ``friction``, the FrictionModel's parameters, only when given, so that a force sweep's
-        record holds the paper's fields only)."""
-        d = asdict(self)
+        """The settings record of a dataset (its ``settings`` attribute; :meth:`from_dict` reads
+        it back): the fields in order, those of :data:`RECORD_NAMES` under their record name,
+        ``excitation`` only when it is not the force and ``friction``, the FrictionModel's
+        parameters, only when given, so that a force sweep's record holds the paper's fields only."""
+        d = {RECORD_NAMES.get(k, k): v for k, v in asdict(self).items()}
         if d["excitation"] == "force":
             del d["excitation"]
         if d["friction"] is None:  # a sweep without friction: no friction field
@@ -124,6 +149,12 @@ class SweepSettings:
         if not d["level_seeds"]:  # off: the record of a sweep without them
             del d["level_seeds"]
         return d
+
+    @classmethod
+    def from_dict(cls, record: dict) -> SweepSettings:
+        """The settings of a record written by :meth:`to_dict` (field names also accepted)."""
+        back = {v: k for k, v in RECORD_NAMES.items()}
+        return cls(**{back.get(k, k): v for k, v in record.items()})
 
     def excitation_at(self, model: ContactModel, level: float, f_e: float):
         """The sweep's excitation at ``level`` and f_e [Hz] (:func:`contactvib.model.excitation_at`)."""
@@ -145,14 +176,13 @@ def _friction_model(friction):
 
 def frequency_grid(settings: SweepSettings) -> np.ndarray:
     """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
-    n = int(math.floor((settings.fmax_hz - settings.fmin_hz) / settings.df_hz + 1e-9)) + 1
-    return settings.fmin_hz + settings.df_hz * np.arange(n)
+    return grid_frequencies(settings.fmin_hz, settings.fmax_hz, settings.df_hz)
 
 
 def multistart_indices(settings: SweepSettings) -> np.ndarray:
     """Grid indices of the multi-start frequencies: f_min · 2^(j / per_octave), snapped, unique."""
     f = frequency_grid(settings)
-    if settings.multistart_per_octave <= 0 or settings.multistart_starts <= 0:
+    if settings.multistart_per_octave <= 0 or settings.n_starts <= 0:
         return np.zeros(0, np.int64)
     n_oct = math.log2(f[-1] / f[0])
     fs = f[0] * 2.0 ** (np.arange(int(n_oct * settings.multistart_per_octave) + 1)

@@ -84,7 +84,7 @@ def _settle_from(level: LevelState, i: int, z, phase: float = 0.0):
     oz = np.empty(2)
     oM = np.empty((2, 2))
     s, k, n, _res = settle(np.asarray(z, float), phase, par, st.kmax, 4, st.max_periods,
-                           st.detect_tol, st.rtol_transient, st.rtol, st.close_tol, hist, oz, oM)
+                           st.detect_tol, st.rtol_transient, st.rtol, st.tol, hist, oz, oM)
     if s == SETTLE_PERIODIC:
         return oz, k, 0
     if s == SETTLE_NONPERIODIC:
@@ -111,7 +111,7 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
         return None
     oz = np.empty(2)
     oM = np.empty((2, 2))
-    ok, k, _res = refine_stable_orbit(z, 1, par, st.rtol, st.close_tol, oz, oM)
+    ok, k, _res = refine_stable_orbit(z, 1, par, st.rtol, st.tol, oz, oM)
     return oz.copy() if ok and k == 1 else None
 
 
@@ -127,7 +127,7 @@ def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int
     check_interrupt()
     st = lv.st
     exc = st.excitation_at(model, pa_over_q, lv.f[i])
-    Zb, phb = start_box(exc, st.multistart_starts, st.seed + i)
+    Zb, phb = start_box(exc, st.n_starts, st.seed + i)
     Zs, phs = ballistic_seeds(exc)
     Z = np.vstack([Zb, Zs])
     ph = np.concatenate([phb, phs])
@@ -263,18 +263,18 @@ def compile_late_kernels_first(model: ContactModel, settings: SweepSettings) -> 
     find_known(lv.table, np.int64(0), z.copy(), k1, np.int64(0), st.same_tol)
     tk.stays_on_branch(z.copy(), z.copy(), z.copy())
     describe_point(z.copy(), k1, par, st.rtol, new_rows(1), np.int64(0), np.empty(2))
-    tk.continue_orbit(z.copy(), k1, par, st.rtol, st.close_tol, new_rows(1), np.int64(0),
+    tk.continue_orbit(z.copy(), k1, par, st.rtol, st.tol, new_rows(1), np.int64(0),
                       np.empty(2), np.empty((2, 2)))
     r = float(par[4])
-    tk.bridge_orbit(z.copy(), r, z.copy(), r, np.bool_(False), r, k1, par, st.rtol, st.close_tol,
+    tk.bridge_orbit(z.copy(), r, z.copy(), r, np.bool_(False), r, k1, par, st.rtol, st.tol,
                     np.empty(2), np.empty(2))
     lyapunov_strobe(z.copy(), par, st.rtol_transient, np.int64(NP_LYAPUNOV))
     try:
         continue_orbit(exc, z, 1, parameter="f_e", direction="down",
                        settings=ContinuationSettings(fmin_hz=0.9 * f0, fmax_hz=f0, max_points=2, max_failures=2,
-                                                     rtol=st.rtol, tol=st.close_tol))
+                                                     rtol=st.rtol, tol=st.tol))
     except (ComputationError, ParameterError, FloatingPointError, np.linalg.LinAlgError):
         pass
-    newton_orbit(z.copy(), 1, par, st.rtol, st.rtol, st.close_tol, 8, np.empty(2), np.empty((2, 2)))
+    newton_orbit(z.copy(), 1, par, st.rtol, st.rtol, st.tol, 8, np.empty(2), np.empty((2, 2)))
     settle_known_many(z.reshape(1, 2).copy(), np.zeros(1), 0, lv.par.copy(), lv.cfg, st.capture_tol,
                       lv.table)

@@ -39,9 +39,10 @@ from contactvib._kernels.status import STATUS_OK, STATUS_RECORD_FULL
 from contactvib._kernels.system_flow import rec_width, system_arrays
 from contactvib.errors import ComputationError
 from contactvib.model import ParameterError, check_int, check_range
-from contactvib.model.checks import KMAX_SEARCH_MAX, check_frequency_range
+from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation
 from contactvib.steady.system_orbits import DISPLAY_UNITS, periodic_orbit
+from contactvib.sweeps.settings import check_grid, grid_frequencies
 
 __all__ = ["SystemSweepSettings", "SystemLevel", "sweep_system_level", "SAME_TOL", "MEASURE_SAMPLES"]
 
@@ -61,7 +62,8 @@ class SystemSweepSettings:
     Attributes
     ----------
     fmin_hz, fmax_hz, df_hz : float
-        The grid f_min + j Δf ≤ f_max [Hz].
+        The grid f_min + j Δf ≤ f_max [Hz] (checked as a sweep's:
+        :func:`contactvib.sweeps.settings.check_grid`).
     search_every : int
         Grid points between multi-start searches (the first point included); 0: sweeps only.
     n_starts, seed : int
@@ -85,10 +87,8 @@ class SystemSweepSettings:
     rtol: float = 1e-10
 
     def __post_init__(self):
-        lo, hi = check_frequency_range(self.fmin_hz, self.fmax_hz)
-        object.__setattr__(self, "fmin_hz", lo)
-        object.__setattr__(self, "fmax_hz", hi)
-        object.__setattr__(self, "df_hz", check_range("df", self.df_hz, 0.0, False, "Hz"))
+        for name, value in zip(("fmin_hz", "fmax_hz", "df_hz"), check_grid(self.fmin_hz, self.fmax_hz, self.df_hz)):
+            object.__setattr__(self, name, value)
         object.__setattr__(self, "search_every", check_int("search_every", self.search_every, 0))
         object.__setattr__(self, "n_starts", check_int("n_starts", self.n_starts, 1, 10_000))
         object.__setattr__(self, "seed", check_int("seed", self.seed, 0))
@@ -98,8 +98,7 @@ class SystemSweepSettings:
 
     def grid(self) -> np.ndarray:
         """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
-        n = int(math.floor((self.fmax_hz - self.fmin_hz) / self.df_hz + 1e-9)) + 1
-        return self.fmin_hz + self.df_hz * np.arange(n)
+        return grid_frequencies(self.fmin_hz, self.fmax_hz, self.df_hz)
 
     def to_dict(self) -> dict:
         return asdict(self)

@@ -59,7 +59,7 @@ def _continue(lv, model, pa_over_q, z, k, i, direction):
     # stable parts; each seed is refined at the sweep's tolerances before it is traced. Only the
     # points' stability is used: the special points are not located (no branch point changes)
     settings = ContinuationSettings(fmin_hz=lo, fmax_hz=hi, max_points=MAX_POINTS, max_failures=20,
-                                    rtol=lv.st.rtol, tol=lv.st.close_tol, locate=False)
+                                    rtol=lv.st.rtol, tol=lv.st.tol, locate=False)
     try:
         return continue_orbit(lv.st.excitation_at(model, pa_over_q, f0), z, k, parameter="f_e",
                               direction="up" if direction > 0 else "down", settings=settings)
@@ -105,7 +105,7 @@ def _seed_in(lv, branch, a, b, k):
     oz = np.empty(2)
     oM = np.empty((2, 2))
     ok, kk, _res = refine_stable_orbit(np.asarray(branch.state[j], float), k, par, lv.st.rtol,
-                           lv.st.close_tol, oz, oM)
+                           lv.st.tol, oz, oM)
     if not ok or kk != k:  # refine_stable_orbit accepts stable orbits only
         return None
     return i, oz.copy()
