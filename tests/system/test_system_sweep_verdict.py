@@ -169,6 +169,22 @@ def test_a_search_stores_the_chaotic_attractor_its_verdict_finds():
     assert float(np.sum(row["lyap"])) == pytest.approx(-0.09, abs=1e-9)
 
 
+def test_the_command_counts_them_and_draws_the_graph(tmp_path, capsys):
+    """``resonance --system FILE --pa-newton 0.1`` over 0.0955–0.096 Hz: the summary line counts
+    the non-periodic points; the dataset and the graph are written."""
+    out = tmp_path / "out"
+    rc = main(["resonance", "--system", str(STOP), "--pa-newton", "0.1", "--fmin", "0.0955", "--fmax", "0.096",
+               "--df", "0.0005", "--starts", "1", "--no-progress", "--out", str(out)])
+    text = capsys.readouterr().out
+    assert rc in (0, None) and "non-periodic)" in text, text
+    assert (out / "resonance_0.1N_q1_q2_app.png").is_file()
+    import xarray as xr
+
+    with xr.open_dataset(out / "resonance.nc") as ds:
+        n = int((ds["period"].values == 0).sum())
+        assert n >= 1 and f"({n} non-periodic)" in text and ds.sizes["exponent"] == 4
+
+
 def test_the_setting_is_a_bool():
     with pytest.raises(ParameterError, match="nonperiodic"):
         SystemSweepSettings(1.0, 2.0, 0.5, nonperiodic="yes")

@@ -148,9 +148,15 @@ def system_resonance(pa, pa_newton, plot, measure, out, sweep: dict) -> None:
         fig = system_resonance_figure(one, coords, measure, f"{label.rsplit('/', 1)[-1]}: P_a = {v:g} {unit}")
         tag = "_".join(system.coordinates[j] for j in coords)
         click.echo(str(save_figure(fig, outp / f"resonance_{v:g}{unit}_{tag}_{measure}.png")))
-    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on {len(levels)} "
+    click.echo(f"{_points(ds)}, {ds.sizes['branch']} branches on {len(levels)} "
                f"level{'s' * (len(levels) != 1)}; grid {st.fmin_hz:g}..{st.fmax_hz:g} Hz step {st.df_hz:g} Hz "
                f"-> {outp / 'resonance.nc'}")
+
+
+def _points(ds) -> str:
+    """"N attractor points" and, where there are, "(M non-periodic)"."""
+    m = int((ds["period"].values == 0).sum())
+    return f"{ds.sizes['point']} attractor points" + (f" ({m} non-periodic)" if m else "")
 
 
 def _run(fn, system, levels, st, desc, outp, name, sweep, backend, compress):
@@ -192,7 +198,7 @@ def system_atlas(pa, pa_range, pa_newton, out, backend, sweep: dict) -> None:
                                 kw["pa_min"], kw["pa_max"], kw["npa"])
     outp = checked_output_folder(out)
     ds = _run(system_resonance_dataset, system, levels, st, desc, outp, "atlas", sweep, backend, True)
-    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on {len(levels)} "
+    click.echo(f"{_points(ds)}, {ds.sizes['branch']} branches on {len(levels)} "
                f"level{'s' * (len(levels) != 1)} -> {outp / 'atlas.nc'}")
 
 
