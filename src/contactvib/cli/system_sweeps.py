@@ -148,9 +148,15 @@ def system_resonance(pa, pa_newton, plot, measure, out, sweep: dict) -> None:
         fig = system_resonance_figure(one, coords, measure, f"{label.rsplit('/', 1)[-1]}: P_a = {v:g} {unit}")
         tag = "_".join(system.coordinates[j] for j in coords)
         click.echo(str(save_figure(fig, outp / f"resonance_{v:g}{unit}_{tag}_{measure}.png")))
-    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on {len(levels)} "
+    click.echo(f"{_points(ds)}, {ds.sizes['branch']} branches on {len(levels)} "
                f"level{'s' * (len(levels) != 1)}; grid {st.fmin_hz:g}..{st.fmax_hz:g} Hz step {st.df_hz:g} Hz "
                f"-> {outp / 'resonance.nc'}")
+
+
+def _points(ds) -> str:
+    """"N attractor points" and, where there are, "(M non-periodic)"."""
+    m = int((ds["period"].values == 0).sum())
+    return f"{ds.sizes['point']} attractor points" + (f" ({m} non-periodic)" if m else "")
 
 
 def _run(fn, system, levels, st, desc, outp, name, sweep, backend, compress):
@@ -192,12 +198,22 @@ def system_atlas(pa, pa_range, pa_newton, out, backend, sweep: dict) -> None:
                                 kw["pa_min"], kw["pa_max"], kw["npa"])
     outp = checked_output_folder(out)
     ds = _run(system_resonance_dataset, system, levels, st, desc, outp, "atlas", sweep, backend, True)
-    click.echo(f"{ds.sizes['point']} attractor points, {ds.sizes['branch']} branches on {len(levels)} "
+    click.echo(f"{_points(ds)}, {ds.sizes['branch']} branches on {len(levels)} "
                f"level{'s' * (len(levels) != 1)} -> {outp / 'atlas.nc'}")
 
 
+def _lambda1(a: dict) -> str:
+    """λ1 [1/s] of a query record, with its standard error where it has one ("-" where the
+    dataset has no exponents)."""
+    lam, se = a.get("lyapunov_per_s"), a.get("lyapunov_stderr_per_s")
+    if not lam or lam[0] is None:
+        return "-"
+    return f"{lam[0]:.4g} +- {se[0]:.2g}" if se and se[0] else f"{lam[0]:.4g}"
+
+
 def echo_system_query(res: dict, p: float, f: float) -> None:
-    """The table of ``contactvib query`` for a system dataset's grid point."""
+    """The table of ``contactvib query`` for a system dataset's grid point (the columns of
+    ``attractors --system``: a non-periodic attractor's period "chaos" or "q-per")."""
     click.echo(f"{res['level_symbol']} = {res['level']:g} {res['level_unit']}, f_e = {res['fe_hz']:g} Hz "
                f"(requested {p:g}, {f:g} Hz); system {res['system_label']}")
     atts = res["attractors"]
@@ -205,10 +221,20 @@ def echo_system_query(res: dict, p: float, f: float) -> None:
         return
     head = f"{'#':>2} {'period':>6} {'minima':>6} {'|mu|max':>8}"
     head += "".join(f" {d['name'] + ' A_pp [' + d['unit'] + ']':>18}" for d in atts[0]["dofs"])
-    head += "".join(f" {c['name'] + ' open':>12}" for c in atts[0]["contacts"]) + "  branch (found by)"
+    head += "".join(f" {c['name'] + ' open':>12}" for c in atts[0]["contacts"])
+    head += f" {'type':>14} {'lambda1 [1/s]':>22}  branch (found by)"
     click.echo(head)
     for i, a in enumerate(atts):
-        row = f"{i:>2} {a['period']:>6} {a['minima_per_period']:>6} {a['floquet_abs_max']:>8.4f}"
+        kind = a.get("attractor_type", "periodic")
+        if a["period"] is not None:
+            row = f"{i:>2} {a['period']:>6} {a['minima_per_period']:>6} {a['floquet_abs_max']:>8.4f}"
+        else:
+            row = f"{i:>2} {_SHORT.get(kind, kind):>6} {'-':>6} {'-':>8}"
         row += "".join(f" {d['app']:>18.5g}" for d in a["dofs"])
         row += "".join(f" {c['contact_loss_fraction']:>12.3f}" for c in a["contacts"])
+        row += f" {kind:>14} {_lambda1(a):>22}"
         click.echo(row + f"  {a['branch']} ({a['found_by']})")
+
+
+#: A non-periodic attractor's entry in the period column.
+_SHORT = {"chaotic": "chaos", "quasi-periodic": "q-per"}

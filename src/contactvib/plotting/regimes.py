@@ -135,8 +135,11 @@ def plot_regime_map(maps, name: str, curves=(), ax=None, log_f: bool = True):
 
 
 def _level_axis(maps) -> str:
-    """The y label of the levels: P_a [Q], or the base motion's U [µm] / A [g]."""
+    """The y label of the levels: P_a [Q] (a system's dataset: [Q] or [N]), or the base motion's
+    U [µm] / A [g]."""
     kind = maps.attrs.get("excitation", "force")
+    if "system" in maps.attrs:
+        return f"excitation amplitude $P_a$ [{maps.attrs.get('level_unit', 'Q')}]"
     if kind == "base-um":
         return "base displacement amplitude $U$ [µm]"
     if kind == "base-g":

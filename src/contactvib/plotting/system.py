@@ -103,12 +103,20 @@ def crossing_kind(mu_a, mu_b) -> str:
     return "period doubling" if mu.real < 0 else "fold"
 
 
+#: Colours of the non-periodic attractors' dots, by ``attractor_type``.
+_NONPERIODIC_DOTS = {"chaotic": "tab:red", "quasi-periodic": "tab:purple"}
+#: Colours of the periods, in the order they are met (the cycle without the dots' red and purple).
+_PERIOD_COLOURS = ("C0", "C1", "C2", "C5", "C6", "C7", "C8", "C9")
+
+
 def system_resonance_figure(ds, coordinates, measure: str, title: str):
     """Resonance graphs of one level of a system's dataset (``contactvib.sweeps.system_dataset``):
     one panel per coordinate index in ``coordinates``, its peak-to-peak value (``measure`` "app",
     ``dof_app``) or first-harmonic amplitude ("h1", ``dof_h1``) [the dof's unit] against f_e [Hz]
     for every stored (stable) periodic attractor; each branch a line, coloured by its period,
-    points reached by the laboratory sweeps filled, those only found by the searches hollow."""
+    points reached by the laboratory sweeps filled, those only found by the searches hollow; the
+    non-periodic attractors (``kind`` "non-periodic") as dots, red chaotic, purple
+    quasi-periodic (measured over 64 periods)."""
     import numpy as np
 
     names = [str(x) for x in ds["dof_name"].values]
@@ -117,20 +125,26 @@ def system_resonance_figure(ds, coordinates, measure: str, title: str):
     var = "dof_app" if measure == "app" else "dof_h1"
     fe, period = ds["fe_hz"].values, ds["period"].values
     branch, sweep = ds["branch_index"].values, ds["found_by"].values == "sweep"
+    kinds = ds["attractor_type"].values if "attractor_type" in ds else np.full(period.size, "periodic", object)
     colours, labelled = {}, set()
     for row, j in enumerate(coordinates):
         ax = axes[row, 0]
         y = ds[var].values[:, j]
-        for b in np.unique(branch):
+        for b in np.unique(branch[period > 0]):
             sel = np.flatnonzero(branch == b)
             sel = sel[np.argsort(fe[sel])]
             k = int(period[sel[0]])
-            c = colours.setdefault(k, f"C{len(colours) % 10}")
+            c = colours.setdefault(k, _PERIOD_COLOURS[len(colours) % len(_PERIOD_COLOURS)])
             label = f"period {k}" if row == 0 and k not in labelled else None
             labelled.add(k)
             ax.plot(fe[sel], y[sel], "-", color=c, lw=1.0, label=label)
             ax.plot(fe[sel][sweep[sel]], y[sel][sweep[sel]], "o", color=c, ms=3.5)
             ax.plot(fe[sel][~sweep[sel]], y[sel][~sweep[sel]], "o", color=c, ms=3.5, mfc="none")
+        for kind, colour in _NONPERIODIC_DOTS.items():
+            sel = (period == 0) & (kinds == kind)
+            if sel.any():
+                ax.plot(fe[sel], y[sel], ".", color=colour, ms=4.0, zorder=3,
+                        label=kind if row == 0 else None)
         what = "peak-to-peak" if measure == "app" else "amplitude at $f_e$"
         ax.set_ylabel(f"{names[j]} {what} [{units[j]}]")
         ax.grid(alpha=0.3)
@@ -139,6 +153,7 @@ def system_resonance_figure(ds, coordinates, measure: str, title: str):
     ax0.plot([], [], "o", color="0.3", ms=3.5, label="reached by the sweeps")
     ax0.plot([], [], "o", color="0.3", ms=3.5, mfc="none", label="found by a search only")
     ax0.legend(fontsize=7, loc="best", ncol=2)
-    fig.suptitle(title + " (stable periodic attractors)", fontsize=10)
+    fig.suptitle(title + (" (stable attractors)" if (period == 0).any() else " (stable periodic attractors)"),
+                 fontsize=10)
     fig.tight_layout()
     return fig

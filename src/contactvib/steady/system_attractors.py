@@ -323,7 +323,8 @@ def find_system_attractors(system: System, pa_newton: float, fe_hz: float, *, n_
     nonperiodic : bool
         Judge the starts without a period ≤ kmax (the module's verdict: long periods, chaotic and
         quasi-periodic attractors); False: count them unsettled ("no period <= kmax") and report
-        periodic attractors only (the continuation's seeds, the sweeps).
+        periodic attractors only (the continuation's seeds, the system sweeps without their
+        ``nonperiodic`` setting).
     seeds : bool
         Also start from the ballistic seeds (:func:`~contactvib.steady.system_starts.seed_states`:
         free flights of one and two periods under the static load), first; an attractor only a

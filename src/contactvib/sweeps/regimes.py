@@ -9,12 +9,14 @@ that bound its regions.
   :func:`~contactvib.labels.resonance_order`), 0 where every label is non-resonant or
   sub-/ultrasubharmonic;
 * ``contact_loss_share`` — the fraction of the attractors that lose contact (y < 0 on the orbit);
-* ``chaotic`` — 1 where a non-periodic attractor has λ > ``LYAPUNOV_ZERO``;
+* ``chaotic`` — 1 where a non-periodic attractor has λ > ``LYAPUNOV_ZERO`` (a system's dataset:
+  where its verdict labels an attractor chaotic, ``attractor_type``);
 * ``max_period`` — the largest period [excitation periods] of the periodic attractors (0 where
   only non-periodic ones are stored);
 * ``max_lambda1`` — the largest Lyapunov exponent λ1 [1/excitation period] of the attractors at
   the grid point: ln max|μ| / k of a period-k orbit's Floquet multipliers, the stored estimate
-  ``lyapunov_per_period`` of a non-periodic one (NaN where none is stored);
+  ``lyapunov_per_period`` of a non-periodic one (a system's: ``lyapunov_per_s`` / f_e) (NaN where
+  none is stored);
 * ``friction_ratio_min``, ``friction_ratio_max`` — for a dataset swept with friction
   (``--friction``, :mod:`contactvib.friction.columns`) only: the lowest and highest friction
   ratio ⟨F_drive⟩/(μ W) of the periodic attractors at the grid point (NaN where none has one):
@@ -125,6 +127,10 @@ def regime_maps(ds):
     lyap = ds["lyapunov_per_period"].values if "lyapunov_per_period" in ds else np.full(pa.size, np.nan)
     nonperiodic = ds["period"].values == 0
     chaos = nonperiodic & np.isfinite(lyap) & (lyap > LYAPUNOV_ZERO)
+    system_spectra = "system" in ds.attrs and "lyapunov_per_s" in ds
+    if system_spectra:  # a system's verdict: λ1 [1/s] per period, chaos as the verdict labels it
+        lyap = np.asarray(ds["lyapunov_per_s"].values[:, 0], float) / fe
+        chaos = np.asarray(ds["attractor_type"].values == "chaotic", bool)
     chaotic = (np.bincount(cell, weights=chaos.astype(float), minlength=size) > 0).astype(np.int8)
     max_period = np.full(size, -1, np.int64)
     np.maximum.at(max_period, cell, ds["period"].values.astype(np.int64))
@@ -140,8 +146,10 @@ def regime_maps(ds):
             "contact_loss_share": share.reshape(shape), "chaotic": chaotic.reshape(shape),
             "max_period": max_period.reshape(shape),
             "max_lambda1": np.where(np.isfinite(max_lam), max_lam, np.nan).reshape(shape)}
-    if "system" in ds.attrs:  # periodic attractors only, no labels: orders and chaos are not known
-        del data["max_order"], data["chaotic"]
+    if "system" in ds.attrs:  # no resonance labels: orders are not known (nor chaos without the verdict's labels)
+        del data["max_order"]
+        if not system_spectra:
+            del data["chaotic"]
     if "friction_ratio" in ds:
         data.update({k: v.reshape(shape) for k, v in _friction_extremes(ds, cell, size).items()})
     dims = ("pa_over_q", "fe_hz")

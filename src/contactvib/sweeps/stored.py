@@ -456,6 +456,26 @@ def _required(ds) -> tuple:
     return _QUERY_POINT + _QUERY_OTHER, _ATTRIBUTES
 
 
+def _system_spectra(ds):
+    """A function of the point index: its ``attractor_type``, ``lyapunov_per_s``,
+    ``lyapunov_stderr_per_s`` [1/s] and ``kaplan_yorke_dimension`` (null unless chaotic) as
+    ``contactvib attractors --system --json`` writes them (nothing for a dataset written without
+    them)."""
+    from contactvib.steady.results import lyapunov_fields
+
+    if "lyapunov_per_s" not in ds.variables:
+        return lambda p: {}
+    typ, lam, se = (ds[x].values for x in ("attractor_type", "lyapunov_per_s", "lyapunov_stderr_per_s"))
+    ky = ds["kaplan_yorke_dimension"].values
+
+    def fields(p):
+        d = lyapunov_fields(str(typ[p]), lam[p], se[p])
+        d["kaplan_yorke_dimension"] = float(ky[p]) if math.isfinite(float(ky[p])) else None
+        return d
+
+    return fields
+
+
 def _system_records(data, ds, idx, level, fe, requested) -> dict:
     """:meth:`ResonanceData.attractors_at` of a system's dataset: the attractors at the rows
     ``idx`` in the JSON contract of ``contactvib attractors --system`` (dofs, contacts), with their
@@ -467,16 +487,22 @@ def _system_records(data, ds, idx, level, fe, requested) -> dict:
     names = [str(x) for x in ds["dof_name"].values]
     dofs = _dofs_and_contacts_of(ds)
     b_id = ds["branch_id"].values
+    spectra = _system_spectra(ds)
     atts = []
     for p in idx:
         s0, ns = int(v["strobe_start"][p]), int(v["strobe_count"][p])
         basin = float(v["basin_fraction"][p])
+        periodic = int(v["period"][p]) > 0
         atts.append({
-            "period": int(v["period"][p]), "minima_per_period": int(v["minima_per_period"][p]),
+            "period": int(v["period"][p]) if periodic else None,
+            "minima_per_period": int(v["minima_per_period"][p]) if periodic else None,
             "floquet_multipliers": [[float(v["floquet_re"][p, q]), float(v["floquet_im"][p, q])]
-                                    for q in range(ds.sizes["multiplier"])],
-            "floquet_abs_max": float(v["floquet_abs_max"][p]), "stable": True,
-            "basin_fraction": basin if math.isfinite(basin) else None, "closure": float(v["closure"][p]),
+                                    for q in range(ds.sizes["multiplier"])] if periodic else None,
+            "floquet_abs_max": float(v["floquet_abs_max"][p]) if periodic else None,
+            "stable": True if periodic else None,
+            "basin_fraction": basin if math.isfinite(basin) else None,
+            "closure": float(v["closure"][p]) if periodic else None,
+            **spectra(p),
             "app_um": float(v["app_um"][p]), "branch": str(b_id[int(v["branch_index"][p])]),
             "origin": str(v["origin"][p]), "found_by": str(v["found_by"][p]),
             "strobe_points": [{"q": dict(zip(names, map(float, sq[q]))), "qdot": dict(zip(names, map(float, sv[q])))}

@@ -2,23 +2,29 @@
 :func:`~contactvib.sweeps.system_sweep.sweep_system_level` in the layout of the 1-DOF dataset
 (:mod:`contactvib.sweeps.dataset`) where its variables make sense.
 
-Dimension ``point`` — one stable periodic attractor at one (P_a, f_e):
+Dimension ``point`` — one stable attractor at one (P_a, f_e) (the verdict's rows last):
     ``pa_newton`` [N] (the level), ``pa_over_q`` [Q] where the system has a Q (``rocking``: M g),
-    ``fe_hz`` [Hz], ``kind`` ("periodic"), ``period`` [excitation periods], ``minima_per_period``
-    [1] (of the first contact's deflection), ``app_um`` (peak-to-peak of the first coordinate, in
-    its display unit: µm or µrad), ``loses_contact`` [1] (some contact opens on the orbit),
-    ``basin_fraction`` [1] (share of the search's starts; NaN for points reached by a walk),
-    ``floquet_re``/``floquet_im`` (point, multiplier: 2n) [1], ``floquet_abs_max`` [1],
-    ``closure`` [1], ``attractor_type`` ("periodic"), ``branch_index``, ``origin``
-    ("newton" / "jump" / "start"), ``found_by`` ("sweep" / "multi-start"), ``state_q``,
-    ``state_qdot`` (point, dof) [display units] (the orbit point at phase 0),
+    ``fe_hz`` [Hz], ``kind`` ("periodic" / "non-periodic"), ``period`` [excitation periods; 0 =
+    non-periodic], ``minima_per_period`` [1] (of the first contact's deflection; −1 =
+    non-periodic), ``app_um`` (peak-to-peak of the first coordinate, in its display unit: µm or
+    µrad), ``loses_contact`` [1] (some contact opens on the orbit), ``basin_fraction`` [1] (share
+    of the search's starts; NaN for points reached by a walk), ``floquet_re``/``floquet_im``
+    (point, multiplier: 2n) [1], ``floquet_abs_max`` [1], ``closure`` [1] (NaN: non-periodic),
+    ``attractor_type`` (periodic / chaotic / quasi-periodic), ``true_period`` [excitation periods;
+    0 = none], ``lyapunov_per_s``/``lyapunov_stderr_per_s`` (point, exponent: 2n) [1/s]
+    (periodic: ln ``|μ_i|`` f_e / k; else the verdict's Benettin run), ``kaplan_yorke_dimension``
+    [1] (NaN unless chaotic), ``branch_index``, ``origin`` ("newton" / "jump" / "start"),
+    ``found_by`` ("sweep" / "multi-start"), ``state_q``, ``state_qdot`` (point, dof) [display
+    units] (the orbit point at phase 0; non-periodic: the last strobe point),
     ``strobe_start``/``strobe_count`` (ragged) into ``strobe_q``, ``strobe_qdot`` (strobe, dof).
 Dimensions ``dof`` and ``contact`` — as :func:`contactvib.sweeps.dataset.level_dataset` writes
     them: ``dof_min``, ``dof_max``, ``dof_app``, ``dof_h1`` (point, dof) [the dof's unit],
     ``contact_loses_contact``, ``contact_loss_frac``, ``contact_mean_force_n`` [N] (point, contact),
     coordinates ``dof_name``, ``dof_unit``, ``contact_name``.
-Dimension ``branch`` — points joined by Newton continuation (no jump) at one period:
-    ``branch_id``, ``branch_label`` ("period-k": systems carry no resonance labels),
+Dimension ``branch`` — points joined by Newton continuation (no jump) at one period, or
+    consecutive non-periodic points of a sweep of one type (the verdict's branches last):
+    ``branch_id``, ``branch_label`` ("period-k", "chaotic", "quasi-periodic": systems carry no
+    resonance labels),
     ``branch_pa_newton`` [N] (and ``branch_pa_over_q``), ``branch_period``, ``branch_minima``,
     ``branch_fmin_hz``, ``branch_fmax_hz``, ``branch_npoints``, ``branch_app_max_um``,
     ``branch_reached_by_sweep``.
@@ -113,13 +119,14 @@ def _branches(level, rows, names, pa_value):
         return a
 
     for a, b, jump in level.links:
-        if not jump and rows[a]["k"] == rows[b]["k"]:
+        if not jump and rows[a]["k"] == rows[b]["k"] and _type(rows[a]) == _type(rows[b]):
             ra, rb = find(a), find(b)
             parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(j) for j in range(n)])
+    roots = np.array([find(j) for j in range(n)], np.int64)
     fe = np.array([level.f_hz[r["i"]] for r in rows])
     app = np.array([r["columns"]["dof_app"][0] for r in rows])
-    uniq = list(dict.fromkeys(roots[np.lexsort((-app, fe))]))
+    verdict = np.array([r.get("verdict", False) for r in rows], bool)
+    uniq = list(dict.fromkeys(roots[np.lexsort((-app, fe, verdict))]))
     index = {r: b for b, r in enumerate(uniq)}
     branch = np.array([index[r] for r in roots], np.int64)
     nb = len(uniq)
@@ -136,9 +143,12 @@ def _branches(level, rows, names, pa_value):
     tag = f"{pa_value:g}{unit}"
     return branch, {
         "branch_id": ("branch", np.array([f"{tag}-b{b:03d}" for b in range(nb)], dtype=object)),
-        "branch_label": ("branch", np.array([f"period-{kk}" for kk in per_branch(lambda a, b: b, k, 0, np.int64)],
+        "branch_label": ("branch", np.array([f"period-{kk}" if kk else str(t) for kk, t in zip(
+                            per_branch(lambda a, b: b, k, 0, np.int64),
+                            per_branch(lambda a, b: b, np.array([_type(r) for r in rows], dtype=object), "", object))],
                                             dtype=object),
-                         {"comment": "the branch's period (systems carry no resonance labels)"}),
+                         {"comment": "the branch's period, or chaotic / quasi-periodic (systems carry no resonance "
+                                     "labels)"}),
         f"branch_{var}": ("branch", np.full(nb, pa_value), {"units": unit}),
         "branch_period": ("branch", per_branch(lambda a, b: b, k, 0, np.int64)),
         "branch_minima": ("branch", per_branch(lambda a, b: b, np.array([r["minima"] for r in rows]), 0, np.int64)),
@@ -148,6 +158,44 @@ def _branches(level, rows, names, pa_value):
         "branch_app_max_um": ("branch", per_branch(max, app, 0.0), {"units": "the first coordinate's unit"}),
         "branch_reached_by_sweep": ("branch", per_branch(max, sweep, 0, np.int8),
                                     {"units": "1", "comment": "1 if the laboratory sweeps reach the branch"}),
+    }
+
+
+def _type(row) -> str:
+    """A row's attractor type: "periodic", "chaotic" or "quasi-periodic"."""
+    return row.get("type", "periodic")
+
+
+def _spectra(rows, fe, n2) -> dict:
+    """The earned labels and Lyapunov spectra of the rows: ``attractor_type``, ``true_period``,
+    ``lyapunov_per_s``/``lyapunov_stderr_per_s`` (point, exponent) [1/s] (a periodic row:
+    ln ``|μ_i|`` f_e / k of its Floquet multipliers, descending, errors 0; a non-periodic one: its
+    verdict's Benettin run) and ``kaplan_yorke_dimension`` (a chaotic row's)."""
+    from contactvib.steady.results import kaplan_yorke_dimension
+
+    n = len(rows)
+    lam, se = np.full((n, n2), np.nan), np.zeros((n, n2))
+    ky = np.full(n, np.nan)
+    for j, r in enumerate(rows):
+        if r["k"]:
+            with np.errstate(divide="ignore"):
+                lam[j] = np.sort(np.log(np.abs(np.asarray(r["mu"]))) * fe[j] / r["k"])[::-1]
+        else:
+            lam[j], se[j] = r["lyap"], r["lyap_se"]
+        if _type(r) == "chaotic":
+            d = kaplan_yorke_dimension(lam[j])
+            ky[j] = np.nan if d is None else d
+    return {
+        "attractor_type": ("point", np.array([_type(r) for r in rows], dtype=object),
+                           {"comment": "periodic / chaotic / quasi-periodic, earned by the attractor search's "
+                                       "verdict (Lyapunov spectrum, section)"}),
+        "true_period": ("point", np.array([r["k"] for r in rows], np.int64),
+                        {"units": "excitation periods", "comment": "minimal period, beyond kmax too; 0 = none"}),
+        "lyapunov_per_s": (("point", "exponent"), lam, {"units": "1/s", "long_name": "Lyapunov exponents, "
+                                                        "descending (periodic: ln|mu|/T; else Benettin)"}),
+        "lyapunov_stderr_per_s": (("point", "exponent"), se,
+                                  {"units": "1/s", "long_name": "standard error of the exponents (batch means)"}),
+        "kaplan_yorke_dimension": ("point", ky, {"units": "1", "comment": "NaN unless chaotic"}),
     }
 
 
@@ -205,14 +253,16 @@ def system_level_dataset(system, level, settings, desc: dict):
     pa_value = desc.get("level", pa_value)
     branch, branch_vars = _branches(level, rows, names, pa_value)
     mu = np.array([r["mu"] for r in rows], dtype=complex).reshape(n, 2 * system.n)
+    fe = np.array([level.f_hz[r["i"]] for r in rows], float)
     point = {
         "pa_newton": ("point", np.full(n, level.pa_newton), {"units": "N", "long_name": "excitation amplitude P_a"}),
-        "fe_hz": ("point", np.array([level.f_hz[r["i"]] for r in rows]),
-                  {"units": "Hz", "long_name": "excitation frequency f_e"}),
-        "kind": ("point", np.full(n, "periodic", dtype=object)),
-        "period": ("point", np.array([r["k"] for r in rows], np.int64), {"units": "excitation periods"}),
+        "fe_hz": ("point", fe, {"units": "Hz", "long_name": "excitation frequency f_e"}),
+        "kind": ("point", np.array(["periodic" if r["k"] else "non-periodic" for r in rows], dtype=object)),
+        "period": ("point", np.array([r["k"] for r in rows], np.int64),
+                   {"units": "excitation periods", "comment": "0 = non-periodic"}),
         "minima_per_period": ("point", np.array([r["minima"] for r in rows], np.int64),
-                              {"units": "1", "comment": "local minima of the first contact's deflection"}),
+                              {"units": "1", "comment": "local minima of the first contact's deflection; "
+                                                        "-1 = non-periodic"}),
         "app_um": ("point", np.array([r["columns"]["dof_app"][0] for r in rows]),
                    {"units": _dof_coords(system)["dof_unit"][1][0],
                     "long_name": f"peak-to-peak amplitude of the first coordinate {system.coordinates[0]}"}),
@@ -223,9 +273,9 @@ def system_level_dataset(system, level, settings, desc: dict):
         "floquet_re": (("point", "multiplier"), mu.real, {"units": "1"}),
         "floquet_im": (("point", "multiplier"), mu.imag, {"units": "1"}),
         "floquet_abs_max": ("point", np.abs(mu).max(axis=1), {"units": "1"}),
-        "closure": ("point", np.array([r["closure"] for r in rows]),
+        "closure": ("point", np.array([r["closure"] for r in rows], float),
                     {"units": "1", "long_name": "relative closure of the refined orbit"}),
-        "attractor_type": ("point", np.full(n, "periodic", dtype=object)),
+        **_spectra(rows, fe, 2 * system.n),
         "branch_index": ("point", branch, {"comment": "index into the branch dimension"}),
         "origin": ("point", np.array([r["origin"] for r in rows], dtype=object)),
         "found_by": ("point", np.array([r["found_by"] for r in rows], dtype=object)),

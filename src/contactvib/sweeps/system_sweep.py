@@ -1,5 +1,6 @@
 """One force level of a :class:`~contactvib.model.system.System` over a frequency grid: its
-periodic attractors found by laboratory sweeps and followed from multi-start searches.
+periodic attractors found by laboratory sweeps and followed from multi-start searches, and the
+non-periodic ones that the search's verdict finds where they settle on no period ≤ kmax.
 
 The walk (all states at phase 0 of P(t) = P_a cos(2π f_e t), in the scaled state of
 ``contactvib.model.system_kernel``):
@@ -15,10 +16,19 @@ The walk (all states at phase 0 of P(t) = P_a cos(2π f_e t), in the scaled stat
   stable attractor not yet known there is followed up and down the grid in the same way until it
   lands on a known attractor or is lost without settling.
 
-Only stable periodic orbits are stored (the settled motions). Where the settling finds no period
-≤ kmax within ``max_periods`` (a non-periodic motion or a long transient), a sweep stores nothing
-and goes on to the next point from the state where the settling ended (the trace counts these
-points), and a followed attractor ends. Each stored orbit is measured once on one
+Stable periodic orbits are stored (the settled motions). Where the settling finds no period
+≤ kmax within ``max_periods`` (a non-periodic motion or a long transient), a sweep goes on to the
+next point from the state where the settling ended (the trace counts these points), and a
+followed attractor ends. With ``nonperiodic`` (the default) the sweep's state there gets the
+verdict of the attractor search (:func:`~contactvib.steady.system_verdict.judge_start`: chaotic,
+quasi-periodic, a stable orbit of period kmax < k ≤ 512, or unsettled), and the searches run it
+on their starts that settle on no period ≤ kmax; the attractors it finds are stored (a cloud
+once per grid point: :func:`~contactvib.steady.transients.same_cloud`), not followed, with their
+Lyapunov spectra, and the walks go on as without them, so the periodic orbits of period ≤ kmax
+are the same rows, bit for bit; the verdict's rows come after them. A non-periodic row is
+measured over ``NONPERIODIC_MEASURE_PERIODS`` periods from its last strobe point
+(:func:`~contactvib.steady.system_attractors.orbit_columns`), its strobe points the verdict's last
+2·WINDOW. Each stored orbit is measured once on one
 recorded run of its k periods (``contactvib._kernels.system_map.record_span``): the extrema of every
 coordinate refined on the dense output to ~1e-9 of the range, its component at f_e, the minima per
 period of the first contact's deflection, each contact's open fraction and mean force (Gauss–Legendre
@@ -42,6 +52,7 @@ from contactvib.model import ParameterError, check_int, check_range
 from contactvib.model.checks import KMAX_SEARCH_MAX
 from contactvib.model.system import System, check_excitation
 from contactvib.steady.system_orbits import DISPLAY_UNITS, periodic_orbit
+from contactvib.steady.transients import same_cloud
 from contactvib.sweeps.settings import check_grid, grid_frequencies
 
 __all__ = ["SystemSweepSettings", "SystemLevel", "sweep_system_level", "SAME_TOL", "MEASURE_SAMPLES"]
@@ -74,6 +85,10 @@ class SystemSweepSettings:
         Transient limit of a settling [periods].
     rtol : float
         Integrator tolerance while settling (Newton and the measurement run at 1e-12).
+    nonperiodic : bool
+        Judge the grid points and search starts that settle on no period ≤ kmax
+        (:mod:`contactvib.steady.system_verdict`) and keep the attractors the verdict finds:
+        chaotic, quasi-periodic, periodic with a period above kmax; False: periodic ones only.
     """
 
     fmin_hz: float
@@ -85,6 +100,7 @@ class SystemSweepSettings:
     kmax: int = 8
     max_periods: int = 2000
     rtol: float = 1e-10
+    nonperiodic: bool = True
 
     def __post_init__(self):
         for name, value in zip(("fmin_hz", "fmax_hz", "df_hz"), check_grid(self.fmin_hz, self.fmax_hz, self.df_hz)):
@@ -95,6 +111,9 @@ class SystemSweepSettings:
         object.__setattr__(self, "kmax", check_int("kmax", self.kmax, 1, KMAX_SEARCH_MAX))
         object.__setattr__(self, "max_periods", check_int("max_periods", self.max_periods, 1, 1_000_000))
         object.__setattr__(self, "rtol", check_range("rtol", self.rtol, 1e-14, True, upper=1e-6))
+        if not isinstance(self.nonperiodic, (bool, np.bool_)):
+            raise ParameterError("nonperiodic", self.nonperiodic, "must be True or False")
+        object.__setattr__(self, "nonperiodic", bool(self.nonperiodic))
 
     def grid(self) -> np.ndarray:
         """The frequencies [Hz] f_min + j Δf ≤ f_max (+ 1e-9 Δf)."""
@@ -106,10 +125,12 @@ class SystemSweepSettings:
 
 @dataclass
 class SystemLevel:
-    """The attractors of one level: ``rows`` (one dict per stored orbit: ``i`` grid index, ``k``,
-    ``z`` SI state, ``mu`` multipliers, ``closure``, ``origin``, ``found_by``, ``basin``, ``strobe``
-    (k, 2n) SI and the measurement's ``columns``), ``links`` (row a, row b, jump) of consecutive
-    points of a walk, ``traces`` (one dict per walk) and the grid ``f_hz``."""
+    """The attractors of one level: ``rows`` (one dict per stored attractor: ``i`` grid index,
+    ``k`` (0: non-periodic), ``z`` SI state, ``mu`` multipliers (NaN: non-periodic), ``closure``,
+    ``origin``, ``found_by``, ``basin``, ``strobe`` (k, 2n) SI, the measurement's ``columns``,
+    ``type`` (periodic / chaotic / quasi-periodic), ``verdict`` (found by the verdict) and for a
+    non-periodic one ``lyap``/``lyap_se`` (2n) [1/s]), ``links`` (row a, row b, jump) of
+    consecutive points of a walk, ``traces`` (one dict per walk) and the grid ``f_hz``."""
 
     pa_newton: float
     f_hz: np.ndarray
@@ -119,8 +140,8 @@ class SystemLevel:
 
 
 def sweep_system_level(system: System, pa_newton: float, settings: SystemSweepSettings, progress=None) -> SystemLevel:
-    """The stable periodic attractors of ``system`` at P_a = ``pa_newton`` [N] on the grid of
-    ``settings`` (module docstring). ``progress(points_done)`` after each grid point of the sweeps."""
+    """The stable attractors of ``system`` at P_a = ``pa_newton`` [N] on the grid of ``settings``
+    (module docstring). ``progress(points_done)`` after each grid point of the sweeps."""
     if not isinstance(system, System):
         raise ParameterError("system", system, "must be a contactvib.model.System")
     if not isinstance(settings, SystemSweepSettings):
@@ -129,7 +150,18 @@ def sweep_system_level(system: System, pa_newton: float, settings: SystemSweepSe
     walker = _Walker(system, pa, settings)
     walker.sweeps(progress)
     walker.searches()
-    return walker.level
+    return _verdict_rows_last(walker.level)
+
+
+def _verdict_rows_last(level: SystemLevel) -> SystemLevel:
+    """``level`` with the rows of the verdict's attractors after the others (their order kept
+    within each group; links renumbered): the periodic rows of periods ≤ kmax are stored as
+    without the verdict."""
+    order = sorted(range(len(level.rows)), key=lambda r: level.rows[r]["verdict"])
+    new = {old: j for j, old in enumerate(order)}
+    level.rows = [level.rows[r] for r in order]
+    level.links = [(new[a], new[b], jump) for a, b, jump in level.links]
+    return level
 
 
 class _Walker:
@@ -139,6 +171,7 @@ class _Walker:
         self.system, self.pa, self.st = system, pa, st
         self.level = SystemLevel(pa, st.grid())
         self.known: list[list[tuple]] = [[] for _ in self.level.f_hz]  # (k, scaled strobe points, row)
+        self.clouds: list[list[tuple]] = [[] for _ in self.level.f_hz]  # (the verdict's record, row)
         self._arrays: dict = {}
 
     def arrays(self, i: int):
@@ -168,15 +201,26 @@ class _Walker:
             return
         for i in range(0, self.level.f_hz.size, st.search_every):
             fe = float(self.level.f_hz[i])
-            try:
-                found = find_system_attractors(self.system, self.pa, fe, n_starts=st.n_starts, seed=st.seed + i,
-                                               kmax=st.kmax, max_periods=st.max_periods, rtol=st.rtol,
-                                               nonperiodic=False, seeds=False)
-            except ComputationError:
+            found = None
+            for nonperiodic in dict.fromkeys((st.nonperiodic, False)):  # a failed verdict: the periodic search
+                try:
+                    found = find_system_attractors(self.system, self.pa, fe, n_starts=st.n_starts, seed=st.seed + i,
+                                                   kmax=st.kmax, max_periods=st.max_periods, rtol=st.rtol,
+                                                   nonperiodic=nonperiodic, seeds=False)
+                    break
+                except ComputationError:
+                    continue
+            if found is None:
                 continue
             sc = self.arrays(i)[1].scales
             for a in found:
                 if not a.stable:
+                    continue
+                if a.orbit is None or a.period > st.kmax:  # the verdict's: stored, not followed
+                    try:
+                        self.keep_verdict(i, a)
+                    except ComputationError:  # its measurement failed: not stored
+                        pass
                     continue
                 x = sc.to_scaled(a.orbit.z)
                 pts = np.array([sc.to_scaled(p) for p in a.strobe])
@@ -192,17 +236,28 @@ class _Walker:
         from index ``i`` in ``direction``; returns (row, x, k) at the last point reached or None."""
         n = self.level.f_hz.size
         f_start = float(self.level.f_hz[min(max(i, 0), n - 1)])
-        stop, last = "grid end", None
+        stop, last, i0 = "grid end", None, i
         j = unsettled = 0
+        chain = None  # the walk's non-periodic row at the previous grid point
         while 0 <= i < n:
             got = self.step(i, x, k)
             if got[0] == "unsettled":
                 if stop_known or got[1] is None:  # a followed attractor is lost; a failed integration
                     stop = "lost (no period <= kmax settled)"
                     break
+                if self.st.nonperiodic:  # the motion there judged; the sweep goes on from it unchanged
+                    try:
+                        row = self.judge(i, got[1], "start" if i == i0 else "jump", root)
+                    except ComputationError:  # a refinement or measurement failed: nothing stored
+                        row = None
+                    if chain is not None and row is not None and self.level.rows[row]["k"] == 0 \
+                            and self.level.rows[chain]["type"] == self.level.rows[row]["type"]:
+                        self.link(chain, row, "newton")
+                    chain = row if row is not None and self.level.rows[row]["k"] == 0 else None
                 # the laboratory sweep goes on from where the motion is
                 prev, x, k, unsettled, i = None, got[1], 0, unsettled + 1, i + direction
                 continue
+            chain = None
             how, orbit, pts = got
             row = self.find(i, orbit.k, pts)
             if row is None:
@@ -283,15 +338,79 @@ class _Walker:
                 return row
         return None
 
-    def add(self, i, orbit, pts, origin, found_by, basin) -> int:
-        """Measure and store a new orbit at grid point i; its row index."""
+    def add(self, i, orbit, pts, origin, found_by, basin, verdict=False) -> int:
+        """Measure and store a new orbit at grid point i; its row index (``verdict``: found by the
+        verdict, a period above kmax)."""
         sa, form = self.arrays(i)
         columns, minima = measure_system_orbit(self.system, sa, form, orbit.z, orbit.k)
         row = len(self.level.rows)
         self.level.rows.append({"i": i, "k": orbit.k, "z": orbit.z, "mu": orbit.floquet_multipliers,
                                 "closure": orbit.closure, "origin": origin, "found_by": found_by, "basin": basin,
-                                "strobe": form.scales.to_si(pts.T).T, "minima": minima, "columns": columns})
+                                "strobe": form.scales.to_si(pts.T).T, "minima": minima, "columns": columns,
+                                "type": "periodic", "verdict": bool(verdict)})
         self.known[i].append((orbit.k, pts, row))
+        return row
+
+    # ------------------------------------------------------------------ the verdict's attractors
+    def judge(self, i, x, origin, found_by):
+        """The verdict (:func:`~contactvib.steady.system_verdict.judge_start`) on the scaled state x
+        where a sweep settled on no period ≤ kmax at grid point i: the row of the attractor it lies
+        on (stored when new: a chaotic or quasi-periodic cloud, an orbit of period above kmax), or
+        None (unsettled)."""
+        from contactvib.steady.system_verdict import judge_start
+
+        sa, form = self.arrays(i)
+        fe = float(self.level.f_hz[i])
+        found, clouds = [], [c for c, _row in self.clouds[i]]
+        hits = [c["hits"] for c in clouds]
+        if judge_start(self.system, self.pa, fe, sa, form, x, self.st.kmax, self.st.rtol, found, clouds):
+            return None
+        if found:  # an orbit of period above kmax
+            orbit, pts = found[0]["orbit"], found[0]["points"]
+            row = self.find(i, orbit.k, pts)
+            return row if row is not None else self.add(i, orbit, pts, origin, found_by, math.nan, verdict=True)
+        for (c, row), h in zip(self.clouds[i], hits):
+            if c["hits"] != h:  # on a cloud stored before
+                return row
+        return self.add_cloud(i, clouds[-1], origin, found_by, math.nan)
+
+    def keep_verdict(self, i, a) -> None:
+        """Store the search's attractor ``a`` at grid point i that its verdict found (non-periodic, or
+        a period above kmax) unless it is known there."""
+        from contactvib.steady.system_verdict import strobe_projection
+
+        sa, form = self.arrays(i)
+        pts = np.array([form.scales.to_scaled(p) for p in a.strobe])
+        if a.orbit is not None:
+            if self.find(i, a.period, pts) is None:
+                self.add(i, a.orbit, pts, "start", "multi-start", a.basin_fraction, verdict=True)
+            return
+        cloud = strobe_projection(sa, pts)
+        if any(same_cloud(c["cloud"], cloud) for c, _row in self.clouds[i]):
+            return
+        rec = {"kind": a.kind, "cloud": cloud, "spec": a.spectrum, "hits": a.hits, "points": pts}
+        self.add_cloud(i, rec, "start", "multi-start", a.basin_fraction, (a.columns, np.asarray(a.strobe)))
+
+    def add_cloud(self, i, rec, origin, found_by, basin, measured=None) -> int:
+        """Store the non-periodic attractor ``rec`` (a verdict's record: "kind", projected "cloud",
+        "spec", scaled strobe "points") at grid point i, measured over
+        ``NONPERIODIC_MEASURE_PERIODS`` periods from its last strobe point unless ``measured`` =
+        (columns, SI strobe points) is given; its row index."""
+        from contactvib.steady.system_attractors import NONPERIODIC_MEASURE_PERIODS, orbit_columns
+
+        form = self.arrays(i)[1]
+        columns, strobe = measured if measured is not None else (None, form.scales.to_si(np.asarray(rec["points"]).T).T)
+        if columns is None:
+            columns, _m = orbit_columns(self.system, self.pa, float(self.level.f_hz[i]), strobe[-1],
+                                        NONPERIODIC_MEASURE_PERIODS)
+        n2 = 2 * self.system.n
+        row = len(self.level.rows)
+        self.level.rows.append({"i": i, "k": 0, "z": strobe[-1], "mu": np.full(n2, complex(math.nan, math.nan)),
+                                "closure": math.nan, "origin": origin, "found_by": found_by, "basin": basin,
+                                "strobe": strobe, "minima": -1, "columns": columns, "type": rec["kind"],
+                                "verdict": True, "lyap": np.asarray(rec["spec"].exponents_per_s, float),
+                                "lyap_se": np.asarray(rec["spec"].stderr_per_s, float)})
+        self.clouds[i].append((rec, row))
         return row
 
 
