@@ -41,7 +41,7 @@ def _atlas(out: Path, *extra, capsys=None) -> xr.Dataset:
 def reference(tmp_path_factory):
     """The atlas on the default backend (the local process pool)."""
     out = tmp_path_factory.mktemp("atlas_pool")
-    return out, _atlas(out)
+    return out, _atlas(out, "--keep-chunks")
 
 
 def test_levels_chunks_and_compression(reference):
@@ -62,8 +62,10 @@ def test_levels_chunks_and_compression(reference):
 
 
 def test_dask_local_cluster_gives_identical_files(reference, tmp_path):
+    """The same atlas on Dask; a complete run removes its chunks (atlas.nc holds every level)."""
     _out, ds = reference
     assert _atlas(tmp_path / "dask", "--dask-workers", "2").identical(ds)
+    assert not (tmp_path / "dask" / ".chunks").exists()
 
 
 def test_running_scheduler_gives_identical_files(reference, tmp_path, monkeypatch):
@@ -77,7 +79,7 @@ def test_running_scheduler_gives_identical_files(reference, tmp_path, monkeypatc
     monkeypatch.chdir(tmp_path / "cluster")
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         monkeypatch.chdir(tmp_path / "here")
-        got = _atlas(Path("sched"), "--scheduler", cluster.scheduler_address)
+        got = _atlas(Path("sched"), "--scheduler", cluster.scheduler_address, "--keep-chunks")
     assert got.identical(ds)
     assert len(list((tmp_path / "here" / "sched" / ".chunks").glob("level_pa*.nc"))) == 3
     assert not (tmp_path / "cluster" / "sched").exists()
@@ -115,7 +117,7 @@ def test_resume_after_sigint_on_another_backend(reference, tmp_path, capsys):
     word = "level" if len(kept) == 1 else "levels"
     assert stderr == (f"contactvib: interrupted: {len(kept)} {word} kept in {out / '.chunks'}; "
                       "rerun with --resume\n")
-    got = _atlas(out, "--resume", "--dask-workers", "2", capsys=capsys)
+    got = _atlas(out, "--resume", "--dask-workers", "2", "--keep-chunks", capsys=capsys)
     assert {c: c.stat().st_mtime_ns for c in kept} == kept
     assert got.identical(ds)
 

@@ -19,6 +19,7 @@ from contactvib.cli.common import (
 )
 from contactvib.cli.friction import friction_spec_option
 from contactvib.cli.sweeps import (
+    keep_chunks_option,
     refuse_system_only,
     sweep_inputs,
     sweep_levels,
@@ -96,10 +97,11 @@ def _backend(workers, dask_workers, scheduler):
               help="Run the levels on a running Dask cluster, e.g. tcp://HOST:8786 (dask-jobqueue on SLURM/PBS: "
                    "pass its cluster.scheduler_address).")
 @click.option("--out", default="atlas", show_default=True, type=click.Path(file_okay=False),
-              help="Output folder: atlas.nc (NetCDF4, zlib level 4, chunked along point) and .chunks/ (one "
-                   "compressed file per level).")
+              help="Output folder: atlas.nc (NetCDF4, zlib level 4, chunked along point); .chunks/ (one "
+                   "compressed file per level) while it runs.")
+@keep_chunks_option
 @system_sweep_options
-def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, **sweep):
+def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, keep_chunks, **sweep):
     """The evolution atlas: resonance's sweep at many P_a levels, locally or on Dask, resumable."""
     if system_given():
         from contactvib.cli.system_sweeps import system_atlas
@@ -107,18 +109,21 @@ def atlas(pa, pa_min, pa_max, npa, dask_workers, scheduler, out, **sweep):
         sweep.pop("plot"), sweep.pop("measure")
         workers = None if sweep["workers"] is None else parse_int("--workers", sweep["workers"], 1, WORKERS_MAX)
         return system_atlas(pa, (pa_min, pa_max, npa), sweep.pop("pa_newton"), out,
-                            _backend(workers, dask_workers, scheduler), sweep)
+                            _backend(workers, dask_workers, scheduler), {**sweep, "keep_chunks": keep_chunks})
     refuse_system_only(sweep)
     model, st, n_workers = sweep_inputs(sweep)
     levels = _atlas_levels(pa, pa_min, pa_max, npa, model, st)
     backend = _backend(n_workers, dask_workers, scheduler)
     from contactvib.sweeps.atlas import atlas_dataset
+    from contactvib.sweeps.resonance import remove_chunks
 
     out = checked_output_folder(out)
     try:
         with writing_into(out):
             ds = atlas_dataset(model, levels, st, out, resume=sweep["resume"], backend=backend,
                                progress=not sweep["no_progress"])
+            if not keep_chunks:  # atlas.nc holds every level: the resume data would double the folder
+                remove_chunks(out, levels)
     except ParameterError as e:
         if e.symbol != "scheduler":
             raise

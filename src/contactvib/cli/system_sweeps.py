@@ -179,8 +179,9 @@ def _run(fn, system, levels, st, desc, outp, name, sweep, backend, compress):
 
 
 def system_atlas(pa, pa_range, pa_newton, out, backend, sweep: dict) -> None:
-    """``contactvib atlas --system rocking ...``: atlas.nc (compressed) and its chunks."""
-    from contactvib.sweeps.system_resonance import system_resonance_dataset
+    """``contactvib atlas --system rocking ...``: atlas.nc (compressed); its chunks are removed once it
+    is written unless ``sweep["keep_chunks"]``."""
+    from contactvib.sweeps.system_resonance import remove_system_chunks, system_resonance_dataset
 
     pa_min, pa_max, npa = pa_range
     given = [o for o, v in zip(("--pa-min", "--pa-max", "--npa"), pa_range) if v is not None]
@@ -198,6 +199,8 @@ def system_atlas(pa, pa_range, pa_newton, out, backend, sweep: dict) -> None:
                                 kw["pa_min"], kw["pa_max"], kw["npa"])
     outp = checked_output_folder(out)
     ds = _run(system_resonance_dataset, system, levels, st, desc, outp, "atlas", sweep, backend, True)
+    if not sweep.get("keep_chunks"):
+        remove_system_chunks(outp, levels)
     click.echo(f"{_points(ds)}, {ds.sizes['branch']} branches on {len(levels)} "
                f"level{'s' * (len(levels) != 1)} -> {outp / 'atlas.nc'}")
 

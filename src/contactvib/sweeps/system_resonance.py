@@ -15,7 +15,7 @@ from contactvib.interrupts import check_interrupt, deferred_sigint
 from contactvib.model import ParameterError
 from contactvib.sweeps.system_sweep import SystemSweepSettings
 
-__all__ = ["system_resonance_dataset", "system_description"]
+__all__ = ["system_resonance_dataset", "system_description", "remove_system_chunks"]
 
 #: Chunk attribute holding the exact level the chunk was computed for.
 _LEVEL_ATTR = "chunk_level"
@@ -54,6 +54,23 @@ def _run_system_level(system, level: float, settings: dict, desc: dict, chunk: s
 
 def _chunk(out: Path, level: float) -> Path:
     return Path(out) / ".chunks" / f"level_{float(level)!r}.nc"
+
+
+def remove_system_chunks(out: Path, levels) -> int:
+    """Remove the finished-level chunks of ``levels`` from ``OUT/.chunks`` once the merged dataset
+    holds them, and the folder when it is left empty. Returns the number of files removed."""
+    n = 0
+    for level in levels:
+        try:
+            _chunk(out, level).unlink()
+            n += 1
+        except FileNotFoundError:
+            pass
+    try:
+        (Path(out) / ".chunks").rmdir()
+    except OSError:  # absent, or holds other levels' chunks
+        pass
+    return n
 
 
 def _reusable(path: Path, attrs: dict, level: float) -> bool:
