@@ -55,20 +55,13 @@ def state_scale(x, v):
 
 
 @njit(cache=True)
-def strobe_map(z, k, par, rtol, atol, out_z, out_M):
-    """Advance ``z`` by ``k`` periods; write the end state and (if out_M has 4 entries) ``∂P^k/∂z``.
-
-    Returns a :mod:`.flow` status code.
-    """
+def advance_periods(y, k, par, rtol, atol):
+    """Advance ``y`` in place by ``k`` excitation periods ``T = 2π/r`` from phase 0 (:func:`.flow.advance`,
+    the mode and step proposal carried from one period to the next): the state (n = 2), with the
+    monodromy (n = 6), and with the sensitivity to r (n = 8), which each period also gains
+    ``f(T) dT/dr`` (``dT/dr = −2π/r²``: the period's end moves with r). Returns a :mod:`.flow`
+    status code."""
     T = 2.0 * math.pi / par[4]
-    with_jac = out_M.shape[0] == 2
-    n = 6 if with_jac else 2
-    y = np.zeros(n)
-    y[0] = z[0]
-    y[1] = z[1]
-    if with_jac:
-        y[2] = 1.0
-        y[5] = 1.0
     contact = initial_mode(y[0], y[1])
     h = 0.01
     for _ in range(k):
@@ -78,6 +71,31 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
         )
         if st != STATUS_OK:
             return st
+        if y.shape[0] == 8:
+            f = np.empty(8)
+            rhs(contact, T, y, par, f)
+            dT = -T / par[4]
+            y[6] += f[0] * dT
+            y[7] += f[1] * dT
+    return STATUS_OK
+
+
+@njit(cache=True)
+def strobe_map(z, k, par, rtol, atol, out_z, out_M):
+    """Advance ``z`` by ``k`` periods; write the end state and (if out_M has 4 entries) ``∂P^k/∂z``.
+
+    Returns a :mod:`.flow` status code.
+    """
+    with_jac = out_M.shape[0] == 2
+    y = np.zeros(6 if with_jac else 2)
+    y[0] = z[0]
+    y[1] = z[1]
+    if with_jac:
+        y[2] = 1.0
+        y[5] = 1.0
+    st = advance_periods(y, k, par, rtol, atol)
+    if st != STATUS_OK:
+        return st
     out_z[0] = y[0]
     out_z[1] = y[1]
     if with_jac:
@@ -88,7 +106,6 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
     return STATUS_OK
 
 
-
 @njit(cache=True)
 def strobe_map_dr(z, k, par, rtol, atol, out_z, out_M, out_dr):
     """:func:`strobe_map` with the monodromy (``out_M``) and the derivative ``∂P^k/∂r`` of the
@@ -97,28 +114,17 @@ def strobe_map_dr(z, k, par, rtol, atol, out_z, out_M, out_dr):
     Per period ``P(z; r) = φ(T(r); z, r)`` with ``T = 2π/r``, so ``∂P/∂r = s(T) + f(T) dT/dr``:
     the sensitivity ``s`` of the flow (:mod:`.flow`, n = 8) plus the vector field at the period's
     end times ``dT/dr = −2π/r²``; over k periods the chain rule carries ``s`` from one period to
-    the next (``∂P^k/∂r = M ∂P^{k−1}/∂r + ∂P/∂r``). Returns a :mod:`.flow` status code.
+    the next (``∂P^k/∂r = M ∂P^{k−1}/∂r + ∂P/∂r``; :func:`advance_periods`). Returns a
+    :mod:`.flow` status code.
     """
-    T = 2.0 * math.pi / par[4]
-    dT = -T / par[4]
     y = np.zeros(8)
     y[0] = z[0]
     y[1] = z[1]
     y[2] = 1.0
     y[5] = 1.0
-    f = np.empty(8)
-    contact = initial_mode(y[0], y[1])
-    h = 0.01
-    for _ in range(k):
-        contact, h, _i, _ns, _tf, _ne, st = advance(
-            y, 0.0, T, contact, h, par, rtol, atol, np.empty((0, REC_WIDTH)), np.int64(0),
-            np.int64(MAX_STEPS_PER_PERIOD)
-        )
-        if st != STATUS_OK:
-            return st
-        rhs(contact, T, y, par, f)
-        y[6] += f[0] * dT
-        y[7] += f[1] * dT
+    st = advance_periods(y, k, par, rtol, atol)
+    if st != STATUS_OK:
+        return st
     out_z[0] = y[0]
     out_z[1] = y[1]
     out_M[0, 0] = y[2]
@@ -128,6 +134,7 @@ def strobe_map_dr(z, k, par, rtol, atol, out_z, out_M, out_dr):
     out_dr[0] = y[6]
     out_dr[1] = y[7]
     return STATUS_OK
+
 
 @njit(cache=True, inline='always')
 def map_residual(z, k, par, rtol, atol, pz, M):

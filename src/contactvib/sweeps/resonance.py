@@ -103,14 +103,15 @@ def sweep_bar_format(cold: bool) -> str | None:
     return _BAR_WITHOUT_ETA if cold else None
 
 
-def remove_chunks(out: Path, levels) -> int:
-    """Remove the finished-level chunks of ``levels`` from ``OUT/.chunks`` (once the merged
-    dataset holding them is written) and the folder when it is left empty; chunks of other
-    levels stay. Returns the number of files removed."""
+def remove_chunks(out: Path, levels, path=chunk_path) -> int:
+    """Remove the finished-level chunks of ``levels`` (at ``path(out, level)``, default
+    :func:`chunk_path`) from ``OUT/.chunks`` (once the merged dataset holding them is written) and
+    the folder when it is left empty; chunks of other levels stay. Returns the number of files
+    removed."""
     n = 0
     for pa in levels:
         try:
-            chunk_path(out, pa).unlink()
+            path(out, pa).unlink()
             n += 1
         except FileNotFoundError:
             pass

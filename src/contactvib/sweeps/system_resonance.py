@@ -57,20 +57,10 @@ def _chunk(out: Path, level: float) -> Path:
 
 
 def remove_system_chunks(out: Path, levels) -> int:
-    """Remove the finished-level chunks of ``levels`` from ``OUT/.chunks`` once the merged dataset
-    holds them, and the folder when it is left empty. Returns the number of files removed."""
-    n = 0
-    for level in levels:
-        try:
-            _chunk(out, level).unlink()
-            n += 1
-        except FileNotFoundError:
-            pass
-    try:
-        (Path(out) / ".chunks").rmdir()
-    except OSError:  # absent, or holds other levels' chunks
-        pass
-    return n
+    """:func:`contactvib.sweeps.resonance.remove_chunks` for a system's level chunks."""
+    from contactvib.sweeps.resonance import remove_chunks
+
+    return remove_chunks(out, levels, _chunk)
 
 
 def _reusable(path: Path, attrs: dict, level: float) -> bool:
