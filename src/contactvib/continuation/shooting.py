@@ -67,8 +67,8 @@ _IP = {"f_e": 4, "P_a": 3}
 @dataclass(frozen=True)
 class ContinuationSettings(BranchSettings):
     """Knobs of a continuation run (the fields it shares with
-    :class:`~contactvib.continuation.system_shooting.SystemContinuationSettings` are checked by
-    :class:`~contactvib.continuation.settings.BranchSettings`).
+    ``contactvib.continuation.system_shooting.SystemContinuationSettings`` are checked by
+    ``contactvib.continuation.settings.BranchSettings``).
 
     Parameters
     ----------

@@ -138,7 +138,7 @@ class SweepSettings:
 
     def to_dict(self) -> dict:
         """The settings record of a dataset (its ``settings`` attribute; :meth:`from_dict` reads
-        it back): the fields in order, those of :data:`RECORD_NAMES` under their record name,
+        it back): the fields in order, those of ``RECORD_NAMES`` under their record name,
         ``excitation`` only when it is not the force and ``friction``, the FrictionModel's
         parameters, only when given, so that a force sweep's record holds the paper's fields only."""
         d = {RECORD_NAMES.get(k, k): v for k, v in asdict(self).items()}
