@@ -64,6 +64,7 @@ def advance_periods(y, k, par, rtol, atol):
     T = 2.0 * math.pi / par[4]
     contact = initial_mode(y[0], y[1])
     h = 0.01
+    f = np.empty(8 if y.shape[0] == 8 else 0)  # the vector field at T, for the sensitivity only
     for _ in range(k):
         contact, h, _i, _ns, _tf, _ne, st = advance(
             y, 0.0, T, contact, h, par, rtol, atol, np.empty((0, REC_WIDTH)), np.int64(0),
@@ -72,12 +73,23 @@ def advance_periods(y, k, par, rtol, atol):
         if st != STATUS_OK:
             return st
         if y.shape[0] == 8:
-            f = np.empty(8)
             rhs(contact, T, y, par, f)
             dT = -T / par[4]
             y[6] += f[0] * dT
             y[7] += f[1] * dT
     return STATUS_OK
+
+
+@njit(cache=True, inline="always")
+def _write_end(y, out_z, out_M):
+    """The state of ``y`` into ``out_z`` and, if it has 4 entries, the monodromy into ``out_M``."""
+    out_z[0] = y[0]
+    out_z[1] = y[1]
+    if out_M.shape[0] == 2:
+        out_M[0, 0] = y[2]
+        out_M[0, 1] = y[3]
+        out_M[1, 0] = y[4]
+        out_M[1, 1] = y[5]
 
 
 @njit(cache=True)
@@ -94,16 +106,9 @@ def strobe_map(z, k, par, rtol, atol, out_z, out_M):
         y[2] = 1.0
         y[5] = 1.0
     st = advance_periods(y, k, par, rtol, atol)
-    if st != STATUS_OK:
-        return st
-    out_z[0] = y[0]
-    out_z[1] = y[1]
-    if with_jac:
-        out_M[0, 0] = y[2]
-        out_M[0, 1] = y[3]
-        out_M[1, 0] = y[4]
-        out_M[1, 1] = y[5]
-    return STATUS_OK
+    if st == STATUS_OK:
+        _write_end(y, out_z, out_M)
+    return st
 
 
 @njit(cache=True)
@@ -123,17 +128,11 @@ def strobe_map_dr(z, k, par, rtol, atol, out_z, out_M, out_dr):
     y[2] = 1.0
     y[5] = 1.0
     st = advance_periods(y, k, par, rtol, atol)
-    if st != STATUS_OK:
-        return st
-    out_z[0] = y[0]
-    out_z[1] = y[1]
-    out_M[0, 0] = y[2]
-    out_M[0, 1] = y[3]
-    out_M[1, 0] = y[4]
-    out_M[1, 1] = y[5]
-    out_dr[0] = y[6]
-    out_dr[1] = y[7]
-    return STATUS_OK
+    if st == STATUS_OK:
+        _write_end(y, out_z, out_M)
+        out_dr[0] = y[6]
+        out_dr[1] = y[7]
+    return st
 
 
 @njit(cache=True, inline='always')
