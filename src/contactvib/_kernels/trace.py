@@ -157,6 +157,9 @@ def continue_orbit(zg, k, par, rtol, tol, rows, row, out_z, out_M):
 
 #: Sub-steps of a grid step tried before a lost orbit is declared a jump: down to 1/2**BRIDGE_DEPTH.
 BRIDGE_DEPTH = 5
+#: Longest period whose other strobe points are also tried as bridge starts (each try costs up to
+#: BRIDGE_DEPTH Newton solves over k periods; a longer orbit is bridged from its carried point).
+BRIDGE_PHASES_KMAX = 8
 
 
 @njit(cache=True)
@@ -236,9 +239,10 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
 
     Newton from the secant predictor through ``zp`` (at ``r_prev``, if ``have_prev``), kept only
     if it stays on the branch (:func:`stays_on_branch`); if that fails, the grid step is bridged
-    by sub-steps (:func:`bridge_orbit`) from the carried point (with its secant) and then from
-    the orbit's other strobe points ``pts[:k]`` (Newton's reach differs from phase to phase of a
-    period-k orbit: a strobe point close to an impact is a poor start). On success the orbit
+    by sub-steps (:func:`bridge_orbit`) from the carried point (with its secant) and then, for
+    k ≤ :data:`BRIDGE_PHASES_KMAX`, from the orbit's other strobe points ``pts[:k]`` (Newton's
+    reach differs from phase to phase of a period-k orbit: a strobe point close to an impact is a
+    poor start). On success the orbit
     point, monodromy and the phase point it was continued from are in ``out_z``, ``out_M``,
     ``out_from`` and row ``row`` of ``rows`` describes it. Returns (accepted, closure).
     """
@@ -255,7 +259,8 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
         ok = False  # Newton went over to a coexisting orbit: this branch ended
     out_from[0] = z[0]
     out_from[1] = z[1]
-    for j in range(-1, k if not ok else -1):
+    n_phases = k if k <= BRIDGE_PHASES_KMAX else 0
+    for j in range(-1, n_phases if not ok else -1):
         if j < 0:
             zs, zq, hv, rq = z, zp, have_prev, r_prev
         else:

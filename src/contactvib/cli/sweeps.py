@@ -100,9 +100,14 @@ def sweep_options(f):
                      help="Multi-start frequencies per octave of f_e (0: sweeps only)."),
         click.option("--starts", default="24", show_default=True,
                      help="Random starts per multi-start frequency (ballistic seeds are added)."),
+        click.option("--fill-in-per-octave", default="32", show_default=True,
+                     help="Fill-in multi-start frequencies per octave between the multi-start ones "
+                          "(0: none): they find the isolated branches a few Hz wide."),
+        click.option("--fill-in-starts", default="12", show_default=True,
+                     help="Random starts per fill-in frequency (ballistic seeds are added; 0: no fill-in)."),
         click.option("--seed", default="0", show_default=True, help="Random seed of the start boxes."),
-        click.option("--kmax", default="8", show_default=True,
-                     help=f"Largest period detected (1..{KMAX_SWEEP_MAX})."),
+        click.option("--kmax", default="16", show_default=True,
+                     help=f"Largest period detected (1..{KMAX_SWEEP_MAX}; with --system: 8 unless given)."),
         click.option("--workers", default=None, metavar="N",
                      help="Worker processes (default: one per CPU core, at most one per level)."),
         click.option("--resume", is_flag=True,
@@ -126,10 +131,12 @@ keep_chunks_option = click.option(
 #: Options of the sweeps, by SweepSettings' symbols.
 _SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "--kmax",
                   "multistart_per_octave": "--multistart-per-octave",
-                  "n_starts": "--starts", "seed": "--seed"}
+                  "n_starts": "--starts", "seed": "--seed", "fill_in_per_octave": "--fill-in-per-octave",
+                  "fill_in_starts": "--fill-in-starts"}
 
 
-def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, **_other):
+def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, fill_in_per_octave="32",
+                    fill_in_starts="12", **_other):
     """SweepSettings of the sweep options (the dict of :func:`sweep_options`; the options that
     are not settings are ignored): the frequency range and the integers are checked by the
     library's checks, the rest by SweepSettings itself."""
@@ -144,6 +151,8 @@ def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, *
               multistart_per_octave=parse_number("--multistart-per-octave", "multistart_per_octave",
                                             per_octave),
               n_starts=parse_int("--starts", starts, 0, symbol="n_starts"), seed=parse_int("--seed", seed, 0),
+              fill_in_per_octave=parse_number("--fill-in-per-octave", "fill_in_per_octave", fill_in_per_octave),
+              fill_in_starts=parse_int("--fill-in-starts", fill_in_starts, 0, symbol="fill_in_starts"),
               kmax=parse_int("--kmax", kmax, 1, KMAX_SWEEP_MAX), excitation=level_kind,
               friction=friction_spec(_other.get("friction")))
     return mapped_options(_SWEEP_OPTIONS, SweepSettings, **kw)

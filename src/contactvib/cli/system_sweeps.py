@@ -33,7 +33,8 @@ STARTS_DEFAULT = 6
 GRID_POINTS = 60
 SEARCH_EVERY = 10
 #: Sweep options that have no meaning for a system (click names → option).
-_NOT_FOR_SYSTEMS = {"multistart_per_octave": "--multistart-per-octave", "friction": "--friction"}
+_NOT_FOR_SYSTEMS = {"multistart_per_octave": "--multistart-per-octave", "friction": "--friction",
+                    "fill_in_per_octave": "--fill-in-per-octave", "fill_in_starts": "--fill-in-starts"}
 
 
 def _given(name: str) -> bool:
@@ -74,7 +75,8 @@ def _settings(system, sweep: dict):
     lo, hi, step = _grid(system, sweep["fmin"], sweep["fmax"], sweep["df"])
     starts = parse_int("--starts", sweep["starts"], 1, symbol="n_starts") if _given("starts") else STARTS_DEFAULT
     kw = dict(fmin_hz=lo, fmax_hz=hi, df_hz=step, search_every=SEARCH_EVERY, n_starts=starts,
-              seed=parse_int("--seed", sweep["seed"], 0), kmax=parse_int("--kmax", sweep["kmax"], 1))
+              seed=parse_int("--seed", sweep["seed"], 0),
+              kmax=parse_int("--kmax", sweep["kmax"], 1) if _given("kmax") else SystemSweepSettings.kmax)
     return mapped_options({"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "n_starts": "--starts",
                            "kmax": "--kmax", "seed": "--seed"}, SystemSweepSettings, **kw)
 

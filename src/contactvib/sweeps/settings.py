@@ -24,7 +24,7 @@ from contactvib.model import (
 )
 from contactvib.model.checks import MEMORY_MAX, check_memory, format_number
 
-__all__ = ["SweepSettings", "frequency_grid", "multistart_indices", "check_grid", "grid_frequencies",
+__all__ = ["SweepSettings", "frequency_grid", "multistart_indices", "fill_in_indices", "check_grid", "grid_frequencies",
            "RECORD_NAMES"]
 
 #: Fields of :class:`SweepSettings` stored under another name in a dataset's ``settings`` record
@@ -73,6 +73,13 @@ class SweepSettings:
     n_starts : int
         Random box starts per multi-start frequency (ballistic seeds are added;
         ``multistart_starts`` before 0.2.0, still accepted with a DeprecationWarning).
+    fill_in_per_octave : float
+        Fill-in multi-start frequencies per octave, spaced as the multi-start's; those that are
+        multi-start frequencies already are skipped (0: none; none either without a
+        multi-start). They find the short isolated branches (superharmonic isolas a few Hz to
+        tens of Hz wide) that lie between two multi-start frequencies.
+    fill_in_starts : int
+        Random box starts per fill-in frequency (ballistic seeds are added; 0: no fill-in).
     seed : int
         Random seed of the box samples.
     rtol : float
@@ -100,10 +107,12 @@ class SweepSettings:
     fmin_hz: float = 30.0
     fmax_hz: float = 2000.0
     df_hz: float = 1.0
-    kmax: int = 8
+    kmax: int = 16
     max_periods: int = 300
     multistart_per_octave: float = 8.0
     n_starts: int = 24
+    fill_in_per_octave: float = 32.0
+    fill_in_starts: int = 12
     seed: int = 0
     rtol: float = 1e-10
     tol: float = 1e-9
@@ -123,9 +132,13 @@ class SweepSettings:
                  max_periods=check_int("max_periods", self.max_periods, 4 * kmax),
                  multistart_per_octave=check_range("multistart_per_octave", self.multistart_per_octave,
                                                    0.0, True, upper=MULTISTART_PER_OCTAVE_MAX),
-                 n_starts=check_int("n_starts", self.n_starts, 0))
+                 n_starts=check_int("n_starts", self.n_starts, 0),
+                 fill_in_per_octave=check_range("fill_in_per_octave", self.fill_in_per_octave,
+                                                0.0, True, upper=MULTISTART_PER_OCTAVE_MAX),
+                 fill_in_starts=check_int("fill_in_starts", self.fill_in_starts, 0))
         # the arrays of one multi-start search, as the attractor search's (2 KiB per start, x2)
         check_memory("n_starts", self.n_starts, 4096.0 * v["n_starts"], MEMORY_MAX // 4096)
+        check_memory("fill_in_starts", self.fill_in_starts, 4096.0 * v["fill_in_starts"], MEMORY_MAX // 4096)
         v["seed"] = check_int("seed", self.seed, 0)
         v["tol"] = check_range("tol", self.tol, 0.0, False)
         v["excitation"] = check_level_kind(self.excitation)
@@ -181,11 +194,27 @@ def frequency_grid(settings: SweepSettings) -> np.ndarray:
 
 def multistart_indices(settings: SweepSettings) -> np.ndarray:
     """Grid indices of the multi-start frequencies: f_min · 2^(j / per_octave), snapped, unique."""
+    if settings.n_starts <= 0:
+        return np.zeros(0, np.int64)
+    return _octave_indices(settings, settings.multistart_per_octave)
+
+
+def fill_in_indices(settings: SweepSettings) -> np.ndarray:
+    """Grid indices of the fill-in multi-start frequencies: f_min · 2^(j / fill_in_per_octave),
+    snapped, unique, without the multi-start frequencies (:func:`multistart_indices`); none
+    without a multi-start (sweeps only)."""
+    starts = multistart_indices(settings)
+    if settings.fill_in_starts <= 0 or starts.size == 0:  # sweeps only: nothing to fill in
+        return np.zeros(0, np.int64)
+    return np.setdiff1d(_octave_indices(settings, settings.fill_in_per_octave), starts)
+
+
+def _octave_indices(settings: SweepSettings, per_octave: float) -> np.ndarray:
+    """Grid indices of f_min · 2^(j / per_octave) up to f_max, snapped, unique (none if 0)."""
     f = frequency_grid(settings)
-    if settings.multistart_per_octave <= 0 or settings.n_starts <= 0:
+    if per_octave <= 0:
         return np.zeros(0, np.int64)
     n_oct = math.log2(f[-1] / f[0])
-    fs = f[0] * 2.0 ** (np.arange(int(n_oct * settings.multistart_per_octave) + 1)
-                        / settings.multistart_per_octave)
+    fs = f[0] * 2.0 ** (np.arange(int(n_oct * per_octave) + 1) / per_octave)
     idx = np.clip(np.round((fs - f[0]) / settings.df_hz).astype(np.int64), 0, f.size - 1)
     return np.unique(idx)

@@ -35,6 +35,13 @@ Procedure (``trace_level``), all on one grid ``f_min, f_min + Δf, …, f_max``:
    period 3, 4, 5 (loosely first, :data:`NEWTON_SEEDS`). This finds bouncing orbits above f_n0
    (period 5 at 0.85 Q) and large orbits whose strobe points lie outside the box (period 3 at
    0.80 Q near 400 Hz); running after the multi-start, they trace only what it found nowhere.
+   **Fill-in multi-starts** at ``fill_in_per_octave`` frequencies per octave (32: 2.2 % apart)
+   between the multi-start frequencies, with ``fill_in_starts`` box starts each (12) and the same
+   Newton seeds, no perturbation seed: the isolated ultrasubharmonic branches of the superharmonic
+   windows (period 3 with 6 minima at 0.75 Q, 662–680 Hz; period 4 with 3 minima near
+   1410–1435 Hz) live a few Hz to tens of Hz wide, between two multi-start frequencies 9 % apart.
+   Periods up to ``kmax`` (16) are detected, so the period-9, -10, -12 and -16 orbits of these
+   windows are traced as periodic orbits.
 5. All traces share one table of known attractors per frequency; a trace that reaches an
    attractor already traced in its direction stops, so nothing is computed twice. Points
    continued by Newton are linked into branches; jumps are not links.
@@ -61,7 +68,7 @@ from contactvib.sweeps.dataset import TRACE_ROOTS
 from contactvib.sweeps.level_progress import report_points
 from contactvib.sweeps.level_state import LevelState, LevelTrace, TraceStop
 from contactvib.sweeps.newton_seeds import late_newton_seeds, newton_seeds
-from contactvib.sweeps.settings import SweepSettings, frequency_grid, multistart_indices
+from contactvib.sweeps.settings import SweepSettings, fill_in_indices, frequency_grid, multistart_indices
 from contactvib.sweeps.stage_times import stage
 
 __all__ = ["SweepSettings", "LevelTrace", "TraceStop", "TRACE_ROOTS", "frequency_grid", "multistart_indices",
@@ -115,9 +122,10 @@ def _small_amplitude_seed(model, exc, par, st: SweepSettings):
     return oz.copy() if ok and k == 1 else None
 
 
-def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int) -> list:
-    """Perturbation seed and multi-start at grid index ``i``: trace every new attractor up and
-    down; returns the basin observations [(row, fraction of the box starts)]."""
+def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int, fill_in: bool = False) -> list:
+    """Perturbation seed and multi-start at grid index ``i`` (a fill-in frequency: its own number
+    of starts, no perturbation seed): trace every new attractor up and down; returns the basin
+    observations [(row, fraction of the box starts)]."""
     from contactvib._kernels.settle import SETTLE_CAPTURED, SETTLE_NONPERIODIC, SETTLE_PERIODIC
     from contactvib._kernels.table import settle_known_many
     from contactvib.interrupts import check_interrupt
@@ -127,14 +135,14 @@ def _multistart_at(lv: LevelState, model: ContactModel, pa_over_q: float, i: int
     check_interrupt()
     st = lv.st
     exc = st.excitation_at(model, pa_over_q, lv.f[i])
-    Zb, phb = start_box(exc, st.n_starts, st.seed + i)
+    Zb, phb = start_box(exc, st.fill_in_starts if fill_in else st.n_starts, st.seed + i)
     Zs, phs = ballistic_seeds(exc)
     Z = np.vstack([Zb, Zs])
     ph = np.concatenate([phb, phs])
     par = lv.par.copy()
     par[4] = lv.r[i]
     with stage("perturbation seed"):
-        zs = _small_amplitude_seed(model, exc, par, st)
+        zs = None if fill_in else _small_amplitude_seed(model, exc, par, st)
     if zs is not None and lv.known_slot(i, zs, 1, 0) < 0:
         lv.trace_both_ways(zs, 1, 0, i, "perturbation seed")
     status, kk, zz = settle_known_many(Z, ph, i, par, lv.cfg, st.capture_tol, lv.table)
@@ -209,12 +217,13 @@ def trace_level(model: ContactModel, *, pa_over_q: float, settings: SweepSetting
                 lv.queue.append((res[0], res[1], res[2], i0, direction, label, "sweep"))
     lv.drain()
     starts = multistart_indices(st)
+    probes = [(int(i), False) for i in starts] + [(int(i), True) for i in fill_in_indices(st)]
     report_points(pa_over_q, 2 * f.size // 5)
     observations = []
-    for n, i in enumerate(starts, 1):
-        with stage("multi-start probes"):
-            observations.append(_multistart_at(lv, model, pa_over_q, int(i)))
-        report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(starts)))
+    for n, (i, fill_in) in enumerate(probes, 1):
+        with stage("fill-in probes" if fill_in else "multi-start probes"):
+            observations.append(_multistart_at(lv, model, pa_over_q, i, fill_in))
+        report_points(pa_over_q, 2 * f.size // 5 + 2 * f.size * n // (5 * len(probes)))
     with stage("late Newton seeds"):
         late_newton_seeds(lv, model, pa_over_q, starts)
     with stage("level seeds"):

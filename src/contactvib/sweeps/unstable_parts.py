@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["continue_unstable_parts", "WINDOW_RATIO", "MAX_POINTS", "MAX_ROUNDS"]
+__all__ = ["continue_unstable_parts", "WINDOW_RATIO", "MAX_POINTS", "MAX_ROUNDS", "PERIOD_MAX"]
 
 #: Frequency window of one continuation: [f / ratio, f · ratio] around the jump end, in the
 #: trace's direction (the 1/5 at 0.90 Q is unstable from 250 Hz down to 113 Hz: ratio 2.2).
@@ -29,10 +29,15 @@ WINDOW_RATIO = 2.5
 MAX_POINTS = 80
 #: Rounds of the post-pass (new traces may end in new jumps).
 MAX_ROUNDS = 3
+#: Longest period continued: a continuation point of a period-k orbit integrates k excitation
+#: periods per Newton step, and the long-period orbits (9–16: the superharmonic windows'
+#: ultrasubharmonics and period doublings) are found by the fill-in multi-starts instead.
+PERIOD_MAX = 8
 
 
 def _jump_ends(lv) -> list:
-    """(row, direction) of every periodic row from which a trace jumped."""
+    """(row, direction) of every periodic row of period ≤ :data:`PERIOD_MAX` from which a trace
+    jumped."""
     ends = []
     for c in lv.links:
         for a, b, jump in zip(c.a, c.b, c.jump):
@@ -40,7 +45,7 @@ def _jump_ends(lv) -> list:
                 continue
             _z, k, kind, i_a = lv.row(int(a))
             _zb, _kb, _kdb, i_b = lv.row(int(b))
-            if kind == 0 and i_b != i_a:
+            if kind == 0 and i_b != i_a and k <= PERIOD_MAX:
                 ends.append((int(a), 1 if i_b > i_a else -1))
     return ends
 
