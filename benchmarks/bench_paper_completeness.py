@@ -6,7 +6,7 @@ the dataset's kmax, longer periods by the search's verdict), once per ``--seeds`
 result lists per seed the attractors the dataset lacks, how many of them have a basin of at least
 0.5 % of the box (issue 34's bar), and the fraction of the search's attractors the dataset holds::
 
-    python -m benchmarks paper_completeness OLD/paper.nc paper/paper.nc
+    python -m benchmarks paper_completeness --datasets OLD/paper.nc paper/paper.nc
 
 Each dataset is labelled by its file and its ``settings`` record (kmax, fill-in).
 """
@@ -45,7 +45,7 @@ def check(path: str, seeds, n_points: int) -> dict:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("datasets", nargs="+", help="paper.nc / resonance.nc files")
+    ap.add_argument("--datasets", nargs="+", default=["paper/paper.nc"], help="paper.nc / resonance.nc files")
     ap.add_argument("--seeds", default="1,2,3", help="comma-separated seeds of the random points")
     ap.add_argument("--points", type=int, default=200, help="grid points per seed")
     ap.add_argument("--out", default=str(result_path(__name__)))
