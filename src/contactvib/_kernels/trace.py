@@ -242,9 +242,9 @@ def _continue_periodic(z, zp, have_prev, k, pts, r_here, r_prev, r_next, par, cf
     by sub-steps (:func:`bridge_orbit`) from the carried point (with its secant) and then, for
     k ≤ :data:`BRIDGE_PHASES_KMAX`, from the orbit's other strobe points ``pts[:k]`` (Newton's
     reach differs from phase to phase of a period-k orbit: a strobe point close to an impact is a
-    poor start). On success the orbit
-    point, monodromy and the phase point it was continued from are in ``out_z``, ``out_M``,
-    ``out_from`` and row ``row`` of ``rows`` describes it. Returns (accepted, closure).
+    poor start). On success the orbit point, monodromy and the phase point it was continued from
+    are in ``out_z``, ``out_M``, ``out_from`` and row ``row`` of ``rows`` describes it. Returns
+    (accepted, closure).
     """
     zg = np.empty(2)
     zb = np.empty(2)  # last orbit point of a bridge

@@ -36,6 +36,7 @@ from contactvib.cli.friction import friction_spec_option
 from contactvib.cli.system import system_given, system_option
 from contactvib.model import KMAX_SWEEP_MAX, LEVEL_KINDS, WORKERS_MAX, level_text
 from contactvib.sweeps.completeness import COMPLETENESS_STARTS
+from contactvib.sweeps.settings import SweepSettings
 
 __all__: list = []
 
@@ -100,13 +101,13 @@ def sweep_options(f):
                      help="Multi-start frequencies per octave of f_e (0: sweeps only)."),
         click.option("--starts", default="24", show_default=True,
                      help="Random starts per multi-start frequency (ballistic seeds are added)."),
-        click.option("--fill-in-per-octave", default="32", show_default=True,
+        click.option("--fill-in-per-octave", default=f"{SweepSettings.fill_in_per_octave:g}", show_default=True,
                      help="Fill-in multi-start frequencies per octave between the multi-start ones "
                           "(0: none): they find the isolated branches a few Hz wide."),
-        click.option("--fill-in-starts", default="12", show_default=True,
+        click.option("--fill-in-starts", default=str(SweepSettings.fill_in_starts), show_default=True,
                      help="Random starts per fill-in frequency (ballistic seeds are added; 0: no fill-in)."),
         click.option("--seed", default="0", show_default=True, help="Random seed of the start boxes."),
-        click.option("--kmax", default="16", show_default=True,
+        click.option("--kmax", default=str(SweepSettings.kmax), show_default=True,
                      help=f"Largest period detected (1..{KMAX_SWEEP_MAX}; with --system: 8 unless given)."),
         click.option("--workers", default=None, metavar="N",
                      help="Worker processes (default: one per CPU core, at most one per level)."),
@@ -135,14 +136,12 @@ _SWEEP_OPTIONS = {"f_min": "--fmin", "f_max": "--fmax", "df": "--df", "kmax": "-
                   "fill_in_starts": "--fill-in-starts"}
 
 
-def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, fill_in_per_octave="32",
-                    fill_in_starts="12", **_other):
+def _sweep_settings(fmin, fmax, df, multistart_per_octave, starts, seed, kmax, fill_in_per_octave,
+                    fill_in_starts, **_other):
     """SweepSettings of the sweep options (the dict of :func:`sweep_options`; the options that
     are not settings are ignored): the frequency range and the integers are checked by the
     library's checks, the rest by SweepSettings itself."""
     per_octave = multistart_per_octave
-    from contactvib.sweeps.sweep import SweepSettings
-
     level_kind = _other.get("level_kind", "force")
     from contactvib.cli.friction import friction_spec
 

@@ -89,7 +89,7 @@ def chunk_path(out: Path, pa_over_q: float) -> Path:
 
 
 #: What a run whose kernels are not compiled yet prints first (measured on 2 cores: ``paper`` takes
-#: 50–53 s with a warm cache, 78–88 s on its first run after a fresh install).
+#: 54–60 s with a warm cache, 82 s on its first run after a fresh install).
 COMPILING_MESSAGE = ("compiling the kernels (first run only: about 30 s more on 2 cores; "
                      "the time left shows once a level is done)…")
 #: The bar of a run that compiles first: no time left (tqdm's {remaining}), which the compilation
